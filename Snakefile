@@ -1,0 +1,21 @@
+# forcenet: every figure and table of P1 and P2 from a config file.
+#   snakemake --cores 2                               # quick default (config/config.yaml)
+#   snakemake --cores 2 --configfile config/paper.yaml  # the papers' sizes
+from snakemake.utils import min_version
+
+min_version("9.0")
+
+
+configfile: "config/config.yaml"
+
+
+include: "workflow/rules/common.smk"
+
+
+rule all:
+    input:
+        all_targets(),
+    default_target: True
+
+
+include: "workflow/rules/setup.smk"

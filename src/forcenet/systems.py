@@ -1,0 +1,212 @@
+"""Systems and configuration: frozen dataclasses built from the validated workflow config.
+
+The JSON schema (`workflow/schemas/config.schema.yaml`) checks types and shapes; this module checks what a
+schema cannot (a study naming an unknown system, ρ grids that are empty or out of order, a time step too
+large for the collision time) and turns each `systems.<name>` entry into a `SystemSpec` in reduced units
+(length d_ave, mass m̄, time τ_c; see `forcenet.units`).
+"""
+from __future__ import annotations
+
+import hashlib
+import json
+import math
+import zlib
+from dataclasses import dataclass, field
+from typing import Any, Mapping
+
+import numpy as np
+
+from forcenet import units
+
+
+class ConfigError(ValueError):
+    """An invalid configuration; the message starts with the offending key (e.g. `systems.2d_hertz.rho`)."""
+
+    def __init__(self, key: str, message: str):
+        super().__init__(f"config key '{key}': {message}")
+        self.key = key
+
+
+#: ρ values are written into file names with this many decimals (results/sim/…/rho0.842.nc)
+RHO_DECIMALS = 3
+
+#: largest time step allowed, in units of the collision time: Δt ≤ τ_c / MIN_STEPS_PER_COLLISION
+MIN_STEPS_PER_COLLISION = 10
+
+
+@dataclass(frozen=True)
+class Relaxation:
+    """P1 §3 relaxation: relax until std(E_kin)/mean(E_kin) over `window_steps` < `tolerance`."""
+
+    window_steps: int
+    tolerance: float
+    max_steps: int
+
+
+@dataclass(frozen=True)
+class SystemSpec:
+    """One simulated system in reduced units (d_ave, m̄, τ_c).
+
+    Attributes
+    ----------
+    name : config name, e.g. ``"2d_hertz"``
+    dimension : 2 (disks) or 3 (spheres)
+    beta : force-law exponent β, F_n = k_n x^(1+β) (P1 Eq. 1)
+    normal_stiffness : k_n [m̄ d_ave^(−β) τ_c^(−2)]
+    tangential_stiffness : k_t [same units as k_n] (P1: 6/7 k_n, P2: 0.8 k_n)
+    box_length : initial side of the square/cubic box between the walls [d_ave]
+    size_distribution : ``"bidisperse"`` (P1) or ``"polydisperse"`` (P2)
+    diameter_ratio : large/small diameter (bidisperse) [-]
+    small_to_large : number ratio of small to large particles (bidisperse) [-]
+    polydispersity : r_p, diameters uniform in [1 − r_p/2, 1 + r_p/2] (polydisperse) [-]
+    friction : Coulomb coefficient μ [-]
+    restitution : normal restitution e_n of a binary head-on collision [-]
+    walls : ``"flat"`` (P1) or ``"rough"`` (P2, monodisperse wall particles)
+    time_step : Δt [τ_c]
+    protocol : ``"quasistatic"`` (P1) or ``"continuous"`` (P2)
+    wall_speed : inward speed of every wall [d_ave/τ_c]
+    initial_speed : scale of the random initial velocities [d_ave/τ_c]
+    rho_grid : packing fractions at which snapshots are written, increasing
+    relaxation : quasi-static relaxation rule, None for the continuous protocol
+    """
+
+    name: str
+    dimension: int
+    force_law: str
+    beta: float
+    normal_stiffness: float
+    tangential_stiffness: float
+    box_length: float
+    size_distribution: str
+    diameter_ratio: float
+    small_to_large: float
+    polydispersity: float
+    friction: float
+    restitution: float
+    walls: str
+    time_step: float
+    protocol: str
+    wall_speed: float
+    initial_speed: float
+    rho_grid: tuple[float, ...]
+    relaxation: Relaxation | None
+    paper: str = field(default="P1")
+
+    @property
+    def rho_labels(self) -> list[str]:
+        """ρ values as they appear in file names, e.g. ``"0.842"``."""
+        return [format_rho(rho) for rho in self.rho_grid]
+
+
+def format_rho(rho: float) -> str:
+    return f"{rho:.{RHO_DECIMALS}f}"
+
+
+def rho_grid(spec: Any, key: str) -> tuple[float, ...]:
+    """Expand a ρ grid: ``{start, stop, step}`` (stop included when on the grid), ``{start, stop, count}``
+    (both ends included) or an explicit list. Values are rounded to `RHO_DECIMALS` and must increase."""
+    if isinstance(spec, Mapping):
+        start, stop = float(spec["start"]), float(spec["stop"])
+        if stop < start:
+            raise ConfigError(key, f"stop {stop} is below start {start}: the ρ grid is empty")
+        if "step" in spec:
+            n = int(math.floor((stop - start) / float(spec["step"]) + 1e-9)) + 1
+            values = start + float(spec["step"]) * np.arange(n)
+        else:
+            values = np.linspace(start, stop, int(spec["count"]))
+    else:
+        values = np.asarray(list(spec), dtype=float)
+    values = np.round(values, RHO_DECIMALS)
+    if values.size == 0:
+        raise ConfigError(key, "the ρ grid is empty")
+    if np.any(np.diff(values) <= 0):
+        raise ConfigError(key, f"ρ values must increase and differ at {RHO_DECIMALS} decimals: {values.tolist()}")
+    if values[0] <= 0 or values[-1] >= 1:
+        raise ConfigError(key, f"ρ values must lie in (0, 1): {values.tolist()}")
+    return tuple(float(v) for v in values)
+
+
+def material_from_config(config: Mapping[str, Any]) -> units.Material:
+    return units.Material(**config["material"])
+
+
+def system_from_config(name: str, config: Mapping[str, Any]) -> SystemSpec:
+    """Build the `SystemSpec` of ``config["systems"][name]`` (config already schema-validated)."""
+    key = f"systems.{name}"
+    if name not in config["systems"]:
+        raise ConfigError(key, "no such system")
+    entry = config["systems"][name]
+    beta = units.FORCE_LAW_BETA[entry["force_law"]]
+    if entry["stiffness"] == "material":  # P1: Y, σ, d_ave, m̄, v0 → k_n in τ_c units
+        k_n = units.reduced_normal_stiffness(material_from_config(config), beta)
+        paper = "P1"
+    else:  # P2: τ_c is the collision time of two mean particles under a linear spring
+        if beta != 0.0:
+            raise ConfigError(f"{key}.stiffness", "'collision_time' (P2 units) needs force_law: linear")
+        k_n = units.P2_REDUCED_NORMAL_STIFFNESS
+        paper = "P2"
+    relaxation = None
+    if entry["protocol"] == "quasistatic":
+        relaxation = Relaxation(**entry["relaxation"])
+    system = SystemSpec(
+        name=name,
+        dimension=int(entry["dimension"]),
+        force_law=entry["force_law"],
+        beta=beta,
+        normal_stiffness=k_n,
+        tangential_stiffness=k_n * float(entry["tangential_stiffness_ratio"]),
+        box_length=float(entry["box_length"]),
+        size_distribution=entry["size_distribution"],
+        diameter_ratio=float(entry.get("diameter_ratio", 1.0)),
+        small_to_large=float(entry.get("small_to_large", 1.0)),
+        polydispersity=float(entry.get("polydispersity", 0.0)),
+        friction=float(entry["friction"]),
+        restitution=float(entry["restitution"]),
+        walls=entry["walls"],
+        time_step=float(entry["time_step"]),
+        protocol=entry["protocol"],
+        wall_speed=float(entry["wall_speed"]),
+        initial_speed=float(entry["initial_speed"]),
+        rho_grid=rho_grid(entry["rho"], f"{key}.rho"),
+        relaxation=relaxation,
+        paper=paper,
+    )
+    check_system(system, key)
+    return system
+
+
+def check_system(system: SystemSpec, key: str) -> None:
+    """Physical sanity checks a schema cannot express; raise `ConfigError` naming the key."""
+    if system.time_step > 1.0 / MIN_STEPS_PER_COLLISION:
+        raise ConfigError(f"{key}.time_step", f"Δt = {system.time_step} τ_c is too large: a collision must span "
+                                              f"at least {MIN_STEPS_PER_COLLISION} steps (Δt ≤ {1 / MIN_STEPS_PER_COLLISION} τ_c)")
+    if system.box_length < 3.0:
+        raise ConfigError(f"{key}.box_length", f"{system.box_length} d_ave is too small (need ≥ 3 d_ave)")
+    if system.size_distribution == "polydisperse" and system.polydispersity >= 1.0:
+        raise ConfigError(f"{key}.polydispersity", "r_p must be < 1 so that every diameter 1 ± r_p/2 is positive")
+    max_rho = 0.9069 if system.dimension == 2 else 0.7405  # densest packing of equal disks / spheres
+    if system.rho_grid[-1] >= max_rho + 0.05:
+        raise ConfigError(f"{key}.rho", f"ρ = {system.rho_grid[-1]} is beyond what a {system.dimension}D box allows")
+
+
+def validate_config(config: Mapping[str, Any]) -> dict[str, SystemSpec]:
+    """Semantic validation after the JSON schema; returns every system by name. Raises `ConfigError`."""
+    for study, entry in config["studies"].items():
+        for i, name in enumerate(entry["systems"]):
+            if name not in config["systems"]:
+                raise ConfigError(f"studies.{study}.systems[{i}]", f"unknown system '{name}' "
+                                                                    f"(defined: {sorted(config['systems'])})")
+    thresholds = config["analysis"]["thresholds"]
+    if thresholds["stop"] <= thresholds["start"]:
+        raise ConfigError("analysis.thresholds", "stop must exceed start")
+    return {name: system_from_config(name, config) for name in config["systems"]}
+
+
+def config_sha256(config: Mapping[str, Any]) -> str:
+    """A stable hash of the whole config (sorted JSON), stored in every output file."""
+    return hashlib.sha256(json.dumps(config, sort_keys=True, default=str).encode()).hexdigest()
+
+
+def realization_seed(base_seed: int, system_name: str, realization: int) -> int:
+    """Seed of one compression run: independent of the order systems appear in the config."""
+    return (int(base_seed) * 1_000_003 + zlib.crc32(system_name.encode()) * 101 + int(realization)) % (2 ** 32)

@@ -1,0 +1,10 @@
+rule resolved_config:
+    """The config as the workflow understands it: every system in reduced units with its ρ grid."""
+    output:
+        f"{RESULTS}/config/resolved.yaml",
+    log:
+        f"{LOGS}/resolved_config.log",
+    params:
+        config=config,
+    script:
+        "../scripts/resolved_config.py"
