@@ -1,5 +1,6 @@
-# Config validation and input functions. Runs at parse time, before any job: a bad config stops here
+# Config validation, paths and input functions. Runs at parse time, before any job: a bad config stops here
 # with a message naming the key (JSON schema first, then forcenet.systems for what a schema cannot say).
+# Kept light (no numba/xarray imports) so a dry-run of thousands of jobs stays fast.
 import sys
 from pathlib import Path
 
@@ -17,12 +18,52 @@ except ConfigError as error:
     raise WorkflowError(f"Invalid config: {error}") from None
 
 RESULTS = "results"
-LOGS = "results/logs"
+LOGS = f"{RESULTS}/logs"
+P1_SYSTEMS = list(config["studies"].get("p1", {}).get("systems", []))
+P2_SYSTEMS = list(config["studies"].get("p2", {}).get("systems", []))
+REALIZATIONS = [f"r{r:02d}" for r in range(config["realizations"])]
+
+wildcard_constraints:
+    system="|".join(SYSTEMS) or "NONE",
+    realization=r"r\d{2,}",
+    rho=r"\d\.\d{3}",
 
 
-def realization_labels():
-    return [f"r{r:02d}" for r in range(config["realizations"])]
+def snapshot_path(system, realization, rho_label):
+    return f"{RESULTS}/sim/{system}/{realization}/rho{rho_label}.nc"
 
 
-def all_targets():
-    return [f"{RESULTS}/config/resolved.yaml"]
+def analysis_path(system, realization, rho_label):
+    return f"{RESULTS}/analysis/{system}/{realization}/rho{rho_label}.nc"
+
+
+def system_analyses(wildcards):
+    """Every analysis file of one system, realization-major (the order aggregate expects)."""
+    spec = SYSTEMS[wildcards.system]
+    return [analysis_path(wildcards.system, r, rho) for r in REALIZATIONS for rho in spec.rho_labels]
+
+
+def realization_analyses(wildcards):
+    spec = SYSTEMS[wildcards.system]
+    return [analysis_path(wildcards.system, wildcards.realization, rho) for rho in spec.rho_labels]
+
+
+def system_params(system):
+    """What a simulation depends on: its own entry, the material and the seed (not other systems)."""
+    entry = config["systems"][system]
+    params = {"system": entry, "seed": config["seed"]}
+    if entry["stiffness"] == "material":
+        params["material"] = config["material"]
+    return params
+
+
+def simulation_runtime_minutes(spec):
+    from forcenet.cost import simulation_cost
+
+    return max(10, int(2 * simulation_cost(spec).core_hours * 60) + 5)  # 2x the estimate, for slow nodes
+
+
+def simulation_memory_mb(spec):
+    from forcenet.cost import simulation_cost
+
+    return simulation_cost(spec).memory_mb

@@ -54,3 +54,51 @@ REQUIRED_GLOBAL_ATTRS = (
 )
 
 INDEX_FILL = -1  # fill value for integer index variables (never used for valid data)
+
+# --- analysis of one snapshot: results/analysis/{system}/r{NN}/rho{ρ}.nc -------------------------------------
+#
+# Dimensions: force_kind ("total" |F_n+F_t| as in P1, "normal", "tangential" as in P2), homology_dim (0, 1[, 2]),
+# threshold (F_th grid), force_bin (PDF bins), persistence_bin (rough, weak, medium, strong, essential), point.
+#
+# Persistence diagrams are ragged; they are stored as one flat `point` dimension (CF "indexed ragged array"
+# style): each point carries its force kind and homology dimension, birth ≥ death (super-level filtration,
+# in units of ⟨F⟩), and never-dying classes have death = −inf and essential = 1. Select one diagram with
+# ds.where((ds.diagram_force_kind == k) & (ds.diagram_homology_dim == h), drop=True) or
+# forcenet.datasets.diagram_points(ds, kind, dim).
+
+FORCE_KINDS = ("total", "normal", "tangential")
+PERSISTENCE_BINS = ("rough", "weak", "medium", "strong", "essential")
+
+ANALYSIS_VARIABLES: dict[str, VariableSpec] = {
+    "betti": VariableSpec(("force_kind", "homology_dim", "threshold"), DIMENSIONLESS,
+                          "Betti number B_k of the super-level network F > F_th"),
+    "cluster_count": VariableSpec(("force_kind", "threshold"), DIMENSIONLESS,
+                                  "number of clusters (connected components with at least one edge)"),
+    "cluster_mean_size": VariableSpec(("force_kind", "threshold"), "particles",
+                                      "mean cluster size <S> excluding the percolating cluster"),
+    "percolating_size": VariableSpec(("force_kind", "threshold"), "particles",
+                                     "size N_per of the percolating cluster (0 if none)"),
+    "percolates": VariableSpec(("force_kind", "threshold"), DIMENSIONLESS,
+                               "1 if a cluster touches two opposite walls"),
+    "edge_count": VariableSpec(("force_kind", "threshold"), DIMENSIONLESS, "edges in clusters (for S_p)"),
+    "cluster_particle_count": VariableSpec(("force_kind", "threshold"), "particles",
+                                           "particles in clusters (for S_p)"),
+    "shape_parameter": VariableSpec(("force_kind", "threshold"), DIMENSIONLESS,
+                                    "shape parameter S_p: edges / particles in clusters (P1 §5.2)"),
+    "force_pdf": VariableSpec(("force_kind", "force_bin"), "<F>-1", "probability density of F/<F>"),
+    "mean_force": VariableSpec(("force_kind",), FORCE_UNITS, "mean contact force <F> of the network"),
+    "persistence_bin_count": VariableSpec(("force_kind", "persistence_bin"), DIMENSIONLESS,
+                                          "PD0 points per persistence bin (P1 §5.3)"),
+    "total_persistence": VariableSpec(("force_kind", "homology_dim"), NETWORK_FORCE_UNITS,
+                                      "total persistence TP_k: sum of birth - death over finite points"),
+    "essential_count": VariableSpec(("force_kind", "homology_dim"), DIMENSIONLESS, "never-dying classes"),
+    "Z": VariableSpec((), DIMENSIONLESS, "mean contacts per particle, all particles"),
+    "Z_no_rattlers": VariableSpec((), DIMENSIONLESS, "mean contacts per particle, rattlers excluded"),
+    "n_particles": VariableSpec((), "particles", "number of particles N"),
+    "rho": VariableSpec((), DIMENSIONLESS, "packing fraction"),
+    "diagram_force_kind": VariableSpec(("point",), DIMENSIONLESS, "force kind of the point (index into force_kind)"),
+    "diagram_homology_dim": VariableSpec(("point",), DIMENSIONLESS, "homology dimension of the point"),
+    "birth": VariableSpec(("point",), NETWORK_FORCE_UNITS, "birth of the class (super-level: birth >= death)"),
+    "death": VariableSpec(("point",), NETWORK_FORCE_UNITS, "death of the class (-inf: never dies)"),
+    "essential": VariableSpec(("point",), DIMENSIONLESS, "1 if the class never dies"),
+}

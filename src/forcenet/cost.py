@@ -1,0 +1,53 @@
+"""Cost model of a compression run: particle count, time steps, core-hours, memory.
+
+Used for Slurm resources (workflow/rules/simulate.smk) and for the README's cost table. The throughput
+constant is measured by `bench/dem_scaling.py` (particle-steps per second on one core); the step count follows
+from the protocol: wall travel at `wall_speed`, plus relaxation windows in the quasi-static protocol.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from forcenet.systems import SystemSpec
+
+#: particle-steps per core-second of the DEM engine, conservative (bench/dem_scaling.py measures it)
+PARTICLE_STEPS_PER_SECOND = {2: 5.0e6, 3: 3.0e6}
+
+
+@dataclass(frozen=True)
+class SimulationCost:
+    particles: int
+    steps: int
+    core_hours: float
+    memory_mb: int
+
+
+def estimated_particles(spec: SystemSpec) -> int:
+    """Particles on the initial lattice: spacing = largest diameter, as in `forcenet.dem.packing`."""
+    if spec.size_distribution == "bidisperse":
+        small = (1 + spec.small_to_large) / (spec.small_to_large + spec.diameter_ratio)
+        largest = small * spec.diameter_ratio
+    else:
+        largest = 1 + spec.polydispersity / 2
+    per_side = int(spec.box_length // largest)
+    return per_side ** spec.dimension
+
+
+def _volume_fraction_of_box(spec: SystemSpec, particles: int) -> float:
+    mean_volume = math.pi / 4 if spec.dimension == 2 else math.pi / 6  # d_ave = 1
+    return particles * mean_volume / spec.box_length ** spec.dimension
+
+
+def simulation_cost(spec: SystemSpec) -> SimulationCost:
+    particles = estimated_particles(spec)
+    rho_initial = _volume_fraction_of_box(spec, particles)
+    # box side at the last grid ρ: L_end = L0 (ρ0/ρ_end)^(1/d); each wall travels (L0 − L_end)/2
+    length_end = spec.box_length * (rho_initial / spec.rho_grid[-1]) ** (1 / spec.dimension)
+    travel = max(0.0, (spec.box_length - length_end) / 2)
+    steps = travel / spec.wall_speed / spec.time_step
+    if spec.relaxation is not None:
+        steps += len(spec.rho_grid) * min(spec.relaxation.max_steps, 3 * spec.relaxation.window_steps)
+    seconds = particles * steps / PARTICLE_STEPS_PER_SECOND[spec.dimension]
+    memory_mb = 500 + particles // 10
+    return SimulationCost(particles, int(steps), seconds / 3600, memory_mb)

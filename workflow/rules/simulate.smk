@@ -1,0 +1,22 @@
+# One compression run per (system, realization) → one snapshot per ρ of the system's grid.
+# One rule per system because each system has its own ρ grid (hence its own list of outputs).
+# Snapshots are staged in .partial/ with the checkpoint and published when the run completes, so a run
+# killed half-way resumes from its checkpoint and never leaves outputs that look complete.
+for _name, _spec in SYSTEMS.items():
+
+    rule:
+        name:
+            f"simulate_{_name}"
+        output:
+            [snapshot_path(_name, "{realization}", rho) for rho in _spec.rho_labels],
+        log:
+            f"{LOGS}/simulate/{_name}/{{realization}}.log",
+        params:
+            system=_name,
+            depends_on=system_params(_name),
+        threads: 1
+        resources:
+            runtime=lambda wildcards, attempt, spec=_spec: simulation_runtime_minutes(spec) * attempt,
+            mem_mb=lambda wildcards, spec=_spec: simulation_memory_mb(spec),
+        script:
+            "../scripts/simulate.py"

@@ -1,0 +1,7 @@
+"""Run one compression (system, realization): thin wrapper around forcenet.pipeline.simulate."""
+from forcenet.pipeline import simulate
+
+simulate(  # noqa: F821 — `snakemake` is injected by Snakemake
+    config=snakemake.config, system=snakemake.params.system, realization=snakemake.wildcards.realization,
+    outputs=list(snakemake.output), log_path=snakemake.log[0],
+)
