@@ -1,5 +1,5 @@
 # forcenet: every figure and table of P1 and P2 from a config file.
-#   snakemake --cores 2                               # quick default (config/config.yaml)
+#   snakemake --cores 2                                 # quick default (config/config.yaml)
 #   snakemake --cores 2 --configfile config/paper.yaml  # the papers' sizes
 from snakemake.utils import min_version
 
@@ -10,12 +10,13 @@ configfile: "config/config.yaml"
 
 
 include: "workflow/rules/common.smk"
+include: "workflow/rules/setup.smk"
+include: "workflow/rules/simulate.smk"
+include: "workflow/rules/analyze.smk"
+include: "workflow/rules/figures.smk"
 
 
 rule all:
     input:
         all_targets(),
     default_target: True
-
-
-include: "workflow/rules/setup.smk"

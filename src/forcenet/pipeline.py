@@ -83,3 +83,113 @@ def simulate(*, config: Mapping[str, Any], system: str, realization: str, output
             os.replace(source, target)
         shutil.rmtree(stage, ignore_errors=True)
         log.info("published %d snapshots", len(outputs))
+
+
+def force_unit_dyn(config: Mapping[str, Any], system: str) -> float:
+    """One reduced force unit m̄ d_ave / τ_c² in dyn (P1 systems; NaN when the system has no material).
+
+    Lets P1's F_max rule (§3) compare ⟨F⟩ across systems whose τ_c differ (linear vs Hertzian)."""
+    from forcenet import units
+
+    entry = config["systems"][system]
+    if entry["stiffness"] != "material":
+        return float("nan")
+    material = units.Material(**config["material"])
+    tau_c = units.collision_time_seconds(material, units.FORCE_LAW_BETA[entry["force_law"]])
+    return material.mean_mass * material.mean_diameter / tau_c ** 2
+
+
+def aggregate(*, analyses: Sequence[str], realizations: Sequence[int], rhos: Sequence[float], measures_path: str,
+              diagrams_path: str, config: Mapping[str, Any], system: str, log_path: str | None = None) -> None:
+    """Stack one system's per-snapshot analyses over (realization, ρ) into network_measures.nc and diagrams.nc."""
+    from forcenet.datasets import open_dataset, provenance_attrs, write_netcdf
+    from forcenet.datasets.aggregate import stack_diagrams, stack_network_measures
+
+    spec = system_from_config(system, config)
+    with job_logger(log_path, f"aggregate.{system}") as log:
+        datasets = [open_dataset(path) for path in analyses]
+        attrs = provenance_attrs(system=system, realization=-1, seed=config["seed"], config=config,
+                                 title=f"forcenet network measures, {system}, stacked over realization and rho")
+        attrs.update(dimension=spec.dimension, force_law=spec.force_law, force_unit_dyn=force_unit_dyn(config, system))
+        write_netcdf(stack_network_measures(datasets, realizations, rhos, attrs), measures_path)
+        attrs["title"] = f"forcenet persistence diagrams, {system}, all realizations and rho"
+        write_netcdf(stack_diagrams(datasets, realizations, rhos, attrs), diagrams_path)
+        log.info("stacked %d analyses of %s", len(datasets), system)
+
+
+def analyze(*, snapshot: str, output: str, analysis: Mapping[str, Any], config: Mapping[str, Any],
+            log_path: str | None = None) -> None:
+    """Analyse one snapshot: the total (P1), normal and tangential (P2) force networks, each normalised by its
+    own mean; diagrams, Betti curves, clusters, percolation, S_p, PDF, bins, total persistence."""
+    import time
+
+    from forcenet.datasets import read_snapshot, write_netcdf
+    from forcenet.datasets.analysis import analysis_dataset
+    from forcenet.measures.snapshot import compute_snapshot_measures
+    from forcenet.network import build_force_network
+
+    import numpy as np
+
+    with job_logger(log_path, "analyze") as log:
+        start = time.perf_counter()
+        snap = read_snapshot(snapshot)
+        thresholds = threshold_grid(analysis["thresholds"])
+        edges = np.linspace(0.0, analysis["force_pdf"]["max"], analysis["force_pdf"]["bins"] + 1)
+        measures = {}
+        for kind in ("total", "normal", "tangential"):
+            network = build_force_network(
+                snap.position.values, snap.contact_i.values, snap.contact_j.values, snap.force_normal.values,
+                snap.force_tangential.values, kind=kind, remove_rattlers=analysis["remove_rattlers"],
+                wall_particle=snap.wall_contact_particle.values, wall_id=snap.wall_contact_wall.values,
+                wall_force=snap.wall_contact_force.values)
+            measures[kind] = compute_snapshot_measures(network, thresholds=thresholds, force_bin_edges=edges)
+        attrs = {key: snap.attrs[key] for key in ("system", "realization", "seed", "forcenet_version", "git_commit",
+                                                   "config_sha256", "config", "Conventions", "dimension")}
+        attrs["title"] = f"forcenet analysis of one snapshot, {attrs['system']}"
+        attrs["source"] = str(snapshot)
+        attrs["remove_rattlers"] = int(bool(analysis["remove_rattlers"]))
+        ds = analysis_dataset(measures, rho=float(snap.rho), attrs=attrs)
+        write_netcdf(ds, output)
+        log.info("%s: rho %.3f, Z %.3f, %d diagram points, %.2f s", snapshot, float(snap.rho), float(snap.Z),
+                 ds.sizes["point"], time.perf_counter() - start)
+
+
+def threshold_grid(spec: Mapping[str, float]):
+    """F_th grid from the config: start to stop (inclusive) by step [⟨F⟩]."""
+    import numpy as np
+
+    n = int(round((spec["stop"] - spec["start"]) / spec["step"])) + 1
+    return np.round(spec["start"] + spec["step"] * np.arange(n), 10)
+
+
+def _open_by_system(paths: Sequence[str]) -> dict[str, Any]:
+    from forcenet.datasets import open_dataset
+
+    datasets = [open_dataset(path) for path in paths]
+    return {ds.attrs["system"]: ds for ds in datasets}
+
+
+def figure(*, name: str, systems: Sequence[str], inputs: Mapping[str, Sequence[str]], pdf: str, png: str,
+           log_path: str | None = None) -> None:
+    """Draw one P1 figure from the aggregated datasets (and example snapshots for figure 1)."""
+    from forcenet.plotting.p1 import make_p1_figure
+    from forcenet.plotting.style import apply_style, save_figure
+
+    with job_logger(log_path, f"figure.{name}") as log:
+        apply_style()
+        figure_ = make_p1_figure(name, measures=_open_by_system(inputs.get("measures", [])),
+                                 diagrams=_open_by_system(inputs.get("diagrams", [])),
+                                 snapshots=_open_by_system(inputs.get("snapshots", [])))
+        save_figure(figure_, pdf, png)
+        log.info("%s drawn for %s", name, ", ".join(systems))
+
+
+def p1_validation_table(*, measures: Sequence[str], systems: Sequence[str], csv: str, md: str,
+                        log_path: str | None = None) -> None:
+    """P1's numbers and claims next to ours (results/tables/p1_validation.{csv,md})."""
+    from forcenet.report.p1 import p1_validation, write_p1_validation
+
+    with job_logger(log_path, "p1_validation") as log:
+        table = p1_validation(_open_by_system(measures))
+        write_p1_validation(table, csv, md)
+        log.info("P1 validation: %d rows, verdicts %s", len(table), table["verdict"].value_counts().to_dict())

@@ -25,8 +25,12 @@ REALIZATIONS = [f"r{r:02d}" for r in range(config["realizations"])]
 
 wildcard_constraints:
     system="|".join(SYSTEMS) or "NONE",
-    realization=r"r\d{2,}",
-    rho=r"\d\.\d{3}",
+    realization=r"r\d\d+",
+    rho=r"\d\.\d\d\d",
+
+
+def realization_index(label):
+    return int(label.lstrip("r"))
 
 
 def snapshot_path(system, realization, rho_label):
@@ -67,3 +71,13 @@ def simulation_memory_mb(spec):
     from forcenet.cost import simulation_cost
 
     return simulation_cost(spec).memory_mb
+
+
+def all_targets():
+    """Everything `snakemake` builds by default: figures and tables of the studies in the config."""
+    targets = [f"{RESULTS}/config/resolved.yaml"]
+    targets += [f"{RESULTS}/{s}/network_measures.nc" for s in dict.fromkeys(P1_SYSTEMS + P2_SYSTEMS)]
+    if P1_SYSTEMS:
+        targets += [f"{RESULTS}/figures/{name}.pdf" for name in P1_FIGURES]
+        targets += [f"{RESULTS}/tables/p1_validation.md"]
+    return targets

@@ -1,0 +1,7 @@
+"""Draw one paper figure: thin wrapper around forcenet.pipeline.figure."""
+from forcenet.pipeline import figure
+
+figure(  # noqa: F821 — `snakemake` is injected by Snakemake
+    name=snakemake.params.figure, systems=snakemake.params.systems, inputs=dict(snakemake.input.items()),
+    pdf=snakemake.output.pdf, png=snakemake.output.png, log_path=snakemake.log[0],
+)

@@ -1,0 +1,7 @@
+"""P1 validation table: thin wrapper around forcenet.pipeline.p1_validation_table."""
+from forcenet.pipeline import p1_validation_table
+
+p1_validation_table(  # noqa: F821 — `snakemake` is injected by Snakemake
+    measures=list(snakemake.input.measures), systems=snakemake.params.systems,
+    csv=snakemake.output.csv, md=snakemake.output.md, log_path=snakemake.log[0],
+)
