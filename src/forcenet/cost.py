@@ -24,14 +24,10 @@ class SimulationCost:
 
 
 def estimated_particles(spec: SystemSpec) -> int:
-    """Particles on the initial lattice: spacing = largest diameter, as in `forcenet.dem.packing`."""
-    if spec.size_distribution == "bidisperse":
-        small = (1 + spec.small_to_large) / (spec.small_to_large + spec.diameter_ratio)
-        largest = small * spec.diameter_ratio
-    else:
-        largest = 1 + spec.polydispersity / 2
-    per_side = int(spec.box_length // largest)
-    return per_side ** spec.dimension
+    """Particles on the initial lattice of `forcenet.dem.packing` (exact, not an estimate)."""
+    from forcenet.dem.packing import sites_per_axis
+
+    return sites_per_axis(spec) ** spec.dimension
 
 
 def _volume_fraction_of_box(spec: SystemSpec, particles: int) -> float:

@@ -32,6 +32,9 @@ def job_logger(log_path: str | os.PathLike | None, name: str) -> Iterator[loggin
         logger.addHandler(handler)
     try:
         yield logger
+    except BaseException:
+        logger.exception("job failed")  # the traceback belongs in the job's log, not only on the console
+        raise
     finally:
         for handler in handlers:
             logger.removeHandler(handler)

@@ -41,10 +41,10 @@ def analysis_dataset(measures: Mapping[str, Any], *, rho: float, attrs: Mapping[
         "threshold": xr.Variable(("threshold",), np.asarray(first.thresholds, dtype=float),
                                  attrs={"units": "<F>", "long_name": "force threshold F_th"}),
         "force_bin": xr.Variable(("force_bin",), 0.5 * (edges[1:] + edges[:-1]),
-                                 attrs={"units": "<F>", "long_name": "centre of the force bin",
-                                        "bounds": "force_bin_bounds"}),
-        "force_bin_bounds": xr.Variable(("force_bin", "bound"), np.stack([edges[:-1], edges[1:]], axis=1),
-                                        attrs={"units": "<F>", "long_name": "edges of the force bin"}),
+                                 attrs={"units": "<F>", "long_name": "centre of the force bin"}),
+        # not a CF `bounds` variable: xarray strips units from those, and every variable here carries units
+        "force_bin_edges": xr.Variable(("force_bin_edge",), edges,
+                                       attrs={"units": "<F>", "long_name": "edges of the force bins"}),
         "persistence_bin": xr.Variable(("persistence_bin",), list(PERSISTENCE_BINS), attrs={
             "units": "1", "long_name": "PD0 bin: rough lifespan<=0.1, weak 0.1<=b<1, medium 1<=b<2.5, strong b>=2.5"}),
     }
