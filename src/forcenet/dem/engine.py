@@ -1,0 +1,452 @@
+"""The DEM engine: state arrays, neighbour list and time stepping around the numba kernels (`_kernels.py`).
+
+`Simulation` holds one system (mobile particles, flat or rough walls, Verlet list with tangential history)
+and advances it; `protocol.py` drives it through a compression. Everything is in reduced units (length
+d_ave, mass m̄, time τ_c) unless a caller passes other numbers (the LAMMPS benchmark does).
+
+Neighbour list: Verlet list of all pairs closer than r_i + r_j + skin, built through a cell list; it is
+rebuilt when a particle (or a wall) has moved more than skin/2 since the last build. At each rebuild the
+mobile particles are re-ordered by cell (memory locality) and the tangential springs are carried over to
+the new list (`_kernels.transfer_springs`), so contacts never lose their history.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from forcenet.dem import _kernels
+from forcenet.dem.packing import WallParticles, packing_fraction
+
+#: default Verlet skin [d_ave]
+DEFAULT_SKIN = 0.15
+#: most cells along one axis of the cell list (the cells grow when particles spread further)
+MAX_CELLS_PER_AXIS = {2: 2048, 3: 160}
+
+
+class SimulationBlowUp(RuntimeError):
+    """The simulation became unphysical: a NaN, an overlap above 20 % of a diameter, or an escaped particle."""
+
+    def __init__(self, message: str, *, step: int, particle: int, rho: float):
+        super().__init__(f"DEM blow-up at step {step}, particle {particle}, ρ = {rho:.5f}: {message}")
+        self.step = step
+        self.particle = particle
+        self.rho = rho
+
+
+@dataclass(frozen=True)
+class ContactLaw:
+    """Contact law (P1 Eq. 1–3): F_n = k_n x^(1+β) − γ_n x^β m_eff v_n ≥ 0,
+    F_t = −k_t x^β ξ' − γ_t x^β m_eff v_t capped at μ F_n.
+
+    normal_stiffness k_n [m̄ d_ave^(−β) τ_c^(−2)], tangential_stiffness k_t [same], normal_damping γ_n and
+    tangential_damping γ_t [d_ave^(−β) τ_c^(−1)], friction μ, beta β. radius_scaled: multiply every term by
+    √R_eff (R_eff = r_i r_j/(r_i + r_j), r_i at a wall) as LAMMPS gran/hertz does — benchmark only.
+    """
+
+    normal_stiffness: float
+    tangential_stiffness: float
+    normal_damping: float
+    tangential_damping: float
+    friction: float
+    beta: float
+    radius_scaled: bool = False
+
+    def as_array(self) -> np.ndarray:
+        law = np.zeros(_kernels.LAW_SIZE)
+        law[_kernels.LAW_K_N] = self.normal_stiffness
+        law[_kernels.LAW_K_T] = self.tangential_stiffness
+        law[_kernels.LAW_GAMMA_N] = self.normal_damping
+        law[_kernels.LAW_GAMMA_T] = self.tangential_damping
+        law[_kernels.LAW_MU] = self.friction
+        law[_kernels.LAW_BETA] = self.beta
+        law[_kernels.LAW_RADIUS_SCALED] = 1.0 if self.radius_scaled else 0.0
+        return law
+
+    @classmethod
+    def from_array(cls, law: np.ndarray) -> "ContactLaw":
+        return cls(normal_stiffness=float(law[_kernels.LAW_K_N]), tangential_stiffness=float(law[_kernels.LAW_K_T]),
+                   normal_damping=float(law[_kernels.LAW_GAMMA_N]), tangential_damping=float(law[_kernels.LAW_GAMMA_T]),
+                   friction=float(law[_kernels.LAW_MU]), beta=float(law[_kernels.LAW_BETA]),
+                   radius_scaled=bool(law[_kernels.LAW_RADIUS_SCALED]))
+
+
+@dataclass(frozen=True)
+class ContactForces:
+    """Forces at one instant, in original particle order.
+
+    contact_i, contact_j (C,) particle–particle contacts with i < j; force_normal, force_tangential (C, d) on
+    i from j; wall_contact_particle, wall_contact_wall (W,) (wall id 2·axis + side); wall_contact_force (W, d)
+    on the particle; wall_normal_load (2d,) Σ over each wall's contacts of the force component along that wall's
+    inward normal [m̄ d_ave τ_c⁻²].
+    """
+
+    contact_i: np.ndarray
+    contact_j: np.ndarray
+    force_normal: np.ndarray
+    force_tangential: np.ndarray
+    wall_contact_particle: np.ndarray
+    wall_contact_wall: np.ndarray
+    wall_contact_force: np.ndarray
+    wall_normal_load: np.ndarray
+
+
+_STATE_ARRAYS = ("gear_position", "gear_rotation", "radius", "mass", "inv_mass", "inv_inertia", "particle_id",
+                 "box_lo", "box_hi", "wall_state", "wall_anchor", "wall_axis", "wall_sign", "wall_id",
+                 "pair_i", "pair_j", "spring", "wall_spring", "law")
+_STATE_SCALARS = ("n_mobile", "step", "time_step", "skin", "flat_walls", "escape_margin")
+
+
+class Simulation:
+    """A DEM system: mobile particles (slots 0..n_mobile−1, re-ordered by cell at each rebuild; `particle_id`
+    maps slots back to input order) and rough-wall particles (slots n_mobile.., fixed order).
+
+    Parameters
+    ----------
+    position, velocity : (N, d) [d_ave], [d_ave/τ_c]
+    radius, mass : (N,) [d_ave], [m̄]
+    law : ContactLaw
+    time_step : Δt [τ_c]
+    box_lo, box_hi : (d,) wall planes at shift 0 [d_ave]
+    walls : "flat" (P1), "rough" (P2, needs wall_particles) or "none" (no confinement)
+    angular_velocity : (N,) in 2D or (N, 3) in 3D [1/τ_c], default 0
+    skin : Verlet skin [d_ave]
+    """
+
+    def __init__(self, *, position, radius, mass, law: ContactLaw, time_step: float, box_lo, box_hi,
+                 velocity=None, angular_velocity=None, walls: str = "flat",
+                 wall_particles: WallParticles | None = None, skin: float = DEFAULT_SKIN):
+        position = np.asarray(position, dtype=float)
+        n_mobile, dim = position.shape
+        if walls not in ("flat", "rough", "none"):
+            raise ValueError(f"walls must be 'flat', 'rough' or 'none', got {walls!r}")
+        if walls == "rough" and wall_particles is None:
+            raise ValueError("rough walls need wall_particles")
+        n_wall = len(wall_particles.anchor) if walls == "rough" else 0
+        n_total = n_mobile + n_wall
+        rot = 1 if dim == 2 else 3
+        self.n_mobile = n_mobile
+        self.time_step = float(time_step)
+        self.skin = float(skin)
+        self.step = 0
+        self.flat_walls = walls == "flat"
+        self.gear_position = np.zeros((5, n_total, dim))
+        self.gear_rotation = np.zeros((5, n_total, rot))
+        self.gear_position[0, :n_mobile] = position
+        if velocity is not None:
+            self.gear_position[1, :n_mobile] = np.asarray(velocity, dtype=float) * self.time_step
+        if angular_velocity is not None:
+            self.gear_rotation[1, :n_mobile] = np.asarray(angular_velocity, dtype=float).reshape(n_mobile, rot) * self.time_step
+        self.radius = np.zeros(n_total)
+        self.radius[:n_mobile] = radius
+        self.mass = np.asarray(mass, dtype=float).copy()
+        inertia = (0.5 if dim == 2 else 0.4) * self.mass * self.radius[:n_mobile] ** 2  # disk m r²/2, sphere 2 m r²/5
+        self.inv_mass = np.zeros(n_total)
+        self.inv_mass[:n_mobile] = 1.0 / self.mass
+        self.inv_inertia = np.zeros(n_total)
+        self.inv_inertia[:n_mobile] = 1.0 / inertia
+        self.particle_id = np.arange(n_mobile, dtype=np.int64)
+        if walls == "none":
+            box_lo, box_hi = np.full(dim, -np.inf), np.full(dim, np.inf)
+        self.box_lo = np.asarray(box_lo, dtype=float).copy()
+        self.box_hi = np.asarray(box_hi, dtype=float).copy()
+        self.wall_state = np.array([0.0, 0.0, np.inf, 0.0])  # shift, speed, shift_max, speed in the last step
+        if n_wall:
+            self.wall_anchor = np.ascontiguousarray(wall_particles.anchor, dtype=float)
+            self.wall_axis = np.asarray(wall_particles.axis, dtype=np.int64)
+            self.wall_sign = np.asarray(wall_particles.sign, dtype=float)
+            self.wall_id = np.asarray(wall_particles.wall_id, dtype=np.int64)
+            self.radius[n_mobile:] = wall_particles.radius
+            self.escape_margin = float(wall_particles.radius)
+        else:
+            self.wall_anchor = np.zeros((0, dim))
+            self.wall_axis = np.zeros(0, dtype=np.int64)
+            self.wall_sign = np.zeros(0)
+            self.wall_id = np.zeros(0, dtype=np.int64)
+            self.escape_margin = 0.0
+        self.law = law.as_array()
+        self.wall_spring = np.zeros((n_mobile, 2 * dim, dim))
+        self.pair_i = np.zeros(0, dtype=np.int32)
+        self.pair_j = np.zeros(0, dtype=np.int32)
+        self.spring = np.zeros((0, dim))
+        self._allocate_work()
+        self._place_walls()
+        self.rebuild()
+        self._start_gear_accelerations()
+
+    # --- construction helpers --------------------------------------------------------------------------
+    def _allocate_work(self):
+        n_total, dim = self.gear_position.shape[1:]
+        self.force = np.zeros((n_total, dim))
+        self.torque = np.zeros((n_total, self.gear_rotation.shape[2]))
+        self.status = np.zeros(2, dtype=np.int64)
+        self.force_velocity = np.zeros((n_total, dim))
+        self.force_spin = np.zeros((n_total, self.gear_rotation.shape[2]))
+        self.reference_position = np.zeros((n_total, dim))
+        self.reference_shift = 0.0
+
+    def _place_walls(self):
+        if len(self.wall_anchor):
+            _kernels.place_wall_particles(self.gear_position, self.force_velocity, self.n_mobile, self.wall_anchor,
+                                          self.wall_axis, self.wall_sign, self.box_lo, self.box_hi,
+                                          self.wall_state[0], 0.0)
+
+    def _start_gear_accelerations(self):
+        """Gear's second scaled derivative from the forces at t = 0 (springs all zero, velocities as given)."""
+        forces = self.evaluate_forces()
+        half_dt_sq = 0.5 * self.time_step ** 2
+        self.gear_position[2, :self.n_mobile] = half_dt_sq * forces[0][:self.n_mobile] * self.inv_mass[:self.n_mobile, None]
+        self.gear_rotation[2, :self.n_mobile] = half_dt_sq * forces[1][:self.n_mobile] * self.inv_inertia[:self.n_mobile, None]
+
+    # --- properties ----------------------------------------------------------------------------------------
+    @property
+    def dimension(self) -> int:
+        return self.gear_position.shape[2]
+
+    @property
+    def n_pairs(self) -> int:
+        return len(self.pair_i)
+
+    @property
+    def wall_shift(self) -> float:
+        return float(self.wall_state[0])
+
+    @property
+    def time(self) -> float:
+        return self.step * self.time_step
+
+    @property
+    def walls_lo(self) -> np.ndarray:
+        """Current lower wall planes (d,) [d_ave]."""
+        return self.box_lo + self.wall_state[0]
+
+    @property
+    def walls_hi(self) -> np.ndarray:
+        return self.box_hi - self.wall_state[0]
+
+    @property
+    def packing_fraction(self) -> float:
+        span = self.walls_hi - self.walls_lo
+        if not np.all(np.isfinite(span)):
+            return 0.0
+        return packing_fraction(self.radius[:self.n_mobile], span)
+
+    def set_walls(self, speed: float, shift_max: float = np.inf) -> None:
+        """Walls move inward at `speed` [d_ave/τ_c] until their shift reaches shift_max [d_ave]."""
+        self.wall_state[1] = speed
+        self.wall_state[2] = shift_max
+
+    def _ordered(self, values: np.ndarray) -> np.ndarray:
+        """Per-slot values (n_mobile, …) → input particle order."""
+        out = np.empty_like(values)
+        out[self.particle_id] = values
+        return out
+
+    def positions(self) -> np.ndarray:
+        """(N, d) [d_ave], input order."""
+        return self._ordered(self.gear_position[0, :self.n_mobile])
+
+    def velocities(self) -> np.ndarray:
+        return self._ordered(self.gear_position[1, :self.n_mobile] / self.time_step)
+
+    def angular_velocities(self) -> np.ndarray:
+        """(N,) in 2D, (N, 3) in 3D [1/τ_c], input order."""
+        omega = self._ordered(self.gear_rotation[1, :self.n_mobile] / self.time_step)
+        return omega[:, 0] if self.dimension == 2 else omega
+
+    def radii(self) -> np.ndarray:
+        return self._ordered(self.radius[:self.n_mobile])
+
+    def kinetic_energy(self) -> float:
+        """Σ ½ m v² + ½ I ω² [m̄ d_ave² τ_c⁻²]."""
+        n = self.n_mobile
+        v = self.gear_position[1, :n] / self.time_step
+        w = self.gear_rotation[1, :n] / self.time_step
+        return float(0.5 * np.sum(self.mass * np.sum(v * v, axis=1))
+                     + 0.5 * np.sum(np.sum(w * w, axis=1) / self.inv_inertia[:n]))
+
+    # --- neighbour list ------------------------------------------------------------------------------------
+    def rebuild(self) -> None:
+        """Sort the mobile particles by cell, rebuild the Verlet list, carry the springs over."""
+        n, n_total = self.n_mobile, self.gear_position.shape[1]
+        dim = self.dimension
+        position = self.gear_position[0]
+        if not np.all(np.isfinite(position)):
+            raise FloatingPointError("non-finite position at a neighbour-list rebuild")
+        cutoff = 2.0 * float(self.radius.max()) + self.skin
+        origin = position.min(axis=0) - 1e-9
+        extent = position.max(axis=0) - origin
+        cell_size = max(cutoff, float(extent.max()) / MAX_CELLS_PER_AXIS[dim])
+        n_cells = np.ones(3, dtype=np.int64)
+        n_cells[:dim] = np.maximum(1, np.floor(extent / cell_size).astype(np.int64) + 1)
+        cells = _kernels.cell_index(position, n, origin, cell_size, n_cells)
+        order = np.argsort(cells, kind="stable")
+        new_slot = np.arange(n_total, dtype=np.int64)
+        new_slot[order] = np.arange(n, dtype=np.int64)
+        for name in ("gear_position", "gear_rotation"):
+            array = getattr(self, name)
+            array[:, :n] = array[:, order]
+        for name in ("radius", "inv_mass", "inv_inertia"):
+            array = getattr(self, name)
+            array[:n] = array[order]
+        self.mass = self.mass[order]
+        self.particle_id = self.particle_id[order]
+        self.wall_spring = np.ascontiguousarray(self.wall_spring[order])
+        pair_i, pair_j = _kernels.build_pair_list(self.gear_position[0], self.radius, n, n_total, self.skin,
+                                                  origin, cell_size, n_cells)
+        spring = np.zeros((len(pair_i), dim))
+        _kernels.transfer_springs(self.pair_i, self.pair_j, self.spring, len(self.pair_i), new_slot,
+                                  pair_i, pair_j, spring, n_total)
+        self.pair_i, self.pair_j, self.spring = pair_i, pair_j, spring
+        self.pair_mass, self.pair_scale = _kernels.pair_constants(pair_i, pair_j, self.radius, self.inv_mass, self.law)
+        half_dt_sq = 0.5 * self.time_step ** 2
+        self.accel_position = np.repeat(half_dt_sq * self.inv_mass[:, None], dim, axis=1)
+        self.accel_rotation = np.repeat(half_dt_sq * self.inv_inertia[:, None], self.gear_rotation.shape[2], axis=1)
+        self.inertia = 1.0 / self.inv_inertia[:n]
+        self.reference_position = self.gear_position[0].copy()
+        self.reference_shift = float(self.wall_state[0])
+
+    # --- time stepping -------------------------------------------------------------------------------------
+    def advance(self, n_steps: int, kinetic_energy: np.ndarray | None = None) -> np.ndarray:
+        """Advance n_steps time steps; returns the kinetic energy after each step (n_steps,).
+
+        Raises SimulationBlowUp (step, particle in input order, ρ) on a NaN, an overlap above 20 % of a
+        diameter or a particle centre outside the walls.
+        """
+        if kinetic_energy is None:
+            kinetic_energy = np.empty(n_steps)
+        done = 0
+        while done < n_steps:
+            steps = _kernels.advance(
+                self.gear_position, self.gear_rotation, self.n_mobile, self.radius, self.inv_mass, self.mass,
+                self.inertia, self.accel_position, self.accel_rotation, self.pair_i, self.pair_j, len(self.pair_i),
+                self.pair_mass, self.pair_scale, self.spring, self.wall_spring, self.law,
+                self.time_step, self.flat_walls, self.box_lo, self.box_hi, self.wall_state, self.wall_anchor,
+                self.wall_axis, self.wall_sign, self.escape_margin, self.reference_position, self.reference_shift,
+                0.5 * self.skin, n_steps - done, kinetic_energy[done:], self.force, self.torque, self.force_velocity,
+                self.force_spin, self.status)
+            done += steps
+            self.step += steps
+            code = int(self.status[0])
+            if code == _kernels.STATUS_REBUILD:
+                self.rebuild()
+            elif code != _kernels.STATUS_DONE:
+                self._raise_blow_up(code, int(self.status[1]))
+        return kinetic_energy[:n_steps]
+
+    def _raise_blow_up(self, code: int, slot: int) -> None:
+        particle = int(self.particle_id[slot]) if 0 <= slot < self.n_mobile else -1
+        reason = {_kernels.STATUS_NOT_FINITE: "non-finite position or velocity",
+                  _kernels.STATUS_OVERLAP: f"overlap above {_kernels.MAX_OVERLAP_FRACTION:.0%} of a diameter",
+                  _kernels.STATUS_ESCAPED: "particle centre outside the walls"}.get(code, f"status {code}")
+        if 0 <= slot < self.n_mobile:
+            reason += f" (position {self.gear_position[0, slot].tolist()})"
+        raise SimulationBlowUp(reason, step=self.step, particle=particle, rho=self.packing_fraction)
+
+    # --- forces at one instant -----------------------------------------------------------------------------
+    def _record(self):
+        """Evaluate every contact at the current state without advancing the springs."""
+        n, dim = self.n_mobile, self.dimension
+        force = np.zeros_like(self.force)
+        torque = np.zeros_like(self.torque)
+        n_pairs = len(self.pair_i)
+        overlap = np.zeros(n_pairs)
+        normal = np.zeros((n_pairs, dim))
+        tangential = np.zeros((n_pairs, dim))
+        wall_overlap = np.zeros((n, 2 * dim))
+        wall_force = np.zeros((n, 2 * dim, dim))
+        inv_dt = 1.0 / self.time_step
+        wall_speed = self.wall_state[3]
+        if self.flat_walls:
+            _kernels.flat_wall_forces(self.gear_position[0], self.gear_position[1], self.gear_rotation[1], inv_dt,
+                                      self.radius, self.inv_mass, n, self.walls_lo, self.walls_hi, wall_speed,
+                                      self.wall_spring.copy(), self.law, 0.0, force, torque, True, wall_overlap,
+                                      wall_force, np.inf)
+        pair_kernel = _kernels.pair_forces_2d if dim == 2 else _kernels.pair_forces_3d
+        pair_kernel(self.gear_position[0], self.gear_position[1], self.gear_rotation[1], inv_dt, self.radius,
+                    self.pair_mass, self.pair_scale, self.pair_i, self.pair_j, n_pairs, self.spring.copy(), self.law, 0.0, force,
+                    torque, True, overlap, normal, tangential)
+        return force, torque, overlap, normal, tangential, wall_overlap, wall_force
+
+    def evaluate_forces(self):
+        """Total force (N_slots, d) and torque (N_slots, 1|3) at the current state, springs unchanged."""
+        force, torque, *_ = self._record()
+        return force, torque
+
+    def contact_forces(self) -> ContactForces:
+        """Every contact (overlap > 0) and its force, in input particle order (see `ContactForces`)."""
+        n, dim = self.n_mobile, self.dimension
+        _, _, overlap, normal, tangential, wall_overlap, wall_force = self._record()
+        touching = overlap > 0.0
+        slot_i, slot_j = self.pair_i[touching].astype(np.int64), self.pair_j[touching].astype(np.int64)
+        f_n, f_t = normal[touching], tangential[touching]
+        between = slot_j < n
+        # particle–particle contacts, relabelled to input order with i < j (force on i from j)
+        ci, cj = self.particle_id[slot_i[between]], self.particle_id[slot_j[between]]
+        fn, ft = f_n[between].copy(), f_t[between].copy()
+        swap = ci > cj
+        ci, cj = np.where(swap, cj, ci), np.where(swap, ci, cj)
+        fn[swap] *= -1.0
+        ft[swap] *= -1.0
+        order = np.lexsort((cj, ci))
+        # wall contacts: rough-wall particles (pairs with j ≥ n) and flat walls
+        wall_particle = [self.particle_id[slot_i[~between]]]
+        wall_which = [self.wall_id[slot_j[~between] - n]]
+        wall_f = [f_n[~between] + f_t[~between]]
+        if self.flat_walls:
+            slot, wall = np.nonzero(wall_overlap > 0.0)
+            wall_particle.append(self.particle_id[slot])
+            wall_which.append(wall)
+            wall_f.append(wall_force[slot, wall])
+        wp = np.concatenate(wall_particle).astype(np.int64)
+        ww = np.concatenate(wall_which).astype(np.int64)
+        wf = np.concatenate(wall_f).reshape(-1, dim)
+        wall_order = np.lexsort((ww, wp))
+        wp, ww, wf = wp[wall_order], ww[wall_order], wf[wall_order]
+        load = np.zeros(2 * dim)
+        inward = np.where(ww % 2 == 0, 1.0, -1.0)
+        np.add.at(load, ww, wf[np.arange(len(ww)), ww // 2] * inward)
+        return ContactForces(contact_i=ci[order], contact_j=cj[order], force_normal=fn[order],
+                             force_tangential=ft[order], wall_contact_particle=wp, wall_contact_wall=ww,
+                             wall_contact_force=wf, wall_normal_load=load)
+
+    def contact_count(self) -> int:
+        """Number of touching particle–particle pairs (cheap; for progress logs)."""
+        position = self.gear_position[0]
+        i, j = self.pair_i, self.pair_j
+        mobile = j < self.n_mobile
+        d = position[i[mobile]] - position[j[mobile]]
+        reach = self.radius[i[mobile]] + self.radius[j[mobile]]
+        return int(np.count_nonzero(np.einsum("pk,pk->p", d, d) < reach * reach))
+
+    def wall_pressure(self, load: np.ndarray) -> float:
+        """Mean normal stress on the walls: mean over the 2d walls of (normal load / wall length or area)
+        [m̄ d_ave^(1−d) τ_c⁻² … i.e. per unit length in 2D, per unit area in 3D]."""
+        span = self.walls_hi - self.walls_lo
+        dim = self.dimension
+        face = np.array([np.prod(np.delete(span, k)) for k in range(dim) for _ in range(2)])
+        return float(np.mean(load / face))
+
+    # --- checkpoints -------------------------------------------------------------------------------------
+    def state_dict(self) -> dict:
+        """Every array and scalar that determines the future of the run (for np.savez)."""
+        state = {name: getattr(self, name) for name in _STATE_ARRAYS}
+        state.update({name: getattr(self, name) for name in _STATE_SCALARS})
+        return state
+
+    @classmethod
+    def from_state_dict(cls, state) -> "Simulation":
+        """Rebuild a Simulation from `state_dict()` output (e.g. an np.load of a checkpoint). The Verlet list is
+        rebuilt (carrying the springs), exactly as `rebuild()` does in the uninterrupted run."""
+        sim = cls.__new__(cls)
+        for name in _STATE_ARRAYS:
+            setattr(sim, name, np.array(state[name]))
+        sim.n_mobile = int(state["n_mobile"])
+        sim.step = int(state["step"])
+        sim.time_step = float(state["time_step"])
+        sim.skin = float(state["skin"])
+        sim.flat_walls = bool(state["flat_walls"])
+        sim.escape_margin = float(state["escape_margin"])
+        sim._allocate_work()
+        sim.rebuild()
+        return sim

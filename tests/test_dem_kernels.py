@@ -1,0 +1,155 @@
+"""DEM kernels against the slow O(N²) reference (`naive_dem.py`), and the neighbour-list machinery."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import naive_dem
+from forcenet.dem import _kernels
+from forcenet.dem.engine import ContactLaw, Simulation
+
+LAWS = {
+    "linear": dict(k_n=9.87, k_t=8.46, gamma_n=2.3, gamma_t=2.3, mu=0.5, beta=0.0),
+    "hertz": dict(k_n=845.0, k_t=724.0, gamma_n=40.0, gamma_t=40.0, mu=0.3, beta=0.5),
+}
+
+
+def law_array(law: dict) -> np.ndarray:
+    return ContactLaw(law["k_n"], law["k_t"], law["gamma_n"], law["gamma_t"], law["mu"], law["beta"]).as_array()
+
+
+def random_configuration(dim: int, n: int, seed: int):
+    """Random dense configuration with overlaps of a few per cent, random velocities, spins and springs."""
+    rng = np.random.default_rng(seed)
+    side = (n * 0.9 ** dim) ** (1 / dim) * (0.95 if dim == 2 else 0.9)
+    position = rng.uniform(0.0, side, (n, dim))
+    radius = rng.uniform(0.4, 0.6, n)
+    mass = (2 * radius) ** dim
+    velocity = rng.normal(0.0, 0.05, (n, dim))
+    omega = rng.normal(0.0, 0.1, (n,) if dim == 2 else (n, 3))
+    pairs = [(i, j) for i in range(n) for j in range(i + 1, n)
+             if np.linalg.norm(position[i] - position[j]) < radius[i] + radius[j] + 0.3]
+    springs = {pair: rng.normal(0.0, 0.02, dim) for pair in pairs}
+    return position, radius, mass, velocity, omega, pairs, springs, side
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+@pytest.mark.parametrize("law_name", ["linear", "hertz"])
+def test_pair_forces_match_naive_reference(dim, law_name):
+    law = LAWS[law_name]
+    position, radius, mass, velocity, omega, pairs, springs, _ = random_configuration(dim, 60, seed=dim)
+    dt = 0.01
+    pair_i = np.array([p[0] for p in pairs], dtype=np.int32)
+    pair_j = np.array([p[1] for p in pairs], dtype=np.int32)
+    spring = np.array([springs[p] for p in pairs])
+    force = np.zeros((60, dim))
+    torque = np.zeros((60, 1 if dim == 2 else 3))
+    kernel = _kernels.pair_forces_2d if dim == 2 else _kernels.pair_forces_3d
+    omega_arr = omega.reshape(60, -1)
+    overlap = np.zeros(len(pairs))
+    pair_mass, pair_scale = _kernels.pair_constants(pair_i, pair_j, radius, 1.0 / mass, law_array(law))
+    kernel(position, velocity, omega_arr, 1.0, radius, pair_mass, pair_scale, pair_i, pair_j, len(pairs), spring,
+           law_array(law), dt, force, torque, True, overlap, np.zeros((len(pairs), dim)), np.zeros((len(pairs), dim)))
+    ref_force, ref_torque, ref_springs, ref_contacts = naive_dem.pair_forces(
+        position, velocity, omega, radius, mass, springs, law, dt)
+    assert len(ref_contacts) > 40, "the configuration should have many contacts"
+    assert np.count_nonzero(overlap > 0) == len(ref_contacts)
+    np.testing.assert_allclose(force, ref_force, rtol=1e-10, atol=1e-12)
+    np.testing.assert_allclose(torque, ref_torque, rtol=1e-10, atol=1e-12)
+    for p, pair in enumerate(pairs):
+        expected = ref_springs.get(pair, np.zeros(dim))  # springs of open pairs are removed
+        np.testing.assert_allclose(spring[p], expected, rtol=1e-10, atol=1e-14)
+    capped = sum(np.linalg.norm(ft) >= law["mu"] * np.linalg.norm(fn) * (1 - 1e-12)
+                 for fn, ft in ref_contacts.values())
+    assert 0 < capped < len(ref_contacts), "both sliding and sticking contacts should be exercised"
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+@pytest.mark.parametrize("law_name", ["linear", "hertz"])
+def test_flat_walls_match_naive_reference(dim, law_name):
+    law = LAWS[law_name]
+    rng = np.random.default_rng(10 + dim)
+    n = 80
+    position = rng.uniform(0.3, 3.7, (n, dim))
+    radius = rng.uniform(0.4, 0.6, n)
+    mass = (2 * radius) ** dim
+    velocity = rng.normal(0.0, 0.05, (n, dim))
+    omega = rng.normal(0.0, 0.1, (n,) if dim == 2 else (n, 3))
+    lo, hi, speed, dt = np.zeros(dim), np.full(dim, 4.0), 0.01, 0.01
+    wall_spring = rng.normal(0.0, 0.02, (n, 2 * dim, dim))
+    springs = {(i, w): wall_spring[i, w].copy() for i in range(n) for w in range(2 * dim)}
+    force = np.zeros((n, dim))
+    torque = np.zeros((n, 1 if dim == 2 else 3))
+    _kernels.flat_wall_forces(position, velocity, omega.reshape(n, -1), 1.0, radius, 1.0 / mass, n, lo, hi, speed,
+                              wall_spring, law_array(law), dt, force, torque, False, np.zeros((0, 2 * dim)),
+                              np.zeros((0, 2 * dim, dim)), np.inf)
+    ref_force, ref_torque, ref_springs = naive_dem.flat_wall_forces(position, velocity, omega, radius, mass, lo, hi,
+                                                                    speed, springs, law, dt)
+    assert len(ref_springs) > 10
+    np.testing.assert_allclose(force, ref_force, rtol=1e-10, atol=1e-12)
+    np.testing.assert_allclose(torque, ref_torque, rtol=1e-10, atol=1e-12)
+    for i in range(n):
+        for w in range(2 * dim):
+            np.testing.assert_allclose(wall_spring[i, w], ref_springs.get((i, w), np.zeros(dim)), atol=1e-14)
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_verlet_list_finds_every_pair_within_reach(dim):
+    position, radius, *_ = random_configuration(dim, 200, seed=5)
+    skin = 0.15
+    origin = position.min(axis=0) - 1e-9
+    cell = 2 * radius.max() + skin
+    n_cells = np.ones(3, dtype=np.int64)
+    n_cells[:dim] = np.floor((position.max(axis=0) - origin) / cell).astype(np.int64) + 1
+    pair_i, pair_j = _kernels.build_pair_list(position, radius, 200, 200, skin, origin, cell, n_cells)
+    found = set(zip(pair_i.tolist(), pair_j.tolist()))
+    expected = {(i, j) for i in range(200) for j in range(i + 1, 200)
+                if np.linalg.norm(position[i] - position[j]) < radius[i] + radius[j] + skin}
+    assert found == expected
+    keys = pair_i.astype(np.int64) * 200 + pair_j
+    assert np.all(np.diff(keys) > 0), "the list is sorted by i, then j"
+
+
+def test_rebuild_carries_tangential_history_across_reordering():
+    """Springs survive a rebuild that re-orders the particles (and flips i, j of some pairs)."""
+    rng = np.random.default_rng(7)
+    position = np.stack(np.meshgrid(np.arange(9), np.arange(9), indexing="ij"), -1).reshape(-1, 2) * 0.97
+    position = position + rng.uniform(-0.01, 0.01, position.shape)
+    radius = np.full(81, 0.5)
+    mass = np.ones(81)
+    velocity = rng.normal(0.0, 0.05, (81, 2))
+    omega = rng.normal(0.0, 0.1, 81)
+    law = ContactLaw(9.87, 8.46, 0.0, 0.0, 0.5, 0.0)
+    sim = Simulation(position=position, radius=radius, mass=mass, law=law, time_step=0.01, box_lo=[-5, -5],
+                     box_hi=[50, 50], velocity=velocity, angular_velocity=omega, walls="none")
+    sim.advance(5)
+    before = {}
+    for p in range(sim.n_pairs):
+        if np.any(sim.spring[p] != 0):
+            a, b = sim.particle_id[sim.pair_i[p]], sim.particle_id[sim.pair_j[p]]
+            before[(a, b)] = sim.spring[p].copy()
+    assert len(before) > 20
+    rng = np.random.default_rng(0)
+    perm = rng.permutation(sim.n_mobile)  # scramble the slots to force a different order and flipped pairs
+    for name in ("gear_position", "gear_rotation"):
+        getattr(sim, name)[:, :sim.n_mobile] = getattr(sim, name)[:, perm]
+    for name in ("radius", "inv_mass", "inv_inertia"):
+        getattr(sim, name)[:sim.n_mobile] = getattr(sim, name)[perm]
+    sim.mass, sim.particle_id = sim.mass[perm], sim.particle_id[perm]
+    inverse = np.empty_like(perm)
+    inverse[perm] = np.arange(len(perm))
+    old_i, old_j = inverse[sim.pair_i], inverse[sim.pair_j]
+    swap = old_i > old_j
+    sim.pair_i = np.where(swap, old_j, old_i).astype(np.int32)
+    sim.pair_j = np.where(swap, old_i, old_j).astype(np.int32)
+    sim.spring = np.where(swap[:, None], -sim.spring, sim.spring)
+    sim.rebuild()
+    after = {}
+    for p in range(sim.n_pairs):
+        if np.any(sim.spring[p] != 0):
+            a, b = sim.particle_id[sim.pair_i[p]], sim.particle_id[sim.pair_j[p]]
+            after[(a, b) if a < b else (b, a)] = sim.spring[p] if a < b else -sim.spring[p]
+    before = {(a, b) if a < b else (b, a): (v if a < b else -v) for (a, b), v in before.items()}
+    assert after.keys() == before.keys()
+    for key in before:
+        np.testing.assert_array_equal(after[key], before[key])

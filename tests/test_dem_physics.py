@@ -1,0 +1,193 @@
+"""Physics invariants of the DEM engine: binary collisions (P1 Eq. 4, restitution), Coulomb cap and spring
+projection, momentum and energy balance, the wall contact law."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from forcenet import units
+from forcenet.dem import _kernels, calibration
+from forcenet.dem.engine import ContactLaw, Simulation
+
+P1_HERTZ_K = units.reduced_normal_stiffness(units.Material(), 0.5)
+
+
+def two_particle_simulation(law: ContactLaw, speed: float, time_step: float, dim: int = 2) -> Simulation:
+    """Factory: two mean particles (mass 1, diameter 1) approaching head-on along x at relative speed `speed`,
+    just apart, no walls."""
+    position = np.zeros((2, dim))
+    position[1, 0] = 1.0 + 0.5 * speed * time_step
+    velocity = np.zeros((2, dim))
+    velocity[0, 0], velocity[1, 0] = 0.5 * speed, -0.5 * speed
+    return Simulation(position=position, radius=[0.5, 0.5], mass=[1.0, 1.0], law=law, time_step=time_step,
+                      box_lo=np.zeros(dim), box_hi=np.ones(dim), velocity=velocity, walls="none")
+
+
+def collide(sim: Simulation, max_steps: int = 100000) -> tuple[float, float]:
+    """Run until the pair separates; returns (contact duration, outgoing relative speed)."""
+    steps_in_contact = 0
+    for _ in range(max_steps):
+        sim.advance(1)
+        if sim.contact_count():
+            steps_in_contact += 1
+        elif steps_in_contact:
+            break
+    v = sim.velocities()
+    return steps_in_contact * sim.time_step, float(v[1, 0] - v[0, 0])
+
+
+@pytest.mark.parametrize("beta, k_n, speed", [(0.0, math.pi ** 2, 0.1), (0.5, P1_HERTZ_K, 2e-3),
+                                              (0.5, P1_HERTZ_K, 0.05)])
+def test_undamped_collision_lasts_p1_eq4(beta, k_n, speed):
+    expected = units.undamped_collision_time(k_n, beta, 0.5, speed)
+    law = ContactLaw(k_n, 0.8 * k_n, 0.0, 0.0, 0.5, beta)
+    duration, v_out = collide(two_particle_simulation(law, speed, expected / 400))
+    assert duration == pytest.approx(expected, rel=5e-3)
+    assert v_out == pytest.approx(speed, rel=1e-3)  # elastic
+    assert calibration.collision_duration(k_n, beta, 0.0, 0.5, speed) == pytest.approx(expected, rel=1e-6)
+
+
+@pytest.mark.parametrize("beta, k_n, speed, time_step", [(0.0, math.pi ** 2, 0.1, 0.02),
+                                                         (0.5, P1_HERTZ_K, 2e-3, 0.02),
+                                                         (0.0, units.P2_REDUCED_NORMAL_STIFFNESS, 0.01, 0.02)])
+def test_calibrated_damping_gives_the_restitution(beta, k_n, speed, time_step):
+    """γ_n from calibration.py gives e_n = 0.5 for two mean particles, in the engine at the papers' Δt."""
+    gamma = calibration.normal_damping_for_restitution(k_n, beta, 0.5, 0.5, speed)
+    assert calibration.collision_restitution(k_n, beta, gamma, 0.5, speed) == pytest.approx(0.5, abs=1e-8)
+    law = ContactLaw(k_n, 0.8 * k_n, gamma, gamma, 0.5, beta)
+    _, v_out = collide(two_particle_simulation(law, speed, time_step))
+    assert v_out / speed == pytest.approx(0.5, abs=0.02)
+    # and the closed form alone (no tail cut) would be wrong by more than that for the linear law
+    if beta == 0.0:
+        closed = units.linear_damping_for_restitution(k_n, 0.5, 0.5)
+        assert calibration.collision_restitution(k_n, 0.0, closed, 0.5, speed) > 0.53
+
+
+def test_spring_is_projected_onto_the_tangent_plane():
+    law = ContactLaw(100.0, 80.0, 0.0, 0.0, 10.0, 0.0).as_array()
+    n = np.array([0.6, 0.8, 0.0])
+    xi = np.array([0.01, 0.02, 0.005])  # has a normal part n·ξ = 0.022
+    f_n, fx, fy, fz, sx, sy, sz = _kernels.contact_force_3d(*n, 0.01, 0.0, 0.0, 0.0, 0.0, 0.5, 1.0, *xi, law, 0.0)
+    projected = xi - n * np.dot(n, xi)
+    np.testing.assert_allclose([sx, sy, sz], projected, atol=1e-15)
+    np.testing.assert_allclose([fx, fy, fz], -80.0 * projected, atol=1e-13)
+    assert f_n == pytest.approx(1.0)
+    assert abs(np.dot([fx, fy, fz], n)) < 1e-15
+
+
+@pytest.mark.parametrize("beta", [0.0, 0.5])
+def test_coulomb_cap_limits_the_force_and_rescales_the_spring(beta):
+    mu, overlap = 0.3, 0.02
+    law = ContactLaw(100.0, 80.0, 0.0, 0.0, mu, beta).as_array()
+    f_n, fx, fy, sx, sy = _kernels.contact_force_2d(1.0, 0.0, overlap, 0.0, 0.0, 0.0, 0.5, 1.0, 0.0, 0.05, law, 0.0)
+    assert f_n == pytest.approx(100.0 * overlap ** (1 + beta))
+    assert math.hypot(fx, fy) == pytest.approx(mu * f_n)           # P1 Eq. 3
+    assert fy < 0 and fx == 0.0                                     # opposes the spring
+    trial = 80.0 * overlap ** beta * 0.05
+    assert sy == pytest.approx(0.05 * mu * f_n / trial)              # ξ rescaled by the same factor
+    # a small spring sticks: the force is the spring force itself
+    f_n, fx, fy, sx, sy = _kernels.contact_force_2d(1.0, 0.0, overlap, 0.0, 0.0, 0.0, 0.5, 1.0, 0.0, 1e-5, law, 0.0)
+    assert fy == pytest.approx(-80.0 * overlap ** beta * 1e-5) and sy == 1e-5
+
+
+def test_normal_force_is_never_attractive():
+    law = ContactLaw(100.0, 80.0, 50.0, 0.0, 0.5, 0.0).as_array()
+    f_n, *_ = _kernels.contact_force_2d(1.0, 0.0, 0.001, 1.0, 0.0, 0.0, 1.0, 1.0, 0.0, 0.0, law, 0.0)
+    assert f_n == 0.0  # separating fast: damping exceeds the spring
+
+
+def dense_cloud(dim: int, seed: int = 0, n_side: int = 6):
+    """A compressed perturbed lattice (overlaps ≈ 3 %) with random velocities and spins, in the middle of space."""
+    rng = np.random.default_rng(seed)
+    grid = np.stack(np.meshgrid(*[np.arange(n_side)] * dim, indexing="ij"), -1).reshape(-1, dim) * 0.97
+    position = grid + rng.uniform(-0.02, 0.02, grid.shape)
+    n = len(position)
+    radius = rng.uniform(0.49, 0.51, n)
+    mass = (2 * radius) ** dim
+    velocity = rng.normal(0.0, 0.05, (n, dim))
+    omega = rng.normal(0.0, 0.2, (n,) if dim == 2 else (n, 3))
+    return position, radius, mass, velocity, omega
+
+
+def total_momentum(sim: Simulation):
+    v = sim.velocities()
+    x = sim.positions()
+    m = sim._ordered(sim.mass)
+    inertia = 1.0 / sim._ordered(sim.inv_inertia[:sim.n_mobile])
+    p = (m[:, None] * v).sum(axis=0)
+    omega = sim.angular_velocities().reshape(sim.n_mobile, -1)
+    if sim.dimension == 2:
+        angular = np.sum(m * (x[:, 0] * v[:, 1] - x[:, 1] * v[:, 0]) + inertia * omega[:, 0])
+    else:
+        angular = (m[:, None] * np.cross(x, v)).sum(axis=0) + (inertia[:, None] * omega).sum(axis=0)
+    return p, np.atleast_1d(angular)
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_momentum_is_conserved_without_walls(dim):
+    position, radius, mass, velocity, omega = dense_cloud(dim)
+    law = ContactLaw(math.pi ** 2, 8.0, 2.0, 2.0, 0.5, 0.5 if dim == 3 else 0.0)
+    sim = Simulation(position=position, radius=radius, mass=mass, law=law, time_step=0.01, box_lo=np.zeros(dim),
+                     box_hi=np.ones(dim), velocity=velocity, angular_velocity=omega, walls="none")
+    p0, l0 = total_momentum(sim)
+    assert sim.contact_count() > 10
+    sim.advance(100)
+    assert sim.contact_count() > 10
+    sim.advance(400)
+    p1, l1 = total_momentum(sim)
+    np.testing.assert_allclose(p1, p0, atol=1e-12)  # pairwise forces cancel exactly
+    # torques act at one contact point for both particles, so L is conserved up to the integration error
+    np.testing.assert_allclose(l1, l0, rtol=1e-5)
+
+
+def elastic_energy(sim: Simulation, law: ContactLaw) -> float:
+    x = sim.gear_position[0]
+    energy = 0.0
+    for i, j in zip(sim.pair_i, sim.pair_j):
+        overlap = sim.radius[i] + sim.radius[j] - np.linalg.norm(x[i] - x[j])
+        if overlap > 0:
+            energy += law.normal_stiffness / (2 + law.beta) * overlap ** (2 + law.beta)
+    if sim.flat_walls:
+        for k in range(sim.dimension):
+            for overlap in (sim.radius[:sim.n_mobile] - (x[:sim.n_mobile, k] - sim.walls_lo[k]),
+                            sim.radius[:sim.n_mobile] - (sim.walls_hi[k] - x[:sim.n_mobile, k])):
+                energy += np.sum(law.normal_stiffness / (2 + law.beta) * np.clip(overlap, 0, None) ** (2 + law.beta))
+    return float(energy)
+
+
+@pytest.mark.parametrize("dim, beta", [(2, 0.0), (2, 0.5), (3, 0.5)])
+def test_energy_is_conserved_without_damping_and_friction(dim, beta):
+    position, radius, mass, velocity, omega = dense_cloud(dim, seed=3, n_side=5)
+    law = ContactLaw(math.pi ** 2 if beta == 0 else 200.0, 0.0, 0.0, 0.0, 0.0, beta)
+    box_lo, box_hi = np.full(dim, -0.48), np.full(dim, 4 * 0.97 + 0.48)  # flat walls touching the cloud
+    sim = Simulation(position=position, radius=radius, mass=mass, law=law, time_step=0.005, box_lo=box_lo,
+                     box_hi=box_hi, velocity=velocity, angular_velocity=omega, walls="flat")
+    e0 = sim.kinetic_energy() + elastic_energy(sim, law)
+    sim.advance(4000)
+    e1 = sim.kinetic_energy() + elastic_energy(sim, law)
+    assert elastic_energy(sim, law) > 0.01 * e0, "contacts should store energy"
+    assert e1 == pytest.approx(e0, rel=2e-3)
+
+
+@pytest.mark.parametrize("dim, beta", [(2, 0.0), (3, 0.5)])
+def test_wall_contact_law(dim, beta):
+    """A particle at rest overlapping the x_lo wall by x feels k_n x^(1+β) along +x; a wall moving in at v adds
+    the damping γ_n x^β m v (m_eff = particle mass); no torque."""
+    k_n, gamma, mass, overlap, speed = 50.0, 3.0, 1.7, 0.01, 0.02
+    law = ContactLaw(k_n, 40.0, gamma, gamma, 0.5, beta)
+    position = np.full((1, dim), 2.0)
+    position[0, 0] = 0.5 - overlap
+    sim = Simulation(position=position, radius=[0.5], mass=[mass], law=law, time_step=0.01, box_lo=np.zeros(dim),
+                     box_hi=np.full(dim, 4.0), walls="flat")
+    force, torque = sim.evaluate_forces()
+    expected = np.zeros(dim)
+    expected[0] = k_n * overlap ** (1 + beta)
+    np.testing.assert_allclose(force[0], expected, rtol=1e-12)
+    np.testing.assert_allclose(torque[0], 0.0, atol=1e-15)
+    sim.wall_state[3] = speed  # the walls are moving inward at `speed`
+    force, _ = sim.evaluate_forces()
+    assert force[0, 0] == pytest.approx(k_n * overlap ** (1 + beta) + gamma * overlap ** beta * mass * speed)
+    contacts = sim.contact_forces()
+    assert contacts.wall_contact_wall.tolist() == [0] and contacts.wall_contact_particle.tolist() == [0]

@@ -1,0 +1,190 @@
+"""Compression protocols: snapshots, force balance, determinism, resume after a kill, bad input, blow-ups."""
+from __future__ import annotations
+
+import dataclasses
+import logging
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from conftest import load_config
+from forcenet.dem import protocol
+from forcenet.dem.protocol import SimulationBlowUp, run_compression
+from forcenet.systems import ConfigError, Relaxation, system_from_config
+
+ATTRS = {"title": "test", "system": "t", "realization": 0, "seed": 1, "forcenet_version": "test",
+         "git_commit": "test", "config_sha256": "test", "config": "{}", "Conventions": "CF-1.10"}
+
+
+def tiny(name: str = "2d_linear", **changes):
+    system = system_from_config(name, load_config())
+    defaults = dict(box_length=6.0, rho_grid=(0.70, 0.75, 0.80))
+    if system.protocol == "quasistatic":
+        defaults["relaxation"] = Relaxation(window_steps=500, tolerance=0.1, max_steps=3000)
+    defaults.update(changes)
+    return dataclasses.replace(system, **defaults)
+
+
+def run(system, directory: Path, seed: int = 1, **kwargs) -> list[Path]:
+    paths = [directory / f"rho{label}.nc" for label in system.rho_labels]
+    run_compression(system, seed=seed, snapshot_paths=paths, checkpoint_path=directory / "checkpoint.npz",
+                    attrs=ATTRS, **kwargs)
+    return paths
+
+
+def assert_identical(paths_a, paths_b):
+    for a, b in zip(paths_a, paths_b):
+        with xr.open_dataset(a) as da, xr.open_dataset(b) as db:
+            for name in da.data_vars:
+                np.testing.assert_array_equal(da[name].values, db[name].values, err_msg=f"{a.name}: {name}")
+
+
+@pytest.mark.parametrize("name", ["2d_linear", "2d_poly_mu05", "3d_hertz"])
+def test_snapshots_are_written_on_the_grid(tmp_path, name):
+    system = tiny(name, box_length=6.0 if name != "3d_hertz" else 4.5,
+                  rho_grid=(0.70, 0.75) if name[0] == "2" else (0.40, 0.45))
+    paths = run(system, tmp_path)
+    for path, rho in zip(paths, system.rho_grid):
+        with xr.open_dataset(path) as ds:
+            assert float(ds.rho) == pytest.approx(rho, abs=2e-3 if system.protocol == "continuous" else 1e-9)
+            assert np.all(ds.contact_i.values < ds.contact_j.values)
+            assert float(ds.Z) == pytest.approx(2 * ds.sizes["contact"] / ds.sizes["particle"])
+            assert int(ds.relaxation_steps) == (-1 if system.protocol == "continuous" else int(ds.relaxation_steps))
+            assert float(ds.pressure) >= 0
+            if system.walls == "rough":
+                assert set(np.unique(ds.wall_contact_wall.values)) <= {0, 1, 2, 3}
+
+
+@pytest.mark.slow
+def test_relaxed_packing_is_in_force_balance(tmp_path):
+    """Above jamming, after relaxation every non-rattler's net force is small next to its contact forces."""
+    system = tiny(box_length=9.0, rho_grid=(0.86,), relaxation=Relaxation(window_steps=4000, tolerance=0.02,
+                                                                            max_steps=60000))
+    [path] = run(system, tmp_path)
+    with xr.open_dataset(path) as ds:
+        n = ds.sizes["particle"]
+        net = np.zeros((n, 2))
+        magnitude = np.zeros(n)
+        count = np.zeros(n, dtype=int)
+        force = ds.force_normal.values + ds.force_tangential.values
+        for i, j, f in zip(ds.contact_i.values, ds.contact_j.values, force):
+            net[i] += f
+            net[j] -= f
+            magnitude[[i, j]] += np.linalg.norm(f)
+            count[[i, j]] += 1
+        for i, f in zip(ds.wall_contact_particle.values, ds.wall_contact_force.values):
+            net[i] += f
+            magnitude[i] += np.linalg.norm(f)
+            count[i] += 1
+        assert float(ds.Z) > 3.0, "the packing should be jammed"
+        carriers = count >= 2
+        ratio = np.linalg.norm(net[carriers], axis=1) / magnitude[carriers]
+        assert np.max(ratio) < 0.02, f"worst net/total force {np.max(ratio):.3g}"
+
+
+def test_same_seed_gives_identical_snapshots_and_another_seed_does_not(tmp_path):
+    system = tiny()
+    a = run(system, tmp_path / "a", seed=5)
+    b = run(system, tmp_path / "b", seed=5)
+    assert_identical(a, b)
+    c = run(system, tmp_path / "c", seed=6)
+    with xr.open_dataset(a[0]) as da, xr.open_dataset(c[0]) as dc:
+        assert not np.array_equal(da.position.values, dc.position.values)
+
+
+@pytest.mark.parametrize("name", ["2d_linear", "2d_poly_mu05"])
+def test_resume_after_a_crash_gives_identical_snapshots(tmp_path, monkeypatch, name):
+    system = tiny(name)
+    reference = run(system, tmp_path / "reference")
+    real_writer = protocol.datasets.write_snapshot
+    calls = []
+
+    def dying_writer(path, **kwargs):
+        calls.append(path)
+        if len(calls) == 2:
+            raise KeyboardInterrupt("killed while computing the second snapshot")
+        return real_writer(path, **kwargs)
+
+    monkeypatch.setattr(protocol.datasets, "write_snapshot", dying_writer)
+    with pytest.raises(KeyboardInterrupt):
+        run(system, tmp_path / "resumed")
+    monkeypatch.setattr(protocol.datasets, "write_snapshot", real_writer)
+    first = (tmp_path / "resumed" / reference[0].name)
+    mtime = first.stat().st_mtime_ns
+    assert not (tmp_path / "resumed" / reference[1].name).exists()
+    resumed = run(system, tmp_path / "resumed")
+    assert first.stat().st_mtime_ns == mtime, "the snapshot before the checkpoint is kept, not rewritten"
+    assert_identical(reference, resumed)
+
+
+@pytest.mark.slow
+def test_resume_after_sigkill_gives_identical_snapshots(tmp_path):
+    """A real kill (SIGKILL) of a separate process right after the first checkpoint."""
+    system = tiny(rho_grid=(0.70, 0.72, 0.74, 0.76, 0.78, 0.80))
+    reference = run(system, tmp_path / "reference")
+    directory = tmp_path / "killed"
+    script = (f"import dataclasses, sys; sys.path.insert(0, {str(Path(__file__).parent)!r});"
+              "from test_dem_protocol import tiny, run; from forcenet.systems import Relaxation;"
+              f"run(tiny(rho_grid={system.rho_grid!r}), __import__('pathlib').Path({str(directory)!r}))")
+    proc = subprocess.Popen([sys.executable, "-c", script])
+    deadline = time.monotonic() + 120
+    while not (directory / "checkpoint.npz").exists() and time.monotonic() < deadline and proc.poll() is None:
+        time.sleep(0.01)
+    proc.send_signal(signal.SIGKILL)
+    proc.wait()
+    written = sum(p.exists() for p in [directory / r.name for r in reference])
+    assert written < len(reference), "the kill should interrupt the run"
+    resumed = run(system, directory)
+    assert_identical(reference, resumed)
+
+
+@pytest.mark.parametrize("changes, key", [
+    (dict(time_step=0.08), "time_step"),                  # passes the config check (≤ 0.1 τ_c), not the engine's
+    (dict(rho_grid=(0.30, 0.75)), "rho"),                  # below the lattice packing fraction (0.45)
+    (dict(rho_grid=(0.75, 0.97)), "rho"),                  # beyond what a 2D box allows
+    (dict(box_length=0.0), "box_length"),
+    (dict(box_length=-4.0), "box_length"),
+    (dict(diameter_ratio=0.0), "diameter_ratio"),
+    (dict(small_to_large=-1.0), "small_to_large"),
+    (dict(time_step=0.0), "time_step"),
+    (dict(wall_speed=0.0), "wall_speed"),
+])
+def test_bad_input_fails_before_running(tmp_path, changes, key):
+    system = tiny(**changes)
+    with pytest.raises(ConfigError) as err:
+        run(system, tmp_path)
+    assert err.value.key == f"systems.2d_linear.{key}"
+    assert not any(tmp_path.iterdir())
+
+
+def test_blow_up_stops_with_step_particle_and_rho(tmp_path):
+    system = tiny(normal_stiffness=0.05, tangential_stiffness=0.04, wall_speed=0.5, time_step=0.02)
+    with pytest.raises(SimulationBlowUp) as err:
+        run(system, tmp_path)
+    message = str(err.value)
+    assert "step" in message and "particle" in message and "ρ" in message
+    assert err.value.step > 0 and 0 <= err.value.particle
+    assert not list(tmp_path.glob("*.nc")), "no snapshot may look complete"
+
+
+def test_progress_is_logged(tmp_path, caplog, monkeypatch):
+    monkeypatch.setattr(protocol, "LOG_INTERVAL_S", 0.0)
+    with caplog.at_level(logging.INFO):
+        run(tiny(rho_grid=(0.70,)), tmp_path, log=logging.getLogger("dem-test"))
+    progress = [r.message for r in caplog.records if "steps/s" in r.message]
+    assert progress and all(k in progress[0] for k in ("ρ =", "Z =", "E_kin =", "left"))
+
+
+def test_relaxation_cap_is_logged(tmp_path, caplog):
+    system = tiny(rho_grid=(0.70,), relaxation=Relaxation(window_steps=100, tolerance=1e-12, max_steps=300))
+    with caplog.at_level(logging.WARNING):
+        run(system, tmp_path, log=logging.getLogger("dem-test"))
+    assert any("hit the cap" in r.message for r in caplog.records)
+    assert os.path.exists(tmp_path / "rho0.700.nc")
