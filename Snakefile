@@ -14,6 +14,7 @@ include: "workflow/rules/setup.smk"
 include: "workflow/rules/simulate.smk"
 include: "workflow/rules/analyze.smk"
 include: "workflow/rules/figures.smk"
+include: "workflow/rules/p2.smk"
 
 
 rule all:

@@ -196,3 +196,71 @@ def p1_validation_table(*, measures: Sequence[str], systems: Sequence[str], csv:
         table = p1_validation(_open_by_system(measures))
         write_p1_validation(table, csv, md)
         log.info("P1 validation: %d rows, verdicts %s", len(table), table["verdict"].value_counts().to_dict())
+
+
+def p2_distances(*, analyses: Sequence[str], realizations: Sequence[int], output: str, essential_convention: str,
+                 timeout_s: float, config: Mapping[str, Any], system: str, log_path: str | None = None) -> None:
+    """P2 §III D: d_B, d_W1, d_W2 between consecutive snapshots of every realization → distances.nc."""
+    from forcenet.datasets import open_dataset, provenance_attrs, write_netcdf
+    from forcenet.report.p2 import consecutive_distances, stack_distances
+
+    with job_logger(log_path, f"p2_distances.{system}") as log:
+        per_realization_count = len(analyses) // len(realizations)
+        results = []
+        for index, realization in enumerate(realizations):
+            paths = analyses[index * per_realization_count:(index + 1) * per_realization_count]
+            results.append(consecutive_distances([open_dataset(p) for p in paths], essential_convention, timeout_s))
+            log.info("%s realization %d: %d consecutive pairs", system, realization, len(paths) - 1)
+        spec = system_from_config(system, config)
+        attrs = provenance_attrs(system=system, realization=-1, seed=config["seed"], config=config,
+                                 title=f"forcenet distances between consecutive persistence diagrams, {system}")
+        attrs["dimension"] = spec.dimension
+        write_netcdf(stack_distances(results, realizations, attrs), output)
+
+
+def p2_tables(*, snapshots: Sequence[str], csv: Sequence[str], md: Sequence[str], analysis: Mapping[str, Any],
+              log_path: str | None = None) -> None:
+    """P2 Tables I–III from three nearby snapshots a, b, c (whole box and quadrants)."""
+    from forcenet.datasets import read_snapshot
+    from forcenet.report.p2 import p2_tables as compute_tables, write_table
+
+    with job_logger(log_path, "p2_tables") as log:
+        tables = compute_tables([read_snapshot(p) for p in snapshots], remove_rattlers=analysis["remove_rattlers"],
+                                essential_convention=analysis["essential_convention"],
+                                timeout_s=analysis["distance_timeout_s"])
+        for (name, table), csv_path, md_path in zip(sorted(tables.items()), csv, md):
+            write_table(table, csv_path, md_path)
+        log.info("P2 tables from %s", ", ".join(snapshots))
+
+
+def p2_figure(*, name: str, system: str, inputs: Mapping[str, Sequence[str]], pdf: str, png: str,
+              log_path: str | None = None) -> None:
+    """Draw one P2 figure (snapshots, one analysis, or one system's distances)."""
+    from forcenet.datasets import open_dataset
+    from forcenet.plotting.p2 import P2_FIGURES
+    from forcenet.plotting.style import apply_style, save_figure
+
+    with job_logger(log_path, f"figure.{name}") as log:
+        apply_style()
+        function = P2_FIGURES[name]
+        if inputs.get("snapshots"):
+            figure_ = function([open_dataset(p) for p in inputs["snapshots"]], system=system)
+        elif inputs.get("analysis"):
+            figure_ = function(open_dataset(inputs["analysis"][0]), system=system)
+        else:
+            figure_ = function(open_dataset(inputs["distances"][0]), system=system)
+        save_figure(figure_, pdf, png)
+        log.info("%s drawn for %s", name, system)
+
+
+def p2_validation_table(*, distances: Sequence[str], tables: Sequence[str], frictional: str, frictionless: str | None,
+                        md: str, csv: str, log_path: str | None = None) -> None:
+    """Each claim of P2 §IV with its measured evidence and verdict (results/tables/p2_validation.md)."""
+    from forcenet.report.p2 import p2_validation, read_table, write_p2_validation
+
+    with job_logger(log_path, "p2_validation") as log:
+        table = p2_validation(_open_by_system(distances),
+                              {f"table{i + 1}": read_table(path) for i, path in enumerate(sorted(tables))},
+                              frictional=frictional, frictionless=frictionless or "")
+        write_p2_validation(table, md, csv)
+        log.info("P2 validation: verdicts %s", table["verdict"].value_counts().to_dict())

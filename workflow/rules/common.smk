@@ -80,4 +80,8 @@ def all_targets():
     if P1_SYSTEMS:
         targets += [f"{RESULTS}/figures/{name}.pdf" for name in P1_FIGURES]
         targets += [f"{RESULTS}/tables/p1_validation.md"]
+    if P2_SYSTEMS:
+        targets += [f"{RESULTS}/{s}/distances.nc" for s in P2_SYSTEMS]
+        targets += [f"{RESULTS}/figures/{name}.pdf" for name in P2_FIGURES]
+        targets += [f"{RESULTS}/tables/p2_table{i}.md" for i in (1, 2, 3)] + [f"{RESULTS}/tables/p2_validation.md"]
     return targets

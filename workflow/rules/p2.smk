@@ -1,0 +1,112 @@
+# P2: distances between persistence diagrams of consecutive states, Tables I–III, figures 1, 3, 6–10 and the
+# validation of P2's claims. P2_SYSTEMS[0] is the frictional system (μ = 0.5), P2_SYSTEMS[1] the frictionless one.
+P2_FRICTIONAL = P2_SYSTEMS[0] if P2_SYSTEMS else None
+P2_FRICTIONLESS = P2_SYSTEMS[1] if len(P2_SYSTEMS) > 1 else None
+
+
+def p2_table_labels():
+    """ρ labels of the three nearby snapshots a, b, c around studies.p2.table_rho (P2 Tables I–III)."""
+    from forcenet.report.p2 import select_table_snapshots
+
+    spec = SYSTEMS[P2_FRICTIONAL]
+    indices = select_table_snapshots(spec.rho_grid, config["studies"]["p2"].get("table_rho", 0.79))
+    return [spec.rho_labels[i] for i in indices]
+
+
+def p2_table_snapshots(wildcards=None):
+    return [snapshot_path(P2_FRICTIONAL, REALIZATIONS[0], rho) for rho in p2_table_labels()]
+
+
+P2_FIGURE_INPUTS = {
+    "p2_fig01_snapshots_differences": ("snapshots", None),
+    "p2_fig03_diagrams": ("analysis", None),
+    "p2_fig06_distances_normal_mu05": ("distances", P2_FRICTIONAL),
+    "p2_fig07_ratios_mu05": ("distances", P2_FRICTIONAL),
+    "p2_fig08_distances_tangential_mu05": ("distances", P2_FRICTIONAL),
+    "p2_fig09_distances_normal_mu0": ("distances", P2_FRICTIONLESS),
+    "p2_fig10_ratios_mu0": ("distances", P2_FRICTIONLESS),
+}
+P2_CAPTIONS = {
+    "p2_fig01_snapshots_differences": "Three nearby snapshots a, b, c (normal forces) and the maps of |ΔF| between them (P2 Fig. 1).",
+    "p2_fig03_diagrams": "PD0 and PD1 of the normal-force network of snapshot b (P2 Fig. 3).",
+    "p2_fig06_distances_normal_mu05": "d_B, d_W1, d_W2 between consecutive PDs vs ρ for β0 and β1 with Z(ρ); μ = 0.5, normal forces (P2 Fig. 6).",
+    "p2_fig07_ratios_mu05": "Ratios d_B/d_W1 and d_B/d_W2; μ = 0.5, normal forces (P2 Fig. 7).",
+    "p2_fig08_distances_tangential_mu05": "As Fig. 6 for tangential forces (P2 Fig. 8).",
+    "p2_fig09_distances_normal_mu0": "As Fig. 6 for the frictionless system μ = 0 (P2 Fig. 9).",
+    "p2_fig10_ratios_mu0": "As Fig. 7 for μ = 0 (P2 Fig. 10).",
+}
+# figures of a system that the config does not list are not built
+P2_FIGURES = {name: (kind, system) for name, (kind, system) in P2_FIGURE_INPUTS.items()
+              if P2_FRICTIONAL and (kind != "distances" or system is not None)}
+
+
+rule p2_distances:
+    """d_B, d_W1, d_W2 between consecutive snapshots, normal and tangential networks, β0 and β1."""
+    input:
+        system_analyses,
+    output:
+        f"{RESULTS}/{{system}}/distances.nc",
+    log:
+        f"{LOGS}/distances/{{system}}.log",
+    params:
+        realizations=lambda wildcards: [realization_index(r) for r in REALIZATIONS],
+        essential_convention=config["analysis"]["essential_convention"],
+        timeout_s=config["analysis"]["distance_timeout_s"],
+    resources:
+        runtime=60,
+        mem_mb=4000,
+    script:
+        "../scripts/p2_distances.py"
+
+
+rule p2_tables:
+    input:
+        p2_table_snapshots,
+    output:
+        csv=[f"{RESULTS}/tables/p2_table{i}.csv" for i in (1, 2, 3)],
+        md=[report(f"{RESULTS}/tables/p2_table{i}.md", caption="../report/table.rst", category="P2") for i in (1, 2, 3)],
+    log:
+        f"{LOGS}/tables/p2_tables.log",
+    params:
+        analysis=config["analysis"],
+    script:
+        "../scripts/p2_tables.py"
+
+
+for _figure, (_kind, _system) in P2_FIGURES.items():
+
+    rule:
+        name:
+            f"figure_{_figure}"
+        input:
+            snapshots=p2_table_snapshots() if _kind == "snapshots" else [],
+            analysis=[analysis_path(P2_FRICTIONAL, REALIZATIONS[0], p2_table_labels()[1])] if _kind == "analysis" else [],
+            distances=[f"{RESULTS}/{_system}/distances.nc"] if _kind == "distances" else [],
+        output:
+            pdf=report(f"{RESULTS}/figures/{_figure}.pdf", caption="../report/figure.rst", category="P2",
+                       labels={"figure": _figure}),
+            png=f"{RESULTS}/figures/{_figure}.png",
+        log:
+            f"{LOGS}/figures/{_figure}.log",
+        params:
+            figure=_figure,
+            caption=P2_CAPTIONS[_figure],
+            systems=[_system or P2_FRICTIONAL],
+        script:
+            "../scripts/p2_figure.py"
+
+
+rule p2_validation:
+    input:
+        distances=[f"{RESULTS}/{s}/distances.nc" for s in P2_SYSTEMS],
+        tables=rules.p2_tables.output.csv,
+    output:
+        md=report(f"{RESULTS}/tables/p2_validation.md", caption="../report/table.rst", category="P2"),
+        csv=f"{RESULTS}/tables/p2_validation.csv",
+    log:
+        f"{LOGS}/tables/p2_validation.log",
+    params:
+        frictional=P2_FRICTIONAL,
+        frictionless=P2_FRICTIONLESS,
+    script:
+        "../scripts/p2_validation.py"
