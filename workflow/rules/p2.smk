@@ -27,7 +27,7 @@ P2_FIGURE_INPUTS = {
     "p2_fig10_ratios_mu0": ("distances", P2_FRICTIONLESS),
 }
 P2_CAPTIONS = {
-    "p2_fig01_snapshots_differences": "Three nearby snapshots a, b, c (normal forces) and the maps of |ΔF| between them (P2 Fig. 1).",
+    "p2_fig01_snapshots_differences": "Three nearby snapshots a, b, c (normal forces) and maps of the force change ΔF between them (P2 Fig. 1).",
     "p2_fig03_diagrams": "PD0 and PD1 of the normal-force network of snapshot b (P2 Fig. 3).",
     "p2_fig06_distances_normal_mu05": "d_B, d_W1, d_W2 between consecutive PDs vs ρ for β0 and β1 with Z(ρ); μ = 0.5, normal forces (P2 Fig. 6).",
     "p2_fig07_ratios_mu05": "Ratios d_B/d_W1 and d_B/d_W2; μ = 0.5, normal forces (P2 Fig. 7).",
