@@ -1,6 +1,6 @@
 """Numba kernels of the DEM engine: contact forces, flat walls, Gear predictor–corrector, neighbour lists.
 
-Only numpy, numba and math (plus the shared numba options). Drivers live in `engine.py` and `protocol.py`.
+Only numpy, numba and math (plus the DEM numba options, `forcenet._numba.NJIT_DEM`). Drivers live in `engine.py` and `protocol.py`.
 
 Conventions (all in reduced units: length d_ave, mass m̄, time τ_c):
 
@@ -18,7 +18,7 @@ import math
 import numba
 import numpy as np
 
-from forcenet._numba import NJIT
+from forcenet._numba import NJIT_DEM
 
 # --- the contact law -------------------------------------------------------------------------------------------
 LAW_K_N = 0        # k_n       [m̄ d_ave^(−β) τ_c^(−2)]
@@ -47,7 +47,7 @@ GEAR_C3 = 1.0 / 2.0
 GEAR_C4 = 1.0 / 12.0
 
 
-@numba.njit(**NJIT)
+@numba.njit(**NJIT_DEM)
 def _overlap_power(overlap, beta):
     """x^β, with the two force laws of P1 special-cased (exact and fast)."""
     if beta == 0.0:
@@ -57,7 +57,7 @@ def _overlap_power(overlap, beta):
     return overlap ** beta
 
 
-@numba.njit(**NJIT)
+@numba.njit(**NJIT_DEM)
 def contact_force_2d(nx, ny, overlap, v_normal, slip_x, slip_y, m_eff, scale, xi_x, xi_y, law, spring_dt):
     """Force of one contact in 2D (P1 Eq. 1–3).
 
@@ -94,7 +94,7 @@ def contact_force_2d(nx, ny, overlap, v_normal, slip_x, slip_y, m_eff, scale, xi
     return f_n, f_tx, f_ty, xi_x, xi_y
 
 
-@numba.njit(**NJIT)
+@numba.njit(**NJIT_DEM)
 def contact_force_3d(nx, ny, nz, overlap, v_normal, slip_x, slip_y, slip_z, m_eff, scale,
                      xi_x, xi_y, xi_z, law, spring_dt):
     """3D version of `contact_force_2d` (P1 Eq. 1–3); returns (F_n, F_t (3), spring (3))."""
@@ -125,7 +125,7 @@ def contact_force_3d(nx, ny, nz, overlap, v_normal, slip_x, slip_y, slip_z, m_ef
     return f_n, f_tx, f_ty, f_tz, xi_x, xi_y, xi_z
 
 
-@numba.njit(**NJIT)
+@numba.njit(**NJIT_DEM)
 def pair_forces_2d(position, velocity, angular_velocity, velocity_scale, radius, pair_mass, pair_scale,
                    pair_i, pair_j, n_pairs, spring, law, spring_dt, force, torque,
                    record, record_overlap, record_normal, record_tangential):
@@ -198,7 +198,7 @@ def pair_forces_2d(position, velocity, angular_velocity, velocity_scale, radius,
     return _worst_fraction(worst_pair, worst_excess, pair_i, pair_j, radius), worst_pair
 
 
-@numba.njit(**NJIT)
+@numba.njit(**NJIT_DEM)
 def pair_constants(pair_i, pair_j, radius, inv_mass, law):
     """Per-pair constants of the Verlet list: reduced mass 1/(1/m_i + 1/m_j) (m_i against a wall particle) and
     the LAMMPS-convention factor √(r_i r_j/(r_i + r_j)) (1 unless law[LAW_RADIUS_SCALED])."""
@@ -214,7 +214,7 @@ def pair_constants(pair_i, pair_j, radius, inv_mass, law):
     return pair_mass, pair_scale
 
 
-@numba.njit(**NJIT)
+@numba.njit(**NJIT_DEM)
 def _worst_fraction(worst_pair, worst_excess, pair_i, pair_j, radius):
     """Overlap / smaller diameter of the pair with the largest excess over the blow-up threshold."""
     if worst_pair < 0:
@@ -223,7 +223,7 @@ def _worst_fraction(worst_pair, worst_excess, pair_i, pair_j, radius):
     return MAX_OVERLAP_FRACTION + worst_excess / diameter
 
 
-@numba.njit(**NJIT)
+@numba.njit(**NJIT_DEM)
 def pair_forces_3d(position, velocity, angular_velocity, velocity_scale, radius, pair_mass, pair_scale,
                    pair_i, pair_j, n_pairs, spring, law, spring_dt, force, torque,
                    record, record_overlap, record_normal, record_tangential):
@@ -305,7 +305,7 @@ def pair_forces_3d(position, velocity, angular_velocity, velocity_scale, radius,
     return _worst_fraction(worst_pair, worst_excess, pair_i, pair_j, radius), worst_pair
 
 
-@numba.njit(**NJIT)
+@numba.njit(**NJIT_DEM)
 def flat_wall_forces(position, velocity, angular_velocity, velocity_scale, radius, inv_mass, n_mobile,
                      wall_lo, wall_hi, wall_speed, wall_spring, law, spring_dt, force, torque,
                      record, record_overlap, record_force, release_band):
@@ -320,11 +320,22 @@ def flat_wall_forces(position, velocity, angular_velocity, velocity_scale, radiu
     overlap (N, 2d) and the total force of each wall on each particle (N, 2d, d) are written.
     Returns (largest overlap / diameter, particle index or −1).
     """
+    return flat_wall_forces_of(np.arange(n_mobile), position, velocity, angular_velocity, velocity_scale, radius,
+                               inv_mass, wall_lo, wall_hi, wall_speed, wall_spring, law, spring_dt, force, torque,
+                               record, record_overlap, record_force, release_band)
+
+
+@numba.njit(**NJIT_DEM)
+def flat_wall_forces_of(particles, position, velocity, angular_velocity, velocity_scale, radius, inv_mass, wall_lo,
+                        wall_hi, wall_speed, wall_spring, law, spring_dt, force, torque, record, record_overlap,
+                        record_force, release_band):
+    """`flat_wall_forces` for the listed particles only (sorted slot indices): the others are left alone."""
     dim = position.shape[1]
     radius_scaled = law[LAW_RADIUS_SCALED] != 0.0
     worst_fraction = 0.0
     worst_particle = -1
-    for i in range(n_mobile):
+    for q in range(particles.shape[0]):
+        i = particles[q]
         reach = radius[i] + release_band
         near = False
         for axis in range(dim):  # fast path: most particles are far from every wall
@@ -415,7 +426,7 @@ def flat_wall_forces(position, velocity, angular_velocity, velocity_scale, radiu
 
 # --- Gear predictor–corrector (4th order: 5 values) -----------------------------------------------------------
 
-@numba.njit(**NJIT)
+@numba.njit(**NJIT_DEM)
 def gear_predict(gear, n_mobile, force_velocity):
     """Taylor (Pascal-triangle) prediction of the scaled derivatives gear (5, N, C), particles < n_mobile.
 
@@ -442,7 +453,7 @@ def gear_predict(gear, n_mobile, force_velocity):
         r3[j] = a3 + 4.0 * a4
 
 
-@numba.njit(**NJIT)
+@numba.njit(**NJIT_DEM)
 def gear_correct(gear, load, accel_scale, n_mobile):
     """Gear 5-value corrector of gear (5, N, C): the new acceleration term is accel_scale·load, with
     accel_scale (N, C) = Δt²/2 · (1/m or 1/I) of each component (flat loop, vectorisable)."""
@@ -462,7 +473,7 @@ def gear_correct(gear, load, accel_scale, n_mobile):
         r4[j] += GEAR_C4 * delta
 
 
-@numba.njit(**NJIT)
+@numba.njit(**NJIT_DEM)
 def kinetic_energy_dt_sq(gear, weight, n_mobile):
     """Σ_i ½ weight_i |gear[1, i]|² (weight: mass or moment of inertia): kinetic energy × Δt²."""
     n_comp = gear.shape[2]
@@ -481,7 +492,7 @@ def kinetic_energy_dt_sq(gear, weight, n_mobile):
     return 0.5 * energy
 
 
-@numba.njit(**NJIT)
+@numba.njit(**NJIT_DEM)
 def check_positions(position, reference, n_mobile, lo, hi, escape_margin):
     """Largest squared displacement since the last rebuild, and the first particle whose centre is not
     finite or lies outside [lo − margin, hi + margin] (−1 if none)."""
@@ -515,7 +526,7 @@ def check_positions(position, reference, n_mobile, lo, hi, escape_margin):
     return max_sq, bad
 
 
-@numba.njit(**NJIT)
+@numba.njit(**NJIT_DEM)
 def place_wall_particles(gear_position, force_velocity, n_mobile, wall_anchor, wall_axis, wall_sign,
                          box_lo, box_hi, shift, velocity_dt):
     """Rough walls at wall shift `shift` [d_ave], walls moving inward by velocity_dt (= v_wall Δt) per step.
@@ -542,33 +553,271 @@ def place_wall_particles(gear_position, force_velocity, n_mobile, wall_anchor, w
             force_velocity[idx, k] = gear_position[1, idx, k]
 
 
-@numba.njit(**NJIT)
+# --- the time-step loop ----------------------------------------------------------------------------------------
+#
+# `advance` runs many steps per call (one numba call per chunk, no allocation per step). The pair loop is
+# `_pair_loop_2d` / `_pair_loop_3d`: the operations of `pair_forces_2d` / `pair_forces_3d` in the same order (the
+# same results to the last bit under the same compiler options), with the law's constants hoisted out of the loop
+# and the per-pair products γ m_eff precomputed at each rebuild (`pair_table`); the flat walls visit only the
+# particles that can reach them before the next rebuild (`wall_candidates`) instead of testing every particle.
+
+#: force-law selector of the pair loops
+MODE_LINEAR = 0
+MODE_HERTZ = 1
+MODE_POWER = 2
+
+
+@numba.njit(**NJIT_DEM)
+def law_mode(beta):
+    """MODE_LINEAR for β = 0, MODE_HERTZ for β = ½, MODE_POWER otherwise (x^β by pow)."""
+    if beta == 0.0:
+        return MODE_LINEAR
+    if beta == 0.5:
+        return MODE_HERTZ
+    return MODE_POWER
+
+
+@numba.njit(**NJIT_DEM)
+def pair_table(pair_mass, pair_scale, law):
+    """Per-pair constants (n_pairs, 3) of the stepping loops from `pair_constants`: γ_n m_eff, γ_t m_eff (the
+    products that P1 Eq. 1–2 form first) and the factor √R_eff (1 unless law[LAW_RADIUS_SCALED])."""
+    n_pairs = pair_mass.shape[0]
+    table = np.empty((n_pairs, 3))
+    for p in range(n_pairs):
+        table[p, 0] = law[LAW_GAMMA_N] * pair_mass[p]
+        table[p, 1] = law[LAW_GAMMA_T] * pair_mass[p]
+        table[p, 2] = pair_scale[p]
+    return table
+
+
+@numba.njit(**NJIT_DEM)
+def _x_beta(overlap, mode, beta, scale):
+    if mode == MODE_LINEAR:
+        return scale  # = 1.0 · scale
+    if mode == MODE_HERTZ:
+        return math.sqrt(overlap) * scale
+    return overlap ** beta * scale
+
+
+@numba.njit(**NJIT_DEM)
+def _pair_loop_2d(position, velocity, angular_velocity, velocity_scale, radius, pair_i, n_pairs, pair_j, table,
+                  spring, k_n, k_t, mu, mode, beta, spring_dt, force, torque):
+    """The stepping version of `pair_forces_2d` (same operations in the same order): the law comes as scalars
+    (k_n, k_t, μ, `law_mode`, β) hoisted out of the loop and per-pair constants (`pair_table`: γ_n m_eff, γ_t m_eff,
+    √R_eff factor); spring is the flat (n_pairs·2,) view; nothing is recorded. Returns (largest excess of an overlap
+    over the blow-up threshold, its pair; −1 when no pair touches)."""
+    worst_excess = -np.inf
+    worst_pair = -1
+    for p in range(n_pairs):
+        i = pair_i[p]
+        j = pair_j[p]
+        dx = position[i, 0] - position[j, 0]
+        dy = position[i, 1] - position[j, 1]
+        r_i = radius[i]
+        r_j = radius[j]
+        contact_distance = r_i + r_j
+        distance_sq = dx * dx + dy * dy
+        if not distance_sq < contact_distance * contact_distance:
+            spring[2 * p] = 0.0  # the contact opened (or never formed): the spring is removed
+            spring[2 * p + 1] = 0.0
+            continue
+        distance = math.sqrt(distance_sq)
+        overlap = contact_distance - distance
+        inv_distance = 1.0 / distance
+        nx = dx * inv_distance
+        ny = dy * inv_distance
+        excess = overlap - MAX_OVERLAP_FRACTION * 2.0 * min(r_i, r_j)
+        if excess > worst_excess:
+            worst_excess = excess
+            worst_pair = p
+        lever_i = r_i - 0.5 * overlap
+        lever_j = r_j - 0.5 * overlap
+        vx = (velocity[i, 0] - velocity[j, 0]) * velocity_scale
+        vy = (velocity[i, 1] - velocity[j, 1]) * velocity_scale
+        v_normal = vx * nx + vy * ny
+        spin = (lever_i * angular_velocity[i, 0] + lever_j * angular_velocity[j, 0]) * velocity_scale
+        slip_x = vx - v_normal * nx + spin * ny
+        slip_y = vy - v_normal * ny - spin * nx
+        x_beta = _x_beta(overlap, mode, beta, table[3 * p + 2])
+        f_n = x_beta * (k_n * overlap - table[3 * p] * v_normal)  # P1 Eq. 1
+        if f_n < 0.0:
+            f_n = 0.0
+        xi_x = spring[2 * p] + slip_x * spring_dt
+        xi_y = spring[2 * p + 1] + slip_y * spring_dt
+        along = xi_x * nx + xi_y * ny
+        xi_x -= along * nx
+        xi_y -= along * ny
+        gamma_t = table[3 * p + 1]
+        f_tx = -x_beta * (k_t * xi_x + gamma_t * slip_x)  # P1 Eq. 2
+        f_ty = -x_beta * (k_t * xi_y + gamma_t * slip_y)
+        f_t_sq = f_tx * f_tx + f_ty * f_ty
+        f_t_max = mu * f_n
+        if f_t_sq > f_t_max * f_t_max:  # P1 Eq. 3
+            ratio = f_t_max / math.sqrt(f_t_sq)
+            f_tx *= ratio
+            f_ty *= ratio
+            xi_x *= ratio
+            xi_y *= ratio
+        spring[2 * p] = xi_x
+        spring[2 * p + 1] = xi_y
+        fx = f_n * nx + f_tx
+        fy = f_n * ny + f_ty
+        force[i, 0] += fx
+        force[i, 1] += fy
+        force[j, 0] -= fx
+        force[j, 1] -= fy
+        n_cross_ft = nx * f_ty - ny * f_tx  # torques: τ_i = −a_i n × F_t, τ_j = −a_j n × F_t
+        torque[i, 0] -= lever_i * n_cross_ft
+        torque[j, 0] -= lever_j * n_cross_ft
+    return worst_excess, worst_pair
+
+
+@numba.njit(**NJIT_DEM)
+def _pair_loop_3d(position, velocity, angular_velocity, velocity_scale, radius, pair_i, n_pairs, pair_j, table,
+                  spring, k_n, k_t, mu, mode, beta, spring_dt, force, torque):
+    """3D version of `_pair_loop_2d` (the arithmetic of `pair_forces_3d`)."""
+    worst_excess = -np.inf
+    worst_pair = -1
+    for p in range(n_pairs):
+        i = pair_i[p]
+        j = pair_j[p]
+        dx = position[i, 0] - position[j, 0]
+        dy = position[i, 1] - position[j, 1]
+        dz = position[i, 2] - position[j, 2]
+        r_i = radius[i]
+        r_j = radius[j]
+        contact_distance = r_i + r_j
+        distance_sq = dx * dx + dy * dy + dz * dz
+        if not distance_sq < contact_distance * contact_distance:
+            spring[3 * p] = 0.0
+            spring[3 * p + 1] = 0.0
+            spring[3 * p + 2] = 0.0
+            continue
+        distance = math.sqrt(distance_sq)
+        overlap = contact_distance - distance
+        inv_distance = 1.0 / distance
+        nx = dx * inv_distance
+        ny = dy * inv_distance
+        nz = dz * inv_distance
+        excess = overlap - MAX_OVERLAP_FRACTION * 2.0 * min(r_i, r_j)
+        if excess > worst_excess:
+            worst_excess = excess
+            worst_pair = p
+        lever_i = r_i - 0.5 * overlap
+        lever_j = r_j - 0.5 * overlap
+        vx = (velocity[i, 0] - velocity[j, 0]) * velocity_scale
+        vy = (velocity[i, 1] - velocity[j, 1]) * velocity_scale
+        vz = (velocity[i, 2] - velocity[j, 2]) * velocity_scale
+        v_normal = vx * nx + vy * ny + vz * nz
+        wx = (lever_i * angular_velocity[i, 0] + lever_j * angular_velocity[j, 0]) * velocity_scale
+        wy = (lever_i * angular_velocity[i, 1] + lever_j * angular_velocity[j, 1]) * velocity_scale
+        wz = (lever_i * angular_velocity[i, 2] + lever_j * angular_velocity[j, 2]) * velocity_scale
+        slip_x = vx - v_normal * nx - (wy * nz - wz * ny)
+        slip_y = vy - v_normal * ny - (wz * nx - wx * nz)
+        slip_z = vz - v_normal * nz - (wx * ny - wy * nx)
+        x_beta = _x_beta(overlap, mode, beta, table[3 * p + 2])
+        f_n = x_beta * (k_n * overlap - table[3 * p] * v_normal)
+        if f_n < 0.0:
+            f_n = 0.0
+        s = 3 * p
+        xi_x = spring[s] + slip_x * spring_dt
+        xi_y = spring[s + 1] + slip_y * spring_dt
+        xi_z = spring[s + 2] + slip_z * spring_dt
+        along = xi_x * nx + xi_y * ny + xi_z * nz
+        xi_x -= along * nx
+        xi_y -= along * ny
+        xi_z -= along * nz
+        gamma_t = table[3 * p + 1]
+        f_tx = -x_beta * (k_t * xi_x + gamma_t * slip_x)
+        f_ty = -x_beta * (k_t * xi_y + gamma_t * slip_y)
+        f_tz = -x_beta * (k_t * xi_z + gamma_t * slip_z)
+        f_t_sq = f_tx * f_tx + f_ty * f_ty + f_tz * f_tz
+        f_t_max = mu * f_n
+        if f_t_sq > f_t_max * f_t_max:
+            ratio = f_t_max / math.sqrt(f_t_sq)
+            f_tx *= ratio
+            f_ty *= ratio
+            f_tz *= ratio
+            xi_x *= ratio
+            xi_y *= ratio
+            xi_z *= ratio
+        spring[s] = xi_x
+        spring[s + 1] = xi_y
+        spring[s + 2] = xi_z
+        fx = f_n * nx + f_tx
+        fy = f_n * ny + f_ty
+        fz = f_n * nz + f_tz
+        force[i, 0] += fx
+        force[i, 1] += fy
+        force[i, 2] += fz
+        force[j, 0] -= fx
+        force[j, 1] -= fy
+        force[j, 2] -= fz
+        cx = ny * f_tz - nz * f_ty
+        cy = nz * f_tx - nx * f_tz
+        cz = nx * f_ty - ny * f_tx
+        torque[i, 0] -= lever_i * cx
+        torque[i, 1] -= lever_i * cy
+        torque[i, 2] -= lever_i * cz
+        torque[j, 0] -= lever_j * cx
+        torque[j, 1] -= lever_j * cy
+        torque[j, 2] -= lever_j * cz
+    return worst_excess, worst_pair
+
+
+@numba.njit(**NJIT_DEM)
+def wall_candidates(position, radius, n_mobile, wall_lo, wall_hi, reach):
+    """Mobile particles (sorted) whose centre is closer than radius + reach to a flat wall (see `advance`)."""
+    dim = position.shape[1]
+    keep = np.empty(n_mobile, dtype=np.int64)
+    n = 0
+    for i in range(n_mobile):
+        limit = radius[i] + reach
+        for axis in range(dim):
+            if not (position[i, axis] - wall_lo[axis] >= limit and wall_hi[axis] - position[i, axis] >= limit):
+                keep[n] = i
+                n += 1
+                break
+    return keep[:n].copy()
+
+
+@numba.njit(**NJIT_DEM)
 def advance(gear_position, gear_rotation, n_mobile, radius, inv_mass, mass, inertia, accel_position,
-            accel_rotation, pair_i, pair_j, n_pairs, pair_mass, pair_scale, spring, wall_spring, law, dt,
+            accel_rotation, pair_i, pair_j, n_pairs, pair_table_, spring, wall_spring, wall_near, law, dt,
             flat_walls, box_lo, box_hi, wall_state, wall_anchor, wall_axis, wall_sign, escape_margin,
             reference_position, reference_shift, half_skin,
             n_steps, kinetic_energy, force, torque, force_velocity, force_spin, status):
     """Advance the system by up to n_steps Gear steps (predict, walls, forces, correct).
 
     Per particle: inv_mass (N,) (0 for wall particles), mass and inertia (n_mobile,) for the kinetic energy,
-    accel_position (N, d) and accel_rotation (N, 1|3) = Δt²/2 · 1/m, 1/I per component. Per pair: pair_mass,
-    pair_scale from `pair_constants`.
+    accel_position (N, d) and accel_rotation (N, 1|3) = Δt²/2 · 1/m, 1/I per component. Pairs: the half Verlet
+    list pair_i, pair_j (i < j, sorted), n_pairs of them, with pair_table_ from `pair_table` and the springs
+    (n_pairs, d). wall_near: the particles
+    that can reach a flat wall before the next rebuild (`wall_candidates` at the last rebuild with reach
+    release band + skin + margin: until then nobody moves by more than half the skin, nor do the walls); the
+    others are exactly those that `flat_wall_forces` would skip.
 
-    wall_state = [shift, speed, shift_max, last speed]: every wall sits `shift` inward of box_lo / box_hi [d_ave] and moves
-    inward at `speed` [d_ave/τ_c] until shift reaches shift_max; shift and the speed of the last step are updated in place. kinetic_energy (≥ n_steps,)
-    receives the total kinetic energy after each step [m̄ d_ave² τ_c⁻²]. Stops early after a step whose
-    largest displacement since the last rebuild exceeds half the skin (STATUS_REBUILD) or that blew up.
-    force_velocity (N, d), force_spin (N, 1|3) are work arrays (the velocities the forces see, see
-    `gear_predict`). status (2,) int receives [code, particle index]. Returns the number of steps done.
+    wall_state = [shift, speed, shift_max, last speed]: every wall sits `shift` inward of box_lo / box_hi [d_ave]
+    and moves inward at `speed` [d_ave/τ_c] until shift reaches shift_max; shift and the speed of the last step
+    are updated in place. kinetic_energy (≥ n_steps,) receives the total kinetic energy after each step
+    [m̄ d_ave² τ_c⁻²]. Stops early after a step whose largest displacement since the last rebuild exceeds half
+    the skin (STATUS_REBUILD) or that blew up. force_velocity (N, d), force_spin (N, 1|3) are work arrays (the
+    velocities the forces see, see `gear_predict`). status (2,) int receives [code, particle index]. Returns the
+    number of steps done. Results are those of the reference kernels (`pair_forces_2d` …) to the last bit.
     """
     dim = gear_position.shape[2]
     inv_dt = 1.0 / dt
     lo = np.empty(dim)
     hi = np.empty(dim)
-    no_overlap = np.empty(0)
-    no_vector = np.empty((0, dim))
-    no_wall_overlap = np.empty((0, 2 * dim))
-    no_wall_force = np.empty((0, 2 * dim, dim))
+    no_overlap = np.empty((0, 2 * dim))
+    no_force = np.empty((0, 2 * dim, dim))
+    k_n = law[LAW_K_N]
+    k_t = law[LAW_K_T]
+    mu = law[LAW_MU]
+    beta = law[LAW_BETA]
+    mode = law_mode(beta)
+    table = pair_table_.reshape(-1)
+    spring_flat = spring.reshape(-1)
     status[0] = STATUS_DONE
     status[1] = -1
     for step in range(n_steps):
@@ -595,18 +844,17 @@ def advance(gear_position, gear_rotation, n_mobile, radius, inv_mass, mass, iner
         worst_wall = 0.0
         wall_particle = -1
         if flat_walls:
-            worst_wall, wall_particle = flat_wall_forces(
-                gear_position[0], force_velocity, force_spin, inv_dt, radius, inv_mass, n_mobile,
-                lo, hi, wall_speed, wall_spring, law, dt, force, torque,
-                False, no_wall_overlap, no_wall_force, 2.0 * half_skin)
+            worst_wall, wall_particle = flat_wall_forces_of(
+                wall_near, gear_position[0], force_velocity, force_spin, inv_dt, radius, inv_mass, lo, hi, wall_speed,
+                wall_spring, law, dt, force, torque, False, no_overlap, no_force, 2.0 * half_skin)
         if dim == 2:
-            worst_pair_fraction, worst_pair = pair_forces_2d(
-                gear_position[0], force_velocity, force_spin, inv_dt, radius, pair_mass, pair_scale,
-                pair_i, pair_j, n_pairs, spring, law, dt, force, torque, False, no_overlap, no_vector, no_vector)
+            worst_excess, worst_pair = _pair_loop_2d(
+                gear_position[0], force_velocity, force_spin, inv_dt, radius, pair_i, n_pairs, pair_j, table,
+                spring_flat, k_n, k_t, mu, mode, beta, dt, force, torque)
         else:
-            worst_pair_fraction, worst_pair = pair_forces_3d(
-                gear_position[0], force_velocity, force_spin, inv_dt, radius, pair_mass, pair_scale,
-                pair_i, pair_j, n_pairs, spring, law, dt, force, torque, False, no_overlap, no_vector, no_vector)
+            worst_excess, worst_pair = _pair_loop_3d(
+                gear_position[0], force_velocity, force_spin, inv_dt, radius, pair_i, n_pairs, pair_j, table,
+                spring_flat, k_n, k_t, mu, mode, beta, dt, force, torque)
         gear_correct(gear_position, force, accel_position, n_mobile)
         gear_correct(gear_rotation, torque, accel_rotation, n_mobile)
         energy = (kinetic_energy_dt_sq(gear_position, mass, n_mobile)
@@ -624,6 +872,11 @@ def advance(gear_position, gear_rotation, n_mobile, radius, inv_mass, mass, iner
             status[0] = STATUS_NOT_FINITE
             status[1] = -1
             return step + 1
+        worst_pair_fraction = 0.0
+        if worst_pair >= 0:  # as `_worst_fraction`
+            worst_i = pair_i[worst_pair]
+            diameter = 2.0 * min(radius[worst_i], radius[pair_j[worst_pair]])
+            worst_pair_fraction = MAX_OVERLAP_FRACTION + worst_excess / diameter
         if worst_pair_fraction > MAX_OVERLAP_FRACTION or worst_wall > MAX_OVERLAP_FRACTION:
             status[0] = STATUS_OVERLAP
             status[1] = pair_i[worst_pair] if worst_pair_fraction >= worst_wall else wall_particle
@@ -637,7 +890,7 @@ def advance(gear_position, gear_rotation, n_mobile, radius, inv_mass, mass, iner
 
 # --- neighbour lists ----------------------------------------------------------------------------------------
 
-@numba.njit(**NJIT)
+@numba.njit(**NJIT_DEM)
 def cell_index(position, n, origin, cell_size, n_cells):
     """Linear cell index (n,) of the first n particles on a grid of n_cells (3,) cubes of side cell_size
     starting at origin (d,); coordinates outside the grid are clamped to its border cells."""
@@ -658,7 +911,7 @@ def cell_index(position, n, origin, cell_size, n_cells):
     return cells
 
 
-@numba.njit(**NJIT)
+@numba.njit(**NJIT_DEM)
 def build_pair_list(position, radius, n_mobile, n_total, skin, origin, cell_size, n_cells):
     """Verlet list: every pair i < j with |r_i − r_j| < r_i + r_j + skin, i mobile (wall–wall pairs excluded),
     found through a cell list; sorted by i then j. Returns (pair_i, pair_j) int32 arrays."""
@@ -722,7 +975,7 @@ def build_pair_list(position, radius, n_mobile, n_total, skin, origin, cell_size
     return pair_i, pair_j
 
 
-@numba.njit(**NJIT)
+@numba.njit(**NJIT_DEM)
 def transfer_springs(old_i, old_j, old_spring, n_old, new_slot, new_i, new_j, new_spring, n_total):
     """Carry the tangential history across a rebuild (and a reordering of particles).
 
@@ -777,7 +1030,7 @@ def transfer_springs(old_i, old_j, old_spring, n_old, new_slot, new_i, new_j, ne
 
 # --- two-particle collision (calibration of γ_n) ------------------------------------------------------------
 
-@numba.njit(**NJIT)
+@numba.njit(**NJIT_DEM)
 def head_on_collision(k_n, beta, gamma_n, effective_mass, impact_speed, steps_per_collision):
     """Integrate a head-on collision, m_eff ẍ = −max(0, k_n x^(1+β) + γ_n x^β m_eff ẋ), x(0) = 0,
     ẋ(0) = impact_speed (RK4, fixed step), until the overlap x returns to 0.
@@ -807,7 +1060,7 @@ def head_on_collision(k_n, beta, gamma_n, effective_mass, impact_speed, steps_pe
     return np.nan, np.nan
 
 
-@numba.njit(**NJIT)
+@numba.njit(**NJIT_DEM)
 def _collision_acceleration(x, v, k_n_over_m, beta, gamma_n):
     """ẍ of the head-on collision with k_n already divided by m_eff (see `head_on_collision`)."""
     if x <= 0.0:

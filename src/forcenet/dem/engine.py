@@ -22,6 +22,9 @@ from forcenet.dem.packing import WallParticles, packing_fraction
 DEFAULT_SKIN = 0.15
 #: most cells along one axis of the cell list (the cells grow when particles spread further)
 MAX_CELLS_PER_AXIS = {2: 2048, 3: 160}
+#: flat walls: particles within (radius + this × skin) of a wall at a rebuild are checked for wall contacts until
+#: the next one (1 skin of spring-release band + 1 skin of relative motion + margin)
+WALL_REACH_IN_SKINS = 2.5
 
 
 class SimulationBlowUp(RuntimeError):
@@ -299,6 +302,12 @@ class Simulation:
                                   pair_i, pair_j, spring, n_total)
         self.pair_i, self.pair_j, self.spring = pair_i, pair_j, spring
         self.pair_mass, self.pair_scale = _kernels.pair_constants(pair_i, pair_j, self.radius, self.inv_mass, self.law)
+        self.pair_table = _kernels.pair_table(self.pair_mass, self.pair_scale, self.law)
+        # the particles that can touch a flat wall before the next rebuild: within the spring-release band (the
+        # skin) of a wall now, plus the skin (both they and the walls move less than half a skin until then),
+        # plus a margin for the step that crosses the rebuild threshold
+        self.wall_near = _kernels.wall_candidates(position, self.radius, n, self.walls_lo, self.walls_hi,
+                                                  WALL_REACH_IN_SKINS * self.skin)
         half_dt_sq = 0.5 * self.time_step ** 2
         self.accel_position = np.repeat(half_dt_sq * self.inv_mass[:, None], dim, axis=1)
         self.accel_rotation = np.repeat(half_dt_sq * self.inv_inertia[:, None], self.gear_rotation.shape[2], axis=1)
@@ -319,8 +328,8 @@ class Simulation:
         while done < n_steps:
             steps = _kernels.advance(
                 self.gear_position, self.gear_rotation, self.n_mobile, self.radius, self.inv_mass, self.mass,
-                self.inertia, self.accel_position, self.accel_rotation, self.pair_i, self.pair_j, len(self.pair_i),
-                self.pair_mass, self.pair_scale, self.spring, self.wall_spring, self.law,
+                self.inertia, self.accel_position, self.accel_rotation, self.pair_i, self.pair_j,
+                len(self.pair_i), self.pair_table, self.spring, self.wall_spring, self.wall_near, self.law,
                 self.time_step, self.flat_walls, self.box_lo, self.box_hi, self.wall_state, self.wall_anchor,
                 self.wall_axis, self.wall_sign, self.escape_margin, self.reference_position, self.reference_shift,
                 0.5 * self.skin, n_steps - done, kinetic_energy[done:], self.force, self.torque, self.force_velocity,
