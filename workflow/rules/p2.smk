@@ -28,7 +28,7 @@ P2_FIGURE_INPUTS = {
 }
 P2_CAPTIONS = {
     "p2_fig01_snapshots_differences": "Three nearby snapshots a, b, c (normal forces) and maps of the force change ΔF between them (P2 Fig. 1).",
-    "p2_fig03_diagrams": "PD0 and PD1 of the normal-force network of snapshot b (P2 Fig. 3).",
+    "p2_fig03_diagrams": "PD0 and PD1 of the normal-force network of snapshot a (P2 Fig. 3).",
     "p2_fig06_distances_normal_mu05": "d_B, d_W1, d_W2 between consecutive PDs vs ρ for β0 and β1 with Z(ρ); μ = 0.5, normal forces (P2 Fig. 6).",
     "p2_fig07_ratios_mu05": "Ratios d_B/d_W1 and d_B/d_W2; μ = 0.5, normal forces (P2 Fig. 7).",
     "p2_fig08_distances_tangential_mu05": "As Fig. 6 for tangential forces (P2 Fig. 8).",
@@ -80,7 +80,7 @@ for _figure, (_kind, _system) in P2_FIGURES.items():
             f"figure_{_figure}"
         input:
             snapshots=p2_table_snapshots() if _kind == "snapshots" else [],
-            analysis=[analysis_path(P2_FRICTIONAL, REALIZATIONS[0], p2_table_labels()[1])] if _kind == "analysis" else [],
+            analysis=[analysis_path(P2_FRICTIONAL, REALIZATIONS[0], p2_table_labels()[0])] if _kind == "analysis" else [],
             distances=[f"{RESULTS}/{_system}/distances.nc"] if _kind == "distances" else [],
         output:
             pdf=report(f"{RESULTS}/figures/{_figure}.pdf", caption="../report/figure.rst", category="P2",
