@@ -47,3 +47,15 @@ def simulation_cost(spec: SystemSpec) -> SimulationCost:
     seconds = particles * steps / PARTICLE_STEPS_PER_SECOND[spec.dimension]
     memory_mb = 500 + particles // 10
     return SimulationCost(particles, int(steps), seconds / 3600, memory_mb)
+
+
+#: analysis kernels per snapshot and force kind, per particle [s] (bench/analysis.py: ~60 ms for 2000 disks,
+#: ~300 ms for 4000 spheres) plus netCDF reading and writing (~0.1 s per snapshot, bench/workflow_overhead.py)
+ANALYSIS_SECONDS_PER_PARTICLE = {2: 3e-5, 3: 7.5e-5}
+ANALYSIS_IO_SECONDS = 0.15
+
+
+def analysis_cost_seconds(spec: SystemSpec) -> float:
+    """Seconds to analyse one realization's snapshots (three force kinds each), on one core."""
+    per_snapshot = 3 * ANALYSIS_SECONDS_PER_PARTICLE[spec.dimension] * estimated_particles(spec) + ANALYSIS_IO_SECONDS
+    return len(spec.rho_grid) * per_snapshot

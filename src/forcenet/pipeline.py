@@ -120,41 +120,47 @@ def aggregate(*, analyses: Sequence[str], realizations: Sequence[int], rhos: Seq
         log.info("stacked %d analyses of %s", len(datasets), system)
 
 
-def analyze(*, snapshot: str, output: str, analysis: Mapping[str, Any], config: Mapping[str, Any],
-            log_path: str | None = None) -> None:
+def analyze_run(*, snapshots: Sequence[str], outputs: Sequence[str], analysis: Mapping[str, Any],
+                log_path: str | None = None) -> None:
+    """Analyse every snapshot of one compression run (one process: imports and JIT paid once)."""
+    with job_logger(log_path, "analyze") as log:
+        for snapshot, output in zip(snapshots, outputs, strict=True):
+            analyze_snapshot(snapshot, output, analysis, log)
+
+
+def analyze_snapshot(snapshot: str, output: str, analysis: Mapping[str, Any], log: logging.Logger) -> None:
     """Analyse one snapshot: the total (P1), normal and tangential (P2) force networks, each normalised by its
     own mean; diagrams, Betti curves, clusters, percolation, S_p, PDF, bins, total persistence."""
     import time
+
+    import numpy as np
 
     from forcenet.datasets import read_snapshot, write_netcdf
     from forcenet.datasets.analysis import analysis_dataset
     from forcenet.measures.snapshot import compute_snapshot_measures
     from forcenet.network import build_force_network
 
-    import numpy as np
-
-    with job_logger(log_path, "analyze") as log:
-        start = time.perf_counter()
-        snap = read_snapshot(snapshot)
-        thresholds = threshold_grid(analysis["thresholds"])
-        edges = np.linspace(0.0, analysis["force_pdf"]["max"], analysis["force_pdf"]["bins"] + 1)
-        measures = {}
-        for kind in ("total", "normal", "tangential"):
-            network = build_force_network(
-                snap.position.values, snap.contact_i.values, snap.contact_j.values, snap.force_normal.values,
-                snap.force_tangential.values, kind=kind, remove_rattlers=analysis["remove_rattlers"],
-                wall_particle=snap.wall_contact_particle.values, wall_id=snap.wall_contact_wall.values,
-                wall_force=snap.wall_contact_force.values)
-            measures[kind] = compute_snapshot_measures(network, thresholds=thresholds, force_bin_edges=edges)
-        attrs = {key: snap.attrs[key] for key in ("system", "realization", "seed", "forcenet_version", "git_commit",
-                                                   "config_sha256", "config", "Conventions", "dimension")}
-        attrs["title"] = f"forcenet analysis of one snapshot, {attrs['system']}"
-        attrs["source"] = str(snapshot)
-        attrs["remove_rattlers"] = int(bool(analysis["remove_rattlers"]))
-        ds = analysis_dataset(measures, rho=float(snap.rho), attrs=attrs)
-        write_netcdf(ds, output)
-        log.info("%s: rho %.3f, Z %.3f, %d diagram points, %.2f s", snapshot, float(snap.rho), float(snap.Z),
-                 ds.sizes["point"], time.perf_counter() - start)
+    start = time.perf_counter()
+    snap = read_snapshot(snapshot)
+    thresholds = threshold_grid(analysis["thresholds"])
+    edges = np.linspace(0.0, analysis["force_pdf"]["max"], analysis["force_pdf"]["bins"] + 1)
+    measures = {}
+    for kind in ("total", "normal", "tangential"):
+        network = build_force_network(
+            snap.position.values, snap.contact_i.values, snap.contact_j.values, snap.force_normal.values,
+            snap.force_tangential.values, kind=kind, remove_rattlers=analysis["remove_rattlers"],
+            wall_particle=snap.wall_contact_particle.values, wall_id=snap.wall_contact_wall.values,
+            wall_force=snap.wall_contact_force.values)
+        measures[kind] = compute_snapshot_measures(network, thresholds=thresholds, force_bin_edges=edges)
+    attrs = {key: snap.attrs[key] for key in ("system", "realization", "seed", "forcenet_version", "git_commit",
+                                               "config_sha256", "config", "Conventions", "dimension")}
+    attrs["title"] = f"forcenet analysis of one snapshot, {attrs['system']}"
+    attrs["source"] = str(snapshot)
+    attrs["remove_rattlers"] = int(bool(analysis["remove_rattlers"]))
+    ds = analysis_dataset(measures, rho=float(snap.rho), attrs=attrs)
+    write_netcdf(ds, output)
+    log.info("%s: rho %.3f, Z %.3f, %d diagram points, %.2f s", snapshot, float(snap.rho), float(snap.Z),
+             ds.sizes["point"], time.perf_counter() - start)
 
 
 def threshold_grid(spec: Mapping[str, float]):

@@ -1,26 +1,33 @@
-# One job per snapshot: force networks (total, normal, tangential), persistence, Betti curves, clusters,
-# percolation, shape, PDF, bins. Grouped for cluster execution so one allocation does minutes of work.
-rule analyze_snapshot:
-    input:
-        snapshot_path("{system}", "{realization}", "{rho}"),
-    output:
-        analysis_path("{system}", "{realization}", "{rho}"),
-    log:
-        f"{LOGS}/analyze/{{system}}/{{realization}}/rho{{rho}}.log",
-    params:
-        analysis=config["analysis"],
-    group:
-        "analysis"
-    threads: 1
-    resources:
-        runtime=10,
-        mem_mb=1000,
-    script:
-        "../scripts/analyze.py"
+# Analyses: one file per snapshot, computed by one job per (system, realization) that loops over that run's
+# snapshots. A per-snapshot job would spend ~20x its kernel time starting Python and importing numba, xarray and
+# dionysus (bench/workflow_overhead.py); a run's snapshots are produced together by one simulate job anyway, so
+# they change together. Any single analysis file is still a target: it builds its realization's batch.
+for _name, _spec in SYSTEMS.items():
+
+    rule:
+        name:
+            f"analyze_{_name}"
+        input:
+            [snapshot_path(_name, "{realization}", rho) for rho in _spec.rho_labels],
+        output:
+            [analysis_path(_name, "{realization}", rho) for rho in _spec.rho_labels],
+        log:
+            f"{LOGS}/analyze/{_name}/{{realization}}.log",
+        params:
+            analysis=config["analysis"],
+        group:
+            "analysis"
+        threads: 1
+        resources:
+            runtime=lambda wildcards, attempt, spec=_spec: analysis_runtime_minutes(spec) * attempt,
+            mem_mb=2000,
+        script:
+            "../scripts/analyze.py"
 
 
 rule aggregate_system:
     """Stack one system's analyses over (realization, ρ)."""
+    localrule: True
     input:
         system_analyses,
     output:

@@ -67,6 +67,12 @@ def simulation_runtime_minutes(spec):
     return max(10, int(2 * simulation_cost(spec).core_hours * 60) + 5)  # 2x the estimate, for slow nodes
 
 
+def analysis_runtime_minutes(spec):
+    from forcenet.cost import analysis_cost_seconds
+
+    return max(5, int(2 * analysis_cost_seconds(spec) / 60) + 2)
+
+
 def simulation_memory_mb(spec):
     from forcenet.cost import simulation_cost
 

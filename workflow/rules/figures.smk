@@ -34,6 +34,7 @@ for _figure, _caption in P1_FIGURES.items():
     rule:
         name:
             f"figure_{_figure}"
+        localrule: True
         input:
             measures=p1_measures(),
             diagrams=p1_diagrams(),
@@ -53,6 +54,7 @@ for _figure, _caption in P1_FIGURES.items():
 
 
 rule p1_validation_table:
+    localrule: True
     input:
         measures=p1_measures(),
     output:

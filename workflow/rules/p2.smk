@@ -60,6 +60,7 @@ rule p2_distances:
 
 
 rule p2_tables:
+    localrule: True
     input:
         p2_table_snapshots,
     output:
@@ -78,6 +79,7 @@ for _figure, (_kind, _system) in P2_FIGURES.items():
     rule:
         name:
             f"figure_{_figure}"
+        localrule: True
         input:
             snapshots=p2_table_snapshots() if _kind == "snapshots" else [],
             analysis=[analysis_path(P2_FRICTIONAL, REALIZATIONS[0], p2_table_labels()[0])] if _kind == "analysis" else [],
@@ -97,6 +99,7 @@ for _figure, (_kind, _system) in P2_FIGURES.items():
 
 
 rule p2_validation:
+    localrule: True
     input:
         distances=[f"{RESULTS}/{s}/distances.nc" for s in P2_SYSTEMS],
         tables=rules.p2_tables.output.csv,

@@ -1,4 +1,5 @@
 rule resolved_config:
+    localrule: True
     """The config as the workflow understands it: every system in reduced units with its ρ grid."""
     output:
         f"{RESULTS}/config/resolved.yaml",

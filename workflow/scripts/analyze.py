@@ -1,7 +1,7 @@
-"""Analyse one snapshot: thin wrapper around forcenet.pipeline.analyze."""
-from forcenet.pipeline import analyze
+"""Analyse one compression run's snapshots: thin wrapper around forcenet.pipeline.analyze_run."""
+from forcenet.pipeline import analyze_run
 
-analyze(  # noqa: F821 — `snakemake` is injected by Snakemake
-    snapshot=snakemake.input[0], output=snakemake.output[0], analysis=snakemake.params.analysis,
-    config=snakemake.config, log_path=snakemake.log[0],
+analyze_run(  # noqa: F821 — `snakemake` is injected by Snakemake
+    snapshots=list(snakemake.input), outputs=list(snakemake.output), analysis=snakemake.params.analysis,
+    log_path=snakemake.log[0],
 )
