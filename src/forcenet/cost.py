@@ -11,8 +11,9 @@ from dataclasses import dataclass
 
 from forcenet.systems import SystemSpec
 
-#: particle-steps per core-second of the DEM engine, conservative (bench/dem_scaling.py measures it)
-PARTICLE_STEPS_PER_SECOND = {2: 5.0e6, 3: 3.0e6}
+#: particle-steps per core-second of the DEM engine as measured on a loaded 2-vCPU machine (bench/dem_scaling.py,
+#: bench/dem_vs_lammps.py; README "Measured"); an idle core does better, so estimates err long
+PARTICLE_STEPS_PER_SECOND = {2: 1.0e7, 3: 4.0e6}
 
 
 @dataclass(frozen=True)

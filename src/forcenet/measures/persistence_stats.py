@@ -1,0 +1,59 @@
+"""Summaries of persistence diagrams: P1 §5.3 persistence bins of PD0 and total persistence TP_k."""
+from __future__ import annotations
+
+import numpy as np
+
+from forcenet.topology.persistence import PersistenceDiagrams
+
+PERSISTENCE_BINS = ("rough", "weak", "medium", "strong", "essential")
+ROUGH_LIFESPAN = 0.1  # P1 §5.3: rough if θ_b − θ_d ≤ 0.1
+WEAK_BIRTH, MEDIUM_BIRTH, STRONG_BIRTH = 0.1, 1.0, 2.5  # P1 §5.3: weak [0.1, 1), medium [1, 2.5), strong ≥ 2.5
+
+
+def persistence_bin_counts(diagrams: PersistenceDiagrams, homology_dim: int = 0) -> np.ndarray:
+    """Points of PD_k per P1 §5.3 bin, in the order of `PERSISTENCE_BINS`.
+
+    rough: finite points with lifespan ≤ 0.1; the other finite points by birth: weak 0.1 ≤ θ_b < 1,
+    medium 1 ≤ θ_b < 2.5, strong θ_b ≥ 2.5; essential: never-dying classes, counted apart whatever their
+    birth. (A finite non-rough point has θ_b > 0.1, since deaths are ≥ 0, so the bins cover every point.)
+
+    Returns
+    -------
+    ndarray, shape (5,), int64.
+    """
+    one = diagrams.select(homology_dim)
+    essential = np.asarray(one.essential, dtype=bool)
+    birth = np.asarray(one.birth)[~essential]
+    lifespan = birth - np.asarray(one.death)[~essential]
+    rough = lifespan <= ROUGH_LIFESPAN
+    birth = birth[~rough]
+    return np.array([np.count_nonzero(rough),
+                     np.count_nonzero((birth >= WEAK_BIRTH) & (birth < MEDIUM_BIRTH)),
+                     np.count_nonzero((birth >= MEDIUM_BIRTH) & (birth < STRONG_BIRTH)),
+                     np.count_nonzero(birth >= STRONG_BIRTH),
+                     np.count_nonzero(essential)], dtype=np.int64)
+
+
+def total_persistence(diagrams: PersistenceDiagrams, max_dim: int | None = None) -> np.ndarray:
+    """TP_k = Σ (θ_b − θ_d) over the finite points of PD_k (P1 §5.3), k = 0..max_dim; shape (max_dim + 1,).
+
+    Never-dying classes are left out (their lifespan is infinite); count them with `essential_counts`.
+    """
+    max_dim = _max_dim(diagrams, max_dim)
+    finite = ~np.asarray(diagrams.essential, dtype=bool)
+    lifespan = np.asarray(diagrams.birth)[finite] - np.asarray(diagrams.death)[finite]
+    return np.bincount(np.asarray(diagrams.homology_dim)[finite], weights=lifespan, minlength=max_dim + 1
+                       )[:max_dim + 1].astype(np.float64)
+
+
+def essential_counts(diagrams: PersistenceDiagrams, max_dim: int | None = None) -> np.ndarray:
+    """Never-dying classes per homology dimension, shape (max_dim + 1,), int64."""
+    max_dim = _max_dim(diagrams, max_dim)
+    essential = np.asarray(diagrams.essential, dtype=bool)
+    return np.bincount(np.asarray(diagrams.homology_dim)[essential], minlength=max_dim + 1)[:max_dim + 1]
+
+
+def _max_dim(diagrams: PersistenceDiagrams, max_dim: int | None) -> int:
+    if max_dim is not None:
+        return int(max_dim)
+    return diagrams.max_dim if diagrams.max_dim >= 0 else int(np.max(diagrams.homology_dim, initial=0))

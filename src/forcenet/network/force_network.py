@@ -1,0 +1,311 @@
+"""Contacts of one snapshot → the force network that every topological measure reads.
+
+A force network (P1 §3 "Interaction networks", P2 §III A) is a set of particles (vertices) and the
+particle–particle contacts that carry a positive force (edges), each edge weighted by a force magnitude in
+units of that network's mean force ⟨F⟩. Walls are not vertices; which particles touch which wall is kept so
+that percolation (a cluster touching two opposite walls, P1 §4) can be decided.
+
+Decisions (DESIGN.md "Topology decisions", written out here because the papers leave them open):
+
+- A *contact* is a particle–particle pair whose total force |F_n + F_t| is positive. Rattlers and the
+  coordination number are decided on contacts, whatever force kind the network is weighted by, so that the
+  normal and the tangential networks of one snapshot share their particles.
+- An *edge* is a contact whose force of the requested kind is positive (P2 §III A: only f > 0 enters).
+- ⟨F⟩ is the mean of that kind's positive magnitudes over all particle–particle contacts, rattlers included
+  (P1 §3: "rescaled by the average force in an interaction network"); it is the physical mean force.
+- Rattlers (P1 §3 "Data pre-processing": particles with one or no contacts) are removed in ONE pass by
+  default (``"once"``): the literal reading of P1, which keeps the open chains P1 §5.2 finds below jamming
+  (S_p ≈ (N_L − 1)/N_L). ``"iterative"`` strips dangling chains until every particle has ≥ 2 contacts (the
+  2-core); ``"none"`` keeps every particle, as P2 §III C does (rattlers then appear as components born at 0).
+  After a removal, particles left without any edge of the requested kind are dropped as well: they carry
+  no force of that kind and would otherwise count as clusters born at zero force.
+- Wall contacts do not count toward the rattler rule unless ``count_wall_contacts=True``: the network's
+  vertices are particles, and P1 counts contacts between particles.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+FORCE_KINDS = ("total", "normal", "tangential")  # P1 uses total; P2 normal and tangential
+RATTLER_RULES = ("once", "iterative", "none")
+
+
+@dataclass(frozen=True)
+class ForceNetwork:
+    """Force network of one snapshot: arrays indexed by original particle ids.
+
+    Attributes
+    ----------
+    dim : spatial dimension d (2 or 3).
+    n_particles : N, all particles of the snapshot (rattlers included) — the N of P1's B_k/N, ⟨S⟩/N.
+    position : ndarray, shape (N, d) — particle centres [d_ave].
+    particle_mask : ndarray, shape (N,), bool — particles that are vertices of the network (not rattlers, and
+        with at least one edge of this kind when rattlers are removed).
+    non_rattler : ndarray, shape (N,), bool — particles that are not rattlers by the contact rule alone
+        (the same for every force kind of a snapshot): the particles of Z without rattlers.
+    edge_i, edge_j : ndarray, shape (E,), int64 — edge end points, ``edge_i < edge_j``, both in the mask.
+    force : ndarray, shape (E,) — edge force in units of ⟨F⟩ (dimensionless, > 0).
+    mean_force : ⟨F⟩ [m̄ d_ave τ_c⁻²], mean positive magnitude of this kind over all particle contacts.
+    kind : "total" (|F_n + F_t|, P1), "normal" or "tangential" (P2).
+    wall_particle, wall_id : ndarray, shape (W,), int64 — wall contacts of network particles; wall ids
+        0 x_lo, 1 x_hi, 2 y_lo, 3 y_hi[, 4 z_lo, 5 z_hi].
+    contact_i, contact_j : ndarray, shape (C,), int64 — every particle–particle contact (total force > 0),
+        rattlers' included: the contact network behind the coordination number Z.
+    rattler_rule : "once", "iterative" or "none" (see module docstring).
+    """
+
+    dim: int
+    n_particles: int
+    position: np.ndarray
+    particle_mask: np.ndarray
+    non_rattler: np.ndarray
+    edge_i: np.ndarray
+    edge_j: np.ndarray
+    force: np.ndarray
+    mean_force: float
+    kind: str
+    wall_particle: np.ndarray
+    wall_id: np.ndarray
+    contact_i: np.ndarray
+    contact_j: np.ndarray
+    rattler_rule: str
+
+    @property
+    def n_edges(self) -> int:
+        return int(self.edge_i.size)
+
+    @property
+    def n_kept(self) -> int:
+        """Number of network particles (vertices)."""
+        return int(np.count_nonzero(self.particle_mask))
+
+    @property
+    def contact_count(self) -> np.ndarray:
+        """Particle–particle contacts of each particle before rattler removal, shape (N,), int64."""
+        return (np.bincount(self.contact_i, minlength=self.n_particles)
+                + np.bincount(self.contact_j, minlength=self.n_particles))
+
+    @property
+    def n_contacts(self) -> int:
+        """Particle–particle contacts (total force > 0), all particles."""
+        return int(self.contact_i.size)
+
+    @property
+    def n_contacts_without_rattlers(self) -> int:
+        """Contacts between two particles that are not rattlers."""
+        return int(np.count_nonzero(self.non_rattler[self.contact_i] & self.non_rattler[self.contact_j]))
+
+    @property
+    def kept_particles(self) -> np.ndarray:
+        """Original ids of the network particles, shape (n_kept,), increasing."""
+        return np.flatnonzero(self.particle_mask)
+
+
+def force_magnitude(force_normal: np.ndarray, force_tangential: np.ndarray, kind: str) -> np.ndarray:
+    """Per-contact force magnitude of one kind.
+
+    Parameters
+    ----------
+    force_normal, force_tangential : ndarray, shape (C, d) — contact force vectors [force].
+    kind : "total" → |F_n + F_t| (P1 §3), "normal" → |F_n|, "tangential" → |F_t| (P2 §IV).
+
+    Returns
+    -------
+    ndarray, shape (C,) [force].
+    """
+    if kind == "total":
+        vector = force_normal + force_tangential
+    elif kind == "normal":
+        vector = force_normal
+    elif kind == "tangential":
+        vector = force_tangential
+    else:
+        raise ValueError(f"kind must be one of {FORCE_KINDS}, got {kind!r}")
+    return np.sqrt(np.einsum("cd,cd->c", vector, vector))
+
+
+def resolve_rattler_rule(remove_rattlers: bool | str) -> str:
+    """``True`` → "once" (the default, P1 §3), ``False`` → "none", or a rule name itself."""
+    if remove_rattlers is True:
+        return "once"
+    if remove_rattlers is False:
+        return "none"
+    if remove_rattlers not in RATTLER_RULES:
+        raise ValueError(f"remove_rattlers must be a bool or one of {RATTLER_RULES}, got {remove_rattlers!r}")
+    return remove_rattlers
+
+
+def rattler_free_mask(n_particles: int, contact_i: np.ndarray, contact_j: np.ndarray, rule: str,
+                      extra_contacts: np.ndarray | None = None) -> np.ndarray:
+    """Particles that are not rattlers (P1 §3: a rattler has at most one contact).
+
+    Parameters
+    ----------
+    n_particles : N.
+    contact_i, contact_j : ndarray, shape (C,) — contacts (each pair once).
+    rule : "once" (one pass), "iterative" (repeat until every kept particle has ≥ 2 contacts among kept
+        particles, i.e. the 2-core) or "none" (every particle kept).
+    extra_contacts : ndarray, shape (N,), optional — contacts to add to each particle's count that never
+        disappear (wall contacts when they count).
+
+    Returns
+    -------
+    ndarray, shape (N,), bool.
+    """
+    extra = np.zeros(n_particles, dtype=np.int64) if extra_contacts is None else extra_contacts
+    keep = np.ones(n_particles, dtype=bool)
+    if rule == "none":
+        return keep
+    while True:
+        alive = keep[contact_i] & keep[contact_j]
+        count = (np.bincount(contact_i[alive], minlength=n_particles)
+                 + np.bincount(contact_j[alive], minlength=n_particles) + extra)
+        new_keep = keep & (count >= 2)
+        if rule == "once" or np.array_equal(new_keep, keep):
+            return new_keep
+        keep = new_keep
+
+
+def build_force_network(position, contact_i, contact_j, force_normal, force_tangential=None, *,
+                        kind: str = "total", remove_rattlers: bool | str = True, wall_particle=None,
+                        wall_id=None, wall_force=None, n_particles: int | None = None,
+                        count_wall_contacts: bool = False) -> ForceNetwork:
+    """The force network of one snapshot (P1 §3, P2 §III A).
+
+    Parameters
+    ----------
+    position : array, shape (N, d) — particle centres [d_ave].
+    contact_i, contact_j : int arrays, shape (C,) — particle–particle contacts, each pair at most once.
+    force_normal, force_tangential : arrays, shape (C, d) — contact force vectors [force];
+        ``force_tangential=None`` means frictionless (zero).
+    kind : "total" |F_n + F_t| (P1), "normal" or "tangential" (P2).
+    remove_rattlers : True (= "once"), False (= "none"), "once" or "iterative" (module docstring).
+    wall_particle, wall_id : int arrays, shape (W,) — particle–wall contacts; ids 0..2d−1 ordered
+        (x_lo, x_hi, y_lo, y_hi[, z_lo, z_hi]).
+    wall_force : array, shape (W, d) or (W,), optional — wall contact forces; contacts with zero force are
+        dropped when given.
+    n_particles : N (default ``len(position)``).
+    count_wall_contacts : whether wall contacts count toward the rattler rule (default False).
+
+    Returns
+    -------
+    ForceNetwork, forces in units of its mean ⟨F⟩.
+    """
+    position = np.asarray(position, dtype=np.float64)
+    if position.ndim != 2 or position.shape[1] not in (2, 3):
+        raise ValueError(f"position must have shape (N, 2) or (N, 3), got {position.shape}")
+    dim = position.shape[1]
+    n_particles = len(position) if n_particles is None else int(n_particles)
+    contact_i, contact_j = _contact_pairs(contact_i, contact_j, n_particles)
+    force_normal = np.asarray(force_normal, dtype=np.float64).reshape(len(contact_i), dim)
+    force_tangential = (np.zeros_like(force_normal) if force_tangential is None
+                        else np.asarray(force_tangential, dtype=np.float64).reshape(len(contact_i), dim))
+    total = force_magnitude(force_normal, force_tangential, "total")
+    magnitude = total if kind == "total" else force_magnitude(force_normal, force_tangential, kind)
+    wall_particle, wall_id = _wall_contacts(wall_particle, wall_id, wall_force, n_particles, dim)
+    return _assemble(dim, n_particles, position, contact_i, contact_j, total, magnitude, kind,
+                     resolve_rattler_rule(remove_rattlers), wall_particle, wall_id, count_wall_contacts)
+
+
+def network_from_edge_forces(edge_i, edge_j, force, *, dim: int = 2, n_particles: int | None = None,
+                             position=None, wall_particle=None, wall_id=None, remove_rattlers: bool | str = False,
+                             normalise: bool = False) -> ForceNetwork:
+    """A force network from scalar edge forces (hand-built test networks, synthetic benchmarks).
+
+    Parameters
+    ----------
+    edge_i, edge_j : int arrays, shape (E,) — edges, each pair at most once.
+    force : array, shape (E,) — edge force magnitudes; edges with force ≤ 0 are dropped.
+    dim : spatial dimension recorded in the network (decides the homology dimensions computed).
+    n_particles : N (default: largest index + 1, or ``len(position)``).
+    position : array, shape (N, dim), optional [d_ave] (zeros when absent).
+    wall_particle, wall_id : wall contacts as in `build_force_network`.
+    remove_rattlers : as in `build_force_network`; default False keeps the graph exactly as given.
+    normalise : divide by the mean positive force (default False: forces used as given, ⟨F⟩ reported).
+    """
+    edge_i = np.asarray(edge_i, dtype=np.int64).reshape(-1)
+    edge_j = np.asarray(edge_j, dtype=np.int64).reshape(-1)
+    if n_particles is None:
+        n_particles = (len(position) if position is not None
+                       else int(max(edge_i.max(initial=-1), edge_j.max(initial=-1)) + 1))
+    position = (np.zeros((n_particles, dim)) if position is None
+                else np.asarray(position, dtype=np.float64).reshape(n_particles, dim))
+    edge_i, edge_j = _contact_pairs(edge_i, edge_j, n_particles)
+    force = np.asarray(force, dtype=np.float64).reshape(-1)
+    if force.shape != edge_i.shape:
+        raise ValueError("force must have one value per edge")
+    wall_particle, wall_id = _wall_contacts(wall_particle, wall_id, None, n_particles, dim)
+    return _assemble(dim, n_particles, position, edge_i, edge_j, force, force, "total",
+                     resolve_rattler_rule(remove_rattlers), wall_particle, wall_id, False, normalise=normalise)
+
+
+def _contact_pairs(contact_i, contact_j, n_particles: int) -> tuple[np.ndarray, np.ndarray]:
+    contact_i = np.asarray(contact_i, dtype=np.int64).reshape(-1)
+    contact_j = np.asarray(contact_j, dtype=np.int64).reshape(-1)
+    if contact_i.shape != contact_j.shape:
+        raise ValueError("contact_i and contact_j must have the same length")
+    if contact_i.size:
+        if min(contact_i.min(), contact_j.min()) < 0 or max(contact_i.max(), contact_j.max()) >= n_particles:
+            raise ValueError("contact index out of range [0, n_particles)")
+        if np.any(contact_i == contact_j):
+            raise ValueError("a contact joins a particle to itself")
+        key = np.minimum(contact_i, contact_j) * n_particles + np.maximum(contact_i, contact_j)
+        if np.unique(key).size != key.size:
+            raise ValueError("a particle pair appears in more than one contact")
+    return contact_i, contact_j
+
+
+def _wall_contacts(wall_particle, wall_id, wall_force, n_particles: int, dim: int):
+    if (wall_particle is None) != (wall_id is None):
+        raise ValueError("give both wall_particle and wall_id, or neither")
+    if wall_particle is None:
+        return np.empty(0, dtype=np.int64), np.empty(0, dtype=np.int64)
+    wall_particle = np.asarray(wall_particle, dtype=np.int64).reshape(-1)
+    wall_id = np.asarray(wall_id, dtype=np.int64).reshape(-1)
+    if wall_particle.shape != wall_id.shape:
+        raise ValueError("wall_particle and wall_id must have the same length")
+    if wall_particle.size and (wall_particle.min() < 0 or wall_particle.max() >= n_particles):
+        raise ValueError("wall_particle index out of range")
+    if wall_id.size and (wall_id.min() < 0 or wall_id.max() >= 2 * dim):
+        raise ValueError(f"wall ids must lie in 0..{2 * dim - 1}")
+    if wall_force is not None:
+        # (W, d) vectors or (W,) magnitudes; W may be 0 (no particle touches a wall yet)
+        columns = -1 if wall_particle.size else 1
+        wall_force = np.asarray(wall_force, dtype=np.float64).reshape(len(wall_particle), columns)
+        carries_force = np.sqrt((wall_force ** 2).sum(axis=1)) > 0
+        wall_particle, wall_id = wall_particle[carries_force], wall_id[carries_force]
+    return wall_particle, wall_id
+
+
+def _assemble(dim, n_particles, position, contact_i, contact_j, total, magnitude, kind, rule,
+              wall_particle, wall_id, count_wall_contacts, *, normalise: bool = True) -> ForceNetwork:
+    """Rattlers, edges, normalisation (the decisions of the module docstring)."""
+    is_contact = total > 0
+    ci, cj = contact_i[is_contact], contact_j[is_contact]
+    extra = np.bincount(wall_particle, minlength=n_particles) if count_wall_contacts else None
+    non_rattler = rattler_free_mask(n_particles, ci, cj, rule, extra)
+    keep = non_rattler.copy()
+
+    carries = magnitude > 0
+    mean_force = float(magnitude[carries].mean()) if carries.any() else 0.0
+    is_edge = carries & keep[contact_i] & keep[contact_j]
+    if rule != "none":
+        # particles with no edge of this kind left carry no force of this kind: not vertices
+        has_edge = np.zeros(n_particles, dtype=bool)
+        has_edge[contact_i[is_edge]] = True
+        has_edge[contact_j[is_edge]] = True
+        keep &= has_edge
+    low = np.minimum(contact_i[is_edge], contact_j[is_edge])
+    high = np.maximum(contact_i[is_edge], contact_j[is_edge])
+    order = np.lexsort((high, low))
+    force = magnitude[is_edge][order]
+    if normalise and mean_force > 0:
+        force = force / mean_force
+    on_network_wall = keep[wall_particle]
+    return ForceNetwork(
+        dim=dim, n_particles=n_particles, position=position, particle_mask=keep, non_rattler=non_rattler,
+        edge_i=low[order], edge_j=high[order], force=force, mean_force=mean_force, kind=kind,
+        wall_particle=wall_particle[on_network_wall], wall_id=wall_id[on_network_wall],
+        contact_i=ci, contact_j=cj, rattler_rule=rule)
