@@ -5,8 +5,8 @@ Measures
       the Slurm profile (which also forms the analysis groups). Target ≤ 30 s.
   (b) per-snapshot-job wall time outside the kernels, at paper size (2D, N = 2025, config/paper.yaml's
       2d_linear with only the compression sped up, seven ρ from 0.78 to 0.84, so that the inputs take a minute):
-      - analysis job: wall time of one `analyze_snapshot` job run by Snakemake (local: `--cores 1`; Slurm: the
-        grouped cluster job, through workflow/profiles/slurm) minus the kernels' time (build_force_network +
+      - analysis job: wall time of the `analyze_2d_linear` job of that run, run by Snakemake (local: `--cores 1`;
+        Slurm: the grouped cluster job, through workflow/profiles/slurm), divided by its snapshots, minus the kernels' time (build_force_network +
         compute_snapshot_measures for the three networks, timed in a warm process). Overhead = process start,
         imports, Snakemake bookkeeping, reading the snapshot and writing the analysis netCDF.
       - simulation job: wall time of the `simulate_2d_linear` job minus the time spent inside
@@ -88,29 +88,16 @@ def kernel_and_io_times(snapshots: list[Path], analysis: dict, scratch: Path) ->
 
     from forcenet.datasets import open_dataset, read_snapshot, write_netcdf
     from forcenet.datasets.analysis import analysis_dataset
-    from forcenet.measures.snapshot import compute_snapshot_measures
-    from forcenet.network import build_force_network
-    from forcenet.pipeline import threshold_grid
+    from forcenet.pipeline import analysis_attrs, snapshot_measures
 
-    thresholds = threshold_grid(analysis["thresholds"])
-    edges = np.linspace(0.0, analysis["force_pdf"]["max"], analysis["force_pdf"]["bins"] + 1)
     rows = []
     for index, path in enumerate([snapshots[0], *snapshots]):  # the first one again: warm-up, not counted
         t0 = time.perf_counter()
         snap = read_snapshot(path)
         t1 = time.perf_counter()
-        measures = {}
-        for kind in ("total", "normal", "tangential"):
-            network = build_force_network(
-                snap.position.values, snap.contact_i.values, snap.contact_j.values, snap.force_normal.values,
-                snap.force_tangential.values, kind=kind, remove_rattlers=analysis["remove_rattlers"],
-                wall_particle=snap.wall_contact_particle.values, wall_id=snap.wall_contact_wall.values,
-                wall_force=snap.wall_contact_force.values)
-            measures[kind] = compute_snapshot_measures(network, thresholds=thresholds, force_bin_edges=edges)
+        measures = snapshot_measures(snap, analysis)
         t2 = time.perf_counter()
-        attrs = {key: snap.attrs[key] for key in ("system", "realization", "seed", "forcenet_version", "git_commit",
-                                                   "config_sha256", "config", "Conventions", "dimension")}
-        attrs.update(title="bench", source=str(path), remove_rattlers=1)
+        attrs = analysis_attrs(snap, path, analysis)
         write_netcdf(analysis_dataset(measures, rho=float(snap.rho), attrs=attrs), scratch / f"a{index}.nc")
         t3 = time.perf_counter()
         write_netcdf(open_dataset(path), scratch / f"s{index}.nc")

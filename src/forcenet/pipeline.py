@@ -129,19 +129,29 @@ def analyze_run(*, snapshots: Sequence[str], outputs: Sequence[str], analysis: M
 
 
 def analyze_snapshot(snapshot: str, output: str, analysis: Mapping[str, Any], log: logging.Logger) -> None:
-    """Analyse one snapshot: the total (P1), normal and tangential (P2) force networks, each normalised by its
-    own mean; diagrams, Betti curves, clusters, percolation, S_p, PDF, bins, total persistence."""
+    """Analyse one snapshot file and write its analysis file (see `snapshot_measures`)."""
     import time
-
-    import numpy as np
 
     from forcenet.datasets import read_snapshot, write_netcdf
     from forcenet.datasets.analysis import analysis_dataset
-    from forcenet.measures.snapshot import compute_snapshot_measures
-    from forcenet.network import build_force_network
 
     start = time.perf_counter()
     snap = read_snapshot(snapshot)
+    ds = analysis_dataset(snapshot_measures(snap, analysis), rho=float(snap.rho),
+                          attrs=analysis_attrs(snap, snapshot, analysis))
+    write_netcdf(ds, output)
+    log.info("%s: rho %.3f, Z %.3f, %d diagram points, %.2f s", snapshot, float(snap.rho), float(snap.Z),
+             ds.sizes["point"], time.perf_counter() - start)
+
+
+def snapshot_measures(snap, analysis: Mapping[str, Any]) -> dict[str, Any]:
+    """Every single-snapshot measure of the total (P1), normal and tangential (P2) force networks of a snapshot
+    dataset, each network normalised by its own mean: {kind: SnapshotMeasures}."""
+    import numpy as np
+
+    from forcenet.measures.snapshot import compute_snapshot_measures
+    from forcenet.network import build_force_network
+
     thresholds = threshold_grid(analysis["thresholds"])
     edges = np.linspace(0.0, analysis["force_pdf"]["max"], analysis["force_pdf"]["bins"] + 1)
     measures = {}
@@ -152,15 +162,17 @@ def analyze_snapshot(snapshot: str, output: str, analysis: Mapping[str, Any], lo
             wall_particle=snap.wall_contact_particle.values, wall_id=snap.wall_contact_wall.values,
             wall_force=snap.wall_contact_force.values)
         measures[kind] = compute_snapshot_measures(network, thresholds=thresholds, force_bin_edges=edges)
+    return measures
+
+
+def analysis_attrs(snap, source: str, analysis: Mapping[str, Any]) -> dict[str, Any]:
+    """Global attributes of an analysis file: the snapshot's provenance plus what the analysis used."""
     attrs = {key: snap.attrs[key] for key in ("system", "realization", "seed", "forcenet_version", "git_commit",
                                                "config_sha256", "config", "Conventions", "dimension")}
     attrs["title"] = f"forcenet analysis of one snapshot, {attrs['system']}"
-    attrs["source"] = str(snapshot)
+    attrs["source"] = str(source)
     attrs["remove_rattlers"] = int(bool(analysis["remove_rattlers"]))
-    ds = analysis_dataset(measures, rho=float(snap.rho), attrs=attrs)
-    write_netcdf(ds, output)
-    log.info("%s: rho %.3f, Z %.3f, %d diagram points, %.2f s", snapshot, float(snap.rho), float(snap.Z),
-             ds.sizes["point"], time.perf_counter() - start)
+    return attrs
 
 
 def threshold_grid(spec: Mapping[str, float]):
