@@ -9,7 +9,8 @@ from snakemake.utils import validate
 
 sys.path.insert(0, str(Path(workflow.basedir) / "src"))  # works before `pip install -e .` too
 
-from forcenet.systems import ConfigError, format_rho, validate_config
+from forcenet.pipeline import realization_index
+from forcenet.systems import ConfigError, validate_config
 
 validate(config, str(Path(workflow.basedir) / "workflow/schemas/config.schema.yaml"))
 try:
@@ -29,10 +30,6 @@ wildcard_constraints:
     rho=r"\d\.\d\d\d",
 
 
-def realization_index(label):
-    return int(label.lstrip("r"))
-
-
 def snapshot_path(system, realization, rho_label):
     return f"{RESULTS}/sim/{system}/{realization}/rho{rho_label}.nc"
 
@@ -45,11 +42,6 @@ def system_analyses(wildcards):
     """Every analysis file of one system, realization-major (the order aggregate expects)."""
     spec = SYSTEMS[wildcards.system]
     return [analysis_path(wildcards.system, r, rho) for r in REALIZATIONS for rho in spec.rho_labels]
-
-
-def realization_analyses(wildcards):
-    spec = SYSTEMS[wildcards.system]
-    return [analysis_path(wildcards.system, wildcards.realization, rho) for rho in spec.rho_labels]
 
 
 def system_params(system):
