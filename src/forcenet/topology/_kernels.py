@@ -284,12 +284,16 @@ def _send(a, amount, arc_to, arc_room, arc_twin, excess):
 
 @numba.njit(**NJIT)
 def _shortest_path_finish(start, arc_to, arc_room, arc_cost, arc_twin, excess, price):
-    """Route all excess to the deficits by successive shortest paths, starting from any prices.
+    """Route all excess to the deficits by shortest paths, many per Dijkstra run, starting from any prices.
 
     First the arcs with negative reduced cost c + p(u) − p(v) are saturated (afterwards every arc with room
-    has reduced cost ≥ 0); then, while a node has excess: Dijkstra on reduced costs from it to the nearest
-    node with deficit, prices += min(distance, reach) (which keeps reduced costs ≥ 0 and makes the path
-    tight), and an augmentation along the path. Returns False if some excess cannot be routed.
+    has reduced cost ≥ 0). Then phases until no excess is left: one Dijkstra on reduced costs from all
+    nodes with excess at once, stopped when the deficits reached could absorb all the excess (or nothing is
+    left to reach); with D the last distance taken, prices += min(distance, D) − D, which keeps every
+    reduced cost ≥ 0 and makes each arc of the shortest-path forest tight; then augmentation along the
+    forest path of every reached deficit, nearest first, while its arcs still have room and its root excess
+    (a tight path stays tight after other augmentations: their reverse arcs are tight too). Each phase
+    augments at least once. Returns False if some excess cannot be routed.
     """
     inf = math.inf
     n_nodes = price.size
@@ -300,28 +304,32 @@ def _shortest_path_finish(start, arc_to, arc_room, arc_cost, arc_twin, excess, p
     distance = np.full(n_nodes, inf)
     done = np.zeros(n_nodes, np.bool_)
     parent = np.full(n_nodes, -1, np.int64)
-    touched = np.empty(n_nodes, np.int64)
+    touched = np.empty(n_nodes, np.int64)  # nodes with a finite distance, in the order first reached
+    taken = np.empty(n_nodes, np.int64)  # nodes taken from the heap (final distance), in increasing distance
     heap_keys = np.empty(arc_to.size + n_nodes + 1)
     heap_values = np.empty(arc_to.size + n_nodes + 1, np.int64)
-    origin = 0
     while True:
-        while origin < n_nodes and excess[origin] <= 0:
-            origin += 1
-        if origin == n_nodes:
+        heap_size, n_touched, supply = 0, 0, 0
+        for v in range(n_nodes):
+            if excess[v] > 0:
+                distance[v] = 0.0
+                touched[n_touched] = v
+                n_touched += 1
+                heap_size = _heap_push(heap_keys, heap_values, heap_size, 0.0, v)
+                supply += excess[v]
+        if supply == 0:
             return True
-        n_touched = 1
-        touched[0] = origin
-        distance[origin] = 0.0
-        heap_size = _heap_push(heap_keys, heap_values, 0, 0.0, origin)
-        target = -1
-        while heap_size > 0:
+        n_taken, demand, reach = 0, 0, 0.0
+        while heap_size > 0 and demand < supply:
             key, v, heap_size = _heap_pop(heap_keys, heap_values, heap_size)
             if done[v] or key > distance[v]:
                 continue
             done[v] = True
+            taken[n_taken] = v
+            n_taken += 1
+            reach = key
             if excess[v] < 0:
-                target = v
-                break
+                demand -= excess[v]
             for a in range(start[v], start[v + 1]):
                 w = arc_to[a]
                 if arc_room[a] == 0 or done[w]:  # done: final; rounding must not rewire it into a cycle
@@ -334,22 +342,28 @@ def _shortest_path_finish(start, arc_to, arc_room, arc_cost, arc_twin, excess, p
                     distance[w] = candidate
                     parent[w] = a
                     heap_size = _heap_push(heap_keys, heap_values, heap_size, candidate, w)
-        if target == -1:
+        if demand == 0:
             return False
-        reach = distance[target]
-        for t in range(n_touched):  # untouched nodes would all get + reach: same reduced costs, skip them
+        for t in range(n_touched):  # untouched nodes would all get + reach − reach: skip them
             v = touched[t]
             price[v] += min(distance[v], reach) - reach
-        amount = min(excess[origin], -excess[target])
-        v = target
-        while v != origin:
-            amount = min(amount, arc_room[parent[v]])
-            v = arc_to[arc_twin[parent[v]]]
-        v = target
-        while v != origin:  # intermediate nodes gain and lose the same amount
-            a = parent[v]
-            _send(a, amount, arc_to, arc_room, arc_twin, excess)
-            v = arc_to[arc_twin[a]]
+        for t in range(n_taken):
+            target = taken[t]
+            if excess[target] >= 0:
+                continue
+            amount = -excess[target]
+            v = target
+            while parent[v] != -1:
+                amount = min(amount, arc_room[parent[v]])
+                v = arc_to[arc_twin[parent[v]]]
+            amount = min(amount, excess[v])  # v: the root, a node that had excess
+            if amount <= 0:
+                continue
+            v = target
+            while parent[v] != -1:  # intermediate nodes gain and lose the same amount
+                a = parent[v]
+                _send(a, amount, arc_to, arc_room, arc_twin, excess)
+                v = arc_to[arc_twin[a]]
         for t in range(n_touched):
             v = touched[t]
             distance[v] = inf
