@@ -68,6 +68,31 @@ def candidate_pairs(birth_a, death_a, birth_b, death_b, q, for_bottleneck, max_d
 
 
 @numba.njit(**NJIT)
+def new_pairs(birth_a, death_a, birth_b, death_b, index_a, index_b, present):
+    """The pairs (index_a, index_b) not yet `present` (bool, shape (n, m)), each once, in order of first
+    appearance, with their L∞ distance; marks them present. Returns (index_a, index_b, distance).
+    """
+    keep = np.zeros(index_a.size, np.bool_)
+    count = 0
+    for k in range(index_a.size):
+        if not present[index_a[k], index_b[k]]:
+            present[index_a[k], index_b[k]] = True
+            keep[k] = True
+            count += 1
+    new_a = np.empty(count, np.int64)
+    new_b = np.empty(count, np.int64)
+    distance = np.empty(count)
+    count = 0
+    for k in range(index_a.size):
+        if keep[k]:
+            i, j = index_a[k], index_b[k]
+            new_a[count], new_b[count] = i, j
+            distance[count] = max(abs(birth_a[i] - birth_b[j]), abs(death_a[i] - death_b[j]))
+            count += 1
+    return new_a, new_b, distance
+
+
+@numba.njit(**NJIT)
 def nearest_useful_pairs(birth_a, death_a, birth_b, death_b, q, n_nearest):
     """For every point of A its `n_nearest` closest useful partners in B, and vice versa (L∞).
 

@@ -104,10 +104,6 @@ def _threshold_graph(points_a: np.ndarray, points_b: np.ndarray, index_a: np.nda
     return row_start.astype(np.int64), col[light][order].astype(np.int64), weight[light][order].astype(np.float64)
 
 
-def _pair_distance(points_a: np.ndarray, points_b: np.ndarray, index_a: np.ndarray, index_b: np.ndarray):
-    return np.max(np.abs(points_a[index_a] - points_b[index_b]), axis=1).reshape(-1)
-
-
 N_NEAREST = 64  # partners per point in the first sparse Wasserstein graph (measured: fewest re-solves)
 N_WORST = 32  # most violating pairs per point added after each optimality check
 WARM_START_FRACTION = 0.05  # re-solve from the last optimum when fewer pairs than this fraction are added
@@ -126,28 +122,30 @@ def _optimal_matching(points_a: np.ndarray, points_b: np.ndarray, q: float) -> t
     birth_a, death_a = np.ascontiguousarray(points_a[:, 0]), np.ascontiguousarray(points_a[:, 1])
     birth_b, death_b = np.ascontiguousarray(points_b[:, 0]), np.ascontiguousarray(points_b[:, 1])
     delta_a, delta_b = 0.5 * (birth_a - death_a), 0.5 * (birth_b - death_b)
-    first_a, first_b = _kernels.nearest_useful_pairs(birth_a, death_a, birth_b, death_b, float(q), N_NEAREST)
-    key = np.unique(first_a * m + first_b)
+    present = np.zeros((n, m), bool)  # pairs in the sparse graph
+    index_a, index_b, distance = _kernels.new_pairs(
+        birth_a, death_a, birth_b, death_b,
+        *_kernels.nearest_useful_pairs(birth_a, death_a, birth_b, death_b, float(q), N_NEAREST), present)
     scale = max(float(np.abs(points_a).max(initial=0.0)), float(np.abs(points_b).max(initial=0.0)), 1.0) ** q
     flow, potential = np.empty(0, np.int64), np.empty(0)
     while True:
-        index_a, index_b = key // m, key % m
-        distance = _pair_distance(points_a, points_b, index_a, index_b)
         flow, potential = _kernels.diagram_transport(n, m, index_a, index_b, distance ** q, delta_a ** q,
                                                      delta_b ** q, flow, potential)
         if flow.size and flow[0] < 0:  # cannot happen: everything can go to the diagonal
             raise RuntimeError("the diagram transport problem has no feasible flow")
-        missing_a, missing_b = _kernels.dual_violations(birth_a, death_a, birth_b, death_b, float(q), potential,
-                                                        1e-12 * scale, N_WORST)
         # pairs already in the graph are settled (a used arc may have negative reduced cost: it is full)
-        missing = np.setdiff1d(missing_a * m + missing_b, key)
-        if missing.size == 0:
+        missing_a, missing_b, missing_distance = _kernels.new_pairs(
+            birth_a, death_a, birth_b, death_b,
+            *_kernels.dual_violations(birth_a, death_a, birth_b, death_b, float(q), potential, 1e-12 * scale,
+                                      N_WORST), present)
+        if missing_a.size == 0:
             break
         # few new pairs: repair the last optimum (pairs keep their order, new ones appended); many: restart
         # cold, which measured faster than repairing thousands of arcs
-        if missing.size > WARM_START_FRACTION * key.size:
+        if missing_a.size > WARM_START_FRACTION * index_a.size:
             flow, potential = np.empty(0, np.int64), np.empty(0)
-        key = np.concatenate([key, missing])
+        index_a, index_b = np.concatenate([index_a, missing_a]), np.concatenate([index_b, missing_b])
+        distance = np.concatenate([distance, missing_distance])
     # arcs in `diagram_transport` order: pairs, A → diagonal, diagonal → B, diagonal → diagonal (cost 0)
     arc_distance = np.concatenate([distance, delta_a, delta_b, [0.0]])
     used = flow > 0
