@@ -37,34 +37,61 @@ def _useful(c, delta_a, delta_b, q, for_bottleneck):
 
 
 @numba.njit(**NJIT)
-def candidate_pairs(birth_a, death_a, birth_b, death_b, q, for_bottleneck, max_distance):
-    """All useful point pairs (see `_useful`) at L∞ distance ≤ max_distance.
+def threshold_graph(birth_a, death_a, birth_b, death_b, max_weight):
+    """Bipartite graph (CSR) of the bottleneck matching of diagram A to diagram B, edges weighted by L∞ distance.
 
-    Returns (index_a, index_b, distance), shapes (P,), the distance c not raised to q.
+    Rows: the n points of A, then the m diagonal copies of B's points. Columns: the m points of B, then the
+    n diagonal copies of A's points. Edges: every useful pair (i, j) (`_useful`, bottleneck) at its
+    distance; each point with its own diagonal copy at its distance to the diagonal; and, for each useful
+    pair, B's copy j with A's copy i at the pair's distance — enough, since a_i ↔ b_j leaves exactly those
+    two copies to pair, and weighting it like the pair makes it appear with the pair in every threshold
+    graph. Edges heavier than `max_weight` are left out.
+
+    Returns row_start (n + m + 1,), column (E,), weight (E,), and a lower bound on the bottleneck distance:
+    the largest over rows and columns of their lightest edge (inf if one has none).
     """
     n, m = birth_a.size, birth_b.size
     delta_a = 0.5 * (birth_a - death_a)
     delta_b = 0.5 * (birth_b - death_b)
-    count = 0
-    index_a = np.empty(0, np.int64)
-    index_b = np.empty(0, np.int64)
-    distance = np.empty(0, np.float64)
-    for stage in range(2):  # first count, then fill
-        if stage == 1:
-            index_a = np.empty(count, np.int64)
-            index_b = np.empty(count, np.int64)
-            distance = np.empty(count, np.float64)
-            count = 0
-        for i in range(n):
-            for j in range(m):
-                c = max(abs(birth_a[i] - birth_b[j]), abs(death_a[i] - death_b[j]))
-                if c <= max_distance and _useful(c, delta_a[i], delta_b[j], q, for_bottleneck):
-                    if stage == 1:
-                        index_a[count] = i
-                        index_b[count] = j
-                        distance[count] = c
-                    count += 1
-    return index_a, index_b, distance
+    degree = np.zeros(n + m + 1, np.int64)
+    for i in range(n):
+        degree[i + 1] += delta_a[i] <= max_weight
+        for j in range(m):
+            c = max(abs(birth_a[i] - birth_b[j]), abs(death_a[i] - death_b[j]))
+            if c <= max_weight and _useful(c, delta_a[i], delta_b[j], 1.0, True):
+                degree[i + 1] += 1
+                degree[n + j + 1] += 1
+    for j in range(m):
+        degree[n + j + 1] += delta_b[j] <= max_weight
+    row_start = np.cumsum(degree)
+    fill = row_start[:-1].copy()
+    column = np.empty(row_start[-1], np.int64)
+    weight = np.empty(row_start[-1])
+    for i in range(n):
+        if delta_a[i] <= max_weight:
+            column[fill[i]], weight[fill[i]] = m + i, delta_a[i]
+            fill[i] += 1
+        for j in range(m):
+            c = max(abs(birth_a[i] - birth_b[j]), abs(death_a[i] - death_b[j]))
+            if c <= max_weight and _useful(c, delta_a[i], delta_b[j], 1.0, True):
+                column[fill[i]], weight[fill[i]] = j, c
+                fill[i] += 1
+                column[fill[n + j]], weight[fill[n + j]] = m + i, c
+                fill[n + j] += 1
+    for j in range(m):
+        if delta_b[j] <= max_weight:
+            column[fill[n + j]], weight[fill[n + j]] = j, delta_b[j]
+            fill[n + j] += 1
+    lightest_row = np.full(n + m, np.inf)
+    lightest_column = np.full(n + m, np.inf)
+    for r in range(n + m):
+        for k in range(row_start[r], row_start[r + 1]):
+            lightest_row[r] = min(lightest_row[r], weight[k])
+            lightest_column[column[k]] = min(lightest_column[column[k]], weight[k])
+    lower = 0.0
+    for r in range(n + m):
+        lower = max(lower, lightest_row[r], lightest_column[r])
+    return row_start, column, weight, lower
 
 
 @numba.njit(**NJIT)

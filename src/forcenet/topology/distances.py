@@ -79,31 +79,6 @@ def matchable_points(diagram, homology_dim: int | None = None, essential: str = 
     return points[points[:, 0] > points[:, 1]].reshape(-1, 2)
 
 
-def _threshold_graph(points_a: np.ndarray, points_b: np.ndarray, index_a: np.ndarray, index_b: np.ndarray,
-                     distance: np.ndarray, max_weight: float):
-    """Bipartite graph (CSR) of the bottleneck matching of diagram A to diagram B, edges weighted by L∞ distance.
-
-    Rows: the n points of A, then the m diagonal copies of B's points. Columns: the m points of B, then the
-    n diagonal copies of A's points. Edges: the given point pairs (i, j) at `distance`; each point with its
-    own diagonal copy at its distance to the diagonal; and, for each given pair, B's copy j with A's copy i
-    at the pair's distance — enough, since a_i ↔ b_j leaves exactly those two copies to pair, and weighting
-    it like the pair makes it appear with the pair in every threshold graph. Edges heavier than
-    `max_weight` are left out.
-
-    Returns row_start (n + m + 1,), column (E,), weight (E,).
-    """
-    n, m = len(points_a), len(points_b)
-    delta_a = 0.5 * (points_a[:, 0] - points_a[:, 1])
-    delta_b = 0.5 * (points_b[:, 0] - points_b[:, 1])
-    row = np.concatenate([index_a, np.arange(n), n + np.arange(m), n + index_b])
-    col = np.concatenate([index_b, m + np.arange(n), np.arange(m), m + index_a])
-    weight = np.concatenate([distance, delta_a, delta_b, distance])
-    light = weight <= max_weight
-    order = np.argsort(row[light], kind="stable")
-    row_start = np.searchsorted(row[light][order], np.arange(n + m + 1))
-    return row_start.astype(np.int64), col[light][order].astype(np.int64), weight[light][order].astype(np.float64)
-
-
 N_NEAREST = 64  # partners per point in the first sparse Wasserstein graph (measured: fewest re-solves)
 N_WORST = 32  # most violating pairs per point added after each optimality check
 WARM_START_FRACTION = 0.05  # re-solve from the last optimum when fewer pairs than this fraction are added
@@ -173,9 +148,10 @@ def wasserstein_distance(points_a, points_b, q: float = 1.0) -> float:
 def bottleneck_distance(points_a, points_b, *, upper_bound: float | None = None) -> float:
     """Exact bottleneck distance, L∞ ground metric, between finite super-level diagrams.
 
-    The answer is one of the edge weights of `_threshold_graph`: binary search over the weights between a
-    lower bound (every row and column needs an edge) and an upper bound (the largest distance of any perfect
-    matching — by default the degree-2 Wasserstein one), each step a Hopcroft–Karp perfect-matching test.
+    The answer is one of the edge weights of `_kernels.threshold_graph`: first a test just below an upper
+    bound (the largest distance of any perfect matching — by default the degree-2 Wasserstein one; often
+    the answer), then binary search over the weights between a lower bound (every row and column needs an
+    edge) and it, each step a warm-started Hopcroft–Karp perfect-matching test.
     Only pairs closer than the farther of their two diagonal distances can matter (`_kernels._useful`).
 
     Parameters
@@ -190,19 +166,17 @@ def bottleneck_distance(points_a, points_b, *, upper_bound: float | None = None)
     if upper_bound is None:
         _, upper_bound = _optimal_matching(points_a, points_b, 2.0)
     upper_bound = float(upper_bound)
-    index_a, index_b, distance = _kernels.candidate_pairs(points_a[:, 0].copy(), points_a[:, 1].copy(),
-                                                          points_b[:, 0].copy(), points_b[:, 1].copy(),
-                                                          1.0, True, upper_bound)
-    row_start, column, weight = _threshold_graph(points_a, points_b, index_a, index_b, distance, upper_bound)
-    row_min = np.full(size, np.inf)
-    np.minimum.at(row_min, np.repeat(np.arange(size), np.diff(row_start)), weight)
-    col_min = np.full(size, np.inf)
-    np.minimum.at(col_min, column, weight)
-    values = np.unique(weight)
-    values = values[values >= max(row_min.max(), col_min.max())]  # values[-1] is feasible (≤ upper_bound)
-    low, high = 0, values.size - 1
+    row_start, column, weight, lower = _kernels.threshold_graph(
+        points_a[:, 0].copy(), points_a[:, 1].copy(), points_b[:, 0].copy(), points_b[:, 1].copy(), upper_bound)
     edge_of_row = np.full(size, -1, dtype=np.int64)  # matching carried between the steps (warm start)
     row_of_col = np.full(size, -1, dtype=np.int64)
+    # the bound itself is often the answer: try the next lighter weight first
+    below = weight[weight < upper_bound]
+    if below.size == 0 or below.max() < lower or not _kernels.has_perfect_matching(
+            row_start, column, weight, size, below.max(), edge_of_row, row_of_col):
+        return upper_bound
+    values = np.unique(below[below >= lower])  # values[-1] is feasible
+    low, high = 0, values.size - 1
     while low < high:
         middle = (low + high) // 2
         if _kernels.has_perfect_matching(row_start, column, weight, size, values[middle], edge_of_row, row_of_col):
@@ -247,9 +221,9 @@ def diagram_distances(pd_a, pd_b, homology_dim: int = 0, essential: str = "minus
             return result
     if len(points_a) + len(points_b) == 0:
         return {metric: 0.0 for metric in METRICS}
-    total_1, _ = _optimal_matching(points_a, points_b, 1.0)
+    total_1, largest_1 = _optimal_matching(points_a, points_b, 1.0)
     total_2, largest_2 = _optimal_matching(points_a, points_b, 2.0)
-    return {"bottleneck": bottleneck_distance(points_a, points_b, upper_bound=largest_2),
+    return {"bottleneck": bottleneck_distance(points_a, points_b, upper_bound=min(largest_1, largest_2)),
             "wasserstein_1": total_1, "wasserstein_2": float(np.sqrt(total_2))}
 
 
