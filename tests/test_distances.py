@@ -104,12 +104,14 @@ def full_graph_cost(a, b, q):
 
 @pytest.mark.parametrize("q", [1.0, 2.0])
 @pytest.mark.parametrize("warm_start_fraction", [0.0, 1e9])  # every round cold / every round repaired
-def test_sparsify_and_verify_reaches_the_full_optimum(monkeypatch, q, warm_start_fraction):
+@pytest.mark.parametrize("line_band", [0, 3])
+def test_sparsify_and_verify_reaches_the_full_optimum(monkeypatch, q, warm_start_fraction, line_band):
     # few initial partners force several verification rounds; the essential classes on the line death = −1
     # make the instance degenerate, as in 2D PD1
     monkeypatch.setattr(distances, "N_NEAREST", 1)
     monkeypatch.setattr(distances, "N_WORST", 1)
     monkeypatch.setattr(distances, "WARM_START_FRACTION", warm_start_fraction)
+    monkeypatch.setattr(distances, "LINE_BAND", line_band)
     rng = np.random.default_rng(7)
     finite_a = random_diagram(rng, 80)
     finite_b = finite_a[10:] + rng.normal(0, 0.05, finite_a[10:].shape)
@@ -152,3 +154,71 @@ def test_consecutive_distances_and_ratios():
     np.testing.assert_allclose(result["bottleneck"][:, 0], [2.0, 0.0])
     np.testing.assert_allclose(result["ratio_bottleneck_wasserstein_1"][0, 0], 2.0 / 5.5)
     assert np.isnan(result["ratio_bottleneck_wasserstein_2"][1, 0])  # 0 / 0
+
+
+@pytest.mark.parametrize("q", [1.0, 2.0])
+def test_line_matching_is_optimal_for_points_on_one_death_line(q):
+    # points sharing death −1 with tied births: the dynamic programme equals enumeration of all matchings
+    rng = np.random.default_rng(int(q))
+    for _ in range(30):
+        birth_a = np.sort(rng.choice([0.2, 0.5, 0.6, 1.1, 1.4], int(rng.integers(1, 4))))
+        birth_b = np.sort(rng.choice([0.2, 0.5, 0.7, 1.1, 1.5], int(rng.integers(1, 4))))
+        partner = _kernels.line_matching(birth_a, birth_b, -1.0, q)
+        matched = partner[partner >= 0]
+        assert np.unique(matched).size == matched.size  # a matching
+        total = np.sum(np.abs(birth_a[partner >= 0] - birth_b[matched]) ** q)
+        total += np.sum((0.5 * (birth_a[partner < 0] + 1)) ** q)
+        total += np.sum((0.5 * (np.delete(birth_b, matched) + 1)) ** q)
+        a = np.stack([birth_a, np.full(len(birth_a), -1.0)], axis=1)
+        b = np.stack([birth_b, np.full(len(birth_b), -1.0)], axis=1)
+        assert total ** (1 / q) == pytest.approx(optimal_matching_costs(a, b, q)[1], rel=1e-12, abs=1e-12)
+
+
+def brute_force_bottleneck(a, b):
+    """Smallest L∞ threshold with a perfect matching of the full (n + m) × (n + m) graph with diagonal copies
+    (every pair, diagonal copies all joined at 0), by Kuhn's augmenting paths over every candidate value."""
+    n, m = len(a), len(b)
+    weight = np.full((n + m, n + m), np.inf)
+    weight[:n, :m] = np.max(np.abs(a[:, None, :] - b[None, :, :]), axis=2)
+    weight[np.arange(n), m + np.arange(n)] = 0.5 * (a[:, 0] - a[:, 1])
+    weight[n + np.arange(m), np.arange(m)] = 0.5 * (b[:, 0] - b[:, 1])
+    weight[n:, m:] = 0.0
+
+    def perfect(threshold):
+        allowed = weight <= threshold
+        row_of_col = [-1] * (n + m)
+
+        def augment(row, seen):
+            for col in np.flatnonzero(allowed[row]):
+                if not seen[col]:
+                    seen[col] = True
+                    if row_of_col[col] < 0 or augment(row_of_col[col], seen):
+                        row_of_col[col] = row
+                        return True
+            return False
+        return all(augment(row, [False] * (n + m)) for row in range(n + m))
+
+    values = np.unique(weight[np.isfinite(weight)])
+    low, high = 0, values.size - 1
+    while low < high:
+        middle = (low + high) // 2
+        low, high = (low, middle) if perfect(values[middle]) else (middle + 1, high)
+    return float(values[low])
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_many_points_on_the_line_death_minus_one_match_the_full_solve(seed):
+    # 2D-PD1-like diagrams: most points never die (death −1 under "minus_one"), births with ties, B's line
+    # shifted a few places against A's (long chains in the optimal matching), finite points that may be
+    # matched across to the line; compared with one solve on ALL pairs and a brute-force bottleneck
+    rng = np.random.default_rng(300 + seed)
+    never_a = np.round(rng.uniform(0.1, 1.5, 40), 2)  # rounding makes ties
+    never_b = np.concatenate([np.round(never_a[3:] + rng.normal(0, 0.02, 37), 2), np.round(rng.uniform(0.1, 1.5, 4), 2)])
+    finite_a, finite_b = random_diagram(rng, 8), random_diagram(rng, 6)
+    a = matchable_points(np.concatenate([finite_a, np.stack([never_a, np.full(40, -np.inf)], axis=1)]))
+    b = matchable_points(np.concatenate([finite_b, np.stack([never_b, np.full(41, -np.inf)], axis=1)]))
+    d = diagram_distances(a, b, 0)
+    for q in (1, 2):
+        assert d[f"wasserstein_{q}"] == pytest.approx(full_graph_cost(a, b, q) ** (1 / q), rel=1e-12)
+    assert d["bottleneck"] == brute_force_bottleneck(a, b)
+    assert d["bottleneck"] == bottleneck_distance(a, b, upper_bound=np.inf)  # the binary search alone

@@ -95,6 +95,53 @@ def threshold_graph(birth_a, death_a, birth_b, death_b, max_weight):
 
 
 @numba.njit(**NJIT)
+def line_matching(birth_a, birth_b, death, q):
+    """Optimal degree-q matching of two sets of points on one death line, among themselves and the diagonal.
+
+    Points (birth, `death`) with `birth_a`, `birth_b` sorted ascending: their L∞ distance is the birth
+    difference, a point's distance to the diagonal (birth − death)/2. |x − y|^q is convex, so some optimal
+    matching never crosses (a₁ < a₂ matched to b₂ < b₁ can be swapped at no extra cost): edit-distance
+    dynamic programming over the two sorted lists, O(n m) time, n m bytes. Returns the partner (index into
+    `birth_b`) of each A point, −1 for the diagonal.
+    """
+    n, m = birth_a.size, birth_b.size
+    choice = np.zeros((n + 1, m + 1), np.int8)  # 1: A point to the diagonal, 2: B point to it, 3: pair
+    previous = np.empty(m + 1)
+    current = np.empty(m + 1)
+    previous[0] = 0.0
+    for j in range(1, m + 1):
+        previous[j] = previous[j - 1] + _power(0.5 * (birth_b[j - 1] - death), q)
+        choice[0, j] = 2
+    for i in range(1, n + 1):
+        to_diagonal = _power(0.5 * (birth_a[i - 1] - death), q)
+        current[0] = previous[0] + to_diagonal
+        choice[i, 0] = 1
+        for j in range(1, m + 1):
+            best, taken = previous[j] + to_diagonal, 1
+            value = current[j - 1] + _power(0.5 * (birth_b[j - 1] - death), q)
+            if value < best:
+                best, taken = value, 2
+            value = previous[j - 1] + _power(abs(birth_a[i - 1] - birth_b[j - 1]), q)
+            if value < best:
+                best, taken = value, 3
+            current[j] = best
+            choice[i, j] = taken
+        previous, current = current, previous
+    partner = np.full(n, -1, np.int64)
+    i, j = n, m
+    while i > 0 or j > 0:
+        if choice[i, j] == 1:
+            i -= 1
+        elif choice[i, j] == 2:
+            j -= 1
+        else:
+            partner[i - 1] = j - 1
+            i -= 1
+            j -= 1
+    return partner
+
+
+@numba.njit(**NJIT)
 def new_pairs(birth_a, death_a, birth_b, death_b, index_a, index_b, present):
     """The pairs (index_a, index_b) not yet `present` (bool, shape (n, m)), each once, in order of first
     appearance, with their L∞ distance; marks them present. Returns (index_a, index_b, distance).

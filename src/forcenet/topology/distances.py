@@ -14,14 +14,17 @@ Backends
 ``"exact"`` (default): float64, exact optimum, always terminates (no iteration count depends on
 tolerances). Only pairs that can beat the diagonal are ever matched (`_kernels._useful`).
 Wasserstein: a transportation problem with the diagonal collapsed into one source and one sink node
-(`_kernels.diagram_transport`: Jonker–Volgenant start, then successive shortest paths), solved on each
-point's nearest useful partners and re-solved with the pairs its optimal prices say are missing until
-they certify optimality on every useful pair. Bottleneck: binary search over the candidate distances up to
-the largest distance of the W2 matching, each step a warm-started Hopcroft–Karp perfect-matching test on
-the threshold graph (diagonal copies kept on transposed pairs: a_i ↔ b_j leaves exactly their two copies to
-pair). Measured on the 2D benchmark (`bench/analysis.py`) it is about as fast as dionysus/hera at
-δ = 1 % while exact; 2D PD1 (hundreds of never-dying loops on the line death = −1, a degenerate 1D
-instance) dominates the cost.
+(`_kernels.diagram_transport`: Jonker–Volgenant start, then shortest augmenting paths, many per Dijkstra
+run), solved on a sparse graph — each point's `N_NEAREST` nearest useful partners, plus, where many points
+share one death line (2D PD1: the never-dying loops at −1), a band around the optimal matching of that
+line alone (`_kernels.line_matching`, exact by dynamic programming: it never crosses) — and re-solved with
+the pairs its optimal prices say are missing until they certify optimality on every useful pair.
+Bottleneck: one perfect-matching test just below the largest distance of the W1/W2 matchings (often the
+answer), else binary search over the candidate distances below it, each step a warm-started Hopcroft–Karp
+test on the threshold graph (`_kernels.threshold_graph`; diagonal copies kept on transposed pairs:
+a_i ↔ b_j leaves exactly their two copies to pair). On the 2D benchmark (`bench/analysis.py`, PD0 and PD1,
+all three distances) it takes ~0.15–0.2 s where the first version took ~0.7–1 s; PD1's Wasserstein
+solves and bottleneck graph remain the largest parts.
 
 ``"dionysus"``: dionysus' `bottleneck_distance(delta=0)` and hera's `wasserstein_distance(internal_p=-1)`
 (L∞) on NEGATED diagrams (libraries expect birth < death). hera can hang on some inputs, so it runs in a
@@ -79,16 +82,46 @@ def matchable_points(diagram, homology_dim: int | None = None, essential: str = 
     return points[points[:, 0] > points[:, 1]].reshape(-1, 2)
 
 
-N_NEAREST = 64  # partners per point in the first sparse Wasserstein graph (measured: fewest re-solves)
+N_NEAREST = 16  # partners per point in the first sparse Wasserstein graph (with the line band: one solve)
 N_WORST = 32  # most violating pairs per point added after each optimality check
 WARM_START_FRACTION = 0.05  # re-solve from the last optimum when fewer pairs than this fraction are added
+LINE_BAND = 3  # B partners on each side of an A point's place in the optimal matching along a shared line
+MAX_LINE_CELLS = 16_000_000  # largest line for `_kernels.line_matching` (its n m bytes)
+
+
+def _line_pairs(points_a: np.ndarray, points_b: np.ndarray, q: float) -> tuple[np.ndarray, np.ndarray]:
+    """Pairs near the optimal matching of the points on the death line both diagrams share most.
+
+    Many points on one death line (2D PD1: hundreds of never-dying loops at death −1) make a degenerate,
+    one-dimensional block that nearest-partner lists cover badly: its optimal matching shifts long chains
+    of points by a few places. `_kernels.line_matching` solves the block alone; its matching, widened by
+    `LINE_BAND` places on each side, joins the first sparse graph. Only a hint: optimality is still
+    certified on every pair (`_optimal_matching`). Returns (index_a, index_b), possibly empty.
+    """
+    none = np.empty(0, np.int64), np.empty(0, np.int64)
+    deaths, counts = np.unique(points_a[:, 1], return_counts=True)
+    shared = np.isin(deaths, points_b[:, 1])
+    if not shared.any():
+        return none
+    death = deaths[shared][np.argmax(counts[shared])]
+    on_a, on_b = np.flatnonzero(points_a[:, 1] == death), np.flatnonzero(points_b[:, 1] == death)
+    if min(on_a.size, on_b.size) < 2 or on_a.size * on_b.size > MAX_LINE_CELLS:
+        return none
+    on_a = on_a[np.argsort(points_a[on_a, 0], kind="stable")]
+    on_b = on_b[np.argsort(points_b[on_b, 0], kind="stable")]
+    birth_a, birth_b = np.ascontiguousarray(points_a[on_a, 0]), np.ascontiguousarray(points_b[on_b, 0])
+    partner = _kernels.line_matching(birth_a, birth_b, float(death), float(q))
+    place = np.where(partner >= 0, partner, np.searchsorted(birth_b, birth_a))
+    band = np.clip(place[:, None] + np.arange(-LINE_BAND, LINE_BAND + 1), 0, on_b.size - 1)
+    return np.repeat(on_a, band.shape[1]), on_b[band.ravel()]
 
 
 def _optimal_matching(points_a: np.ndarray, points_b: np.ndarray, q: float) -> tuple[float, float]:
     """Exact degree-q Wasserstein matching: (Σ cost^q, largest L∞ distance in the matching).
 
     Sparsify and verify: solve the transport problem (`_kernels.diagram_transport`) on each point's
-    `N_NEAREST` closest useful partners, then check its optimal potentials against every useful pair
+    `N_NEAREST` closest useful partners and the shared death line's band (`_line_pairs`), then check its
+    optimal potentials against every useful pair
     (`_kernels.dual_violations`); add the most violating pairs and solve again until none is left. The flow
     is then optimal for the complete problem (LP duality: a feasible flow and potentials with all reduced
     costs ≥ 0 that are tight on the flow).
@@ -98,9 +131,11 @@ def _optimal_matching(points_a: np.ndarray, points_b: np.ndarray, q: float) -> t
     birth_b, death_b = np.ascontiguousarray(points_b[:, 0]), np.ascontiguousarray(points_b[:, 1])
     delta_a, delta_b = 0.5 * (birth_a - death_a), 0.5 * (birth_b - death_b)
     present = np.zeros((n, m), bool)  # pairs in the sparse graph
-    index_a, index_b, distance = _kernels.new_pairs(
-        birth_a, death_a, birth_b, death_b,
-        *_kernels.nearest_useful_pairs(birth_a, death_a, birth_b, death_b, float(q), N_NEAREST), present)
+    first_a, first_b = _kernels.nearest_useful_pairs(birth_a, death_a, birth_b, death_b, float(q), N_NEAREST)
+    line_a, line_b = _line_pairs(points_a, points_b, q)
+    index_a, index_b, distance = _kernels.new_pairs(birth_a, death_a, birth_b, death_b,
+                                                    np.concatenate([line_a, first_a]),
+                                                    np.concatenate([line_b, first_b]), present)
     scale = max(float(np.abs(points_a).max(initial=0.0)), float(np.abs(points_b).max(initial=0.0)), 1.0) ** q
     flow, potential = np.empty(0, np.int64), np.empty(0)
     while True:
