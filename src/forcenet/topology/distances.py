@@ -23,8 +23,8 @@ Bottleneck: one perfect-matching test just below the largest distance of the W1/
 answer), else binary search over the candidate distances below it, each step a warm-started Hopcroft–Karp
 test on the threshold graph (`_kernels.threshold_graph`; diagonal copies kept on transposed pairs:
 a_i ↔ b_j leaves exactly their two copies to pair). On the 2D benchmark (`bench/analysis.py`, PD0 and PD1,
-all three distances) it takes ~0.15–0.2 s where the first version took ~0.7–1 s; PD1's Wasserstein
-solves and bottleneck graph remain the largest parts.
+all three distances) it takes ~140 ms (median; the version before the line band and multi-path phases took
+~600 ms on the same machine); PD1's W2 solve (~50 ms) and bottleneck graph (~40 ms) are the largest parts.
 
 ``"dionysus"``: dionysus' `bottleneck_distance(delta=0)` and hera's `wasserstein_distance(internal_p=-1)`
 (L∞) on NEGATED diagrams (libraries expect birth < death). hera can hang on some inputs, so it runs in a
