@@ -320,115 +320,115 @@ def flat_wall_forces(position, velocity, angular_velocity, velocity_scale, radiu
     overlap (N, 2d) and the total force of each wall on each particle (N, 2d, d) are written.
     Returns (largest overlap / diameter, particle index or −1).
     """
-    return flat_wall_forces_of(np.arange(n_mobile), position, velocity, angular_velocity, velocity_scale, radius,
-                               inv_mass, wall_lo, wall_hi, wall_speed, wall_spring, law, spring_dt, force, torque,
-                               record, record_overlap, record_force, release_band)
+    n_walls = 2 * position.shape[1]
+    every_particle = np.repeat(np.arange(n_mobile), n_walls)
+    every_wall = np.empty(n_mobile * n_walls, dtype=np.int64)
+    for q in range(every_wall.shape[0]):
+        every_wall[q] = q % n_walls
+    return flat_wall_forces_of(every_particle, every_wall, position, velocity, angular_velocity, velocity_scale,
+                               radius, inv_mass, wall_lo, wall_hi, wall_speed, wall_spring, law, spring_dt, force,
+                               torque, record, record_overlap, record_force, release_band)
 
 
 @numba.njit(**NJIT_DEM)
-def flat_wall_forces_of(particles, position, velocity, angular_velocity, velocity_scale, radius, inv_mass, wall_lo,
-                        wall_hi, wall_speed, wall_spring, law, spring_dt, force, torque, record, record_overlap,
-                        record_force, release_band):
-    """`flat_wall_forces` for the listed particles only (sorted slot indices): the others are left alone."""
+def flat_wall_forces_of(entry_particle, entry_wall, position, velocity, angular_velocity, velocity_scale, radius,
+                        inv_mass, wall_lo, wall_hi, wall_speed, wall_spring, law, spring_dt, force, torque, record,
+                        record_overlap, record_force, release_band):
+    """`flat_wall_forces` for the listed (particle, wall) entries only, particle-major (`wall_candidates`):
+    the other particles and walls are left alone."""
     dim = position.shape[1]
     radius_scaled = law[LAW_RADIUS_SCALED] != 0.0
     worst_fraction = 0.0
     worst_particle = -1
-    for q in range(particles.shape[0]):
-        i = particles[q]
-        reach = radius[i] + release_band
-        near = False
-        for axis in range(dim):  # fast path: most particles are far from every wall
-            if position[i, axis] - wall_lo[axis] < reach or wall_hi[axis] - position[i, axis] < reach:
-                near = True
-        if not near:
-            continue
-        for wall in range(2 * dim):
-            axis = wall // 2
-            if wall % 2 == 0:
-                distance = position[i, axis] - wall_lo[axis]
-                sign = 1.0
-            else:
-                distance = wall_hi[axis] - position[i, axis]
-                sign = -1.0
-            overlap = radius[i] - distance  # P1: x = 0.5 d_i − r_i
-            if not overlap > 0.0:
-                if record:
-                    record_overlap[i, wall] = 0.0
-                if overlap > -release_band:  # a contact can only have opened within the band
-                    for k in range(dim):
-                        wall_spring[i, wall, k] = 0.0
-                continue
-            fraction = overlap / (2.0 * radius[i])
-            if fraction > worst_fraction:
-                worst_fraction = fraction
-                worst_particle = i
-            m_eff = 1.0 / inv_mass[i]
-            scale = math.sqrt(radius[i]) if radius_scaled else 1.0
-            lever = distance
-            # the wall moves along its normal n = sign e_axis at wall_speed
-            if dim == 2:
-                nx = sign if axis == 0 else 0.0
-                ny = sign if axis == 1 else 0.0
-                vx = velocity[i, 0] * velocity_scale - nx * wall_speed
-                vy = velocity[i, 1] * velocity_scale - ny * wall_speed
-                v_normal = vx * nx + vy * ny
-                spin = lever * angular_velocity[i, 0] * velocity_scale
-                slip_x = vx - v_normal * nx + spin * ny
-                slip_y = vy - v_normal * ny - spin * nx
-                f_n, f_tx, f_ty, xi_x, xi_y = contact_force_2d(
-                    nx, ny, overlap, v_normal, slip_x, slip_y, m_eff, scale,
-                    wall_spring[i, wall, 0], wall_spring[i, wall, 1], law, spring_dt)
-                wall_spring[i, wall, 0] = xi_x
-                wall_spring[i, wall, 1] = xi_y
-                fx = f_n * nx + f_tx
-                fy = f_n * ny + f_ty
-                force[i, 0] += fx
-                force[i, 1] += fy
-                torque[i, 0] -= lever * (nx * f_ty - ny * f_tx)
-                if record:
-                    record_force[i, wall, 0] = fx
-                    record_force[i, wall, 1] = fy
-            else:
-                nx = sign if axis == 0 else 0.0
-                ny = sign if axis == 1 else 0.0
-                nz = sign if axis == 2 else 0.0
-                vx = velocity[i, 0] * velocity_scale - nx * wall_speed
-                vy = velocity[i, 1] * velocity_scale - ny * wall_speed
-                vz = velocity[i, 2] * velocity_scale - nz * wall_speed
-                v_normal = vx * nx + vy * ny + vz * nz
-                wx = lever * angular_velocity[i, 0] * velocity_scale
-                wy = lever * angular_velocity[i, 1] * velocity_scale
-                wz = lever * angular_velocity[i, 2] * velocity_scale
-                slip_x = vx - v_normal * nx - (wy * nz - wz * ny)
-                slip_y = vy - v_normal * ny - (wz * nx - wx * nz)
-                slip_z = vz - v_normal * nz - (wx * ny - wy * nx)
-                f_n, f_tx, f_ty, f_tz, xi_x, xi_y, xi_z = contact_force_3d(
-                    nx, ny, nz, overlap, v_normal, slip_x, slip_y, slip_z, m_eff, scale,
-                    wall_spring[i, wall, 0], wall_spring[i, wall, 1], wall_spring[i, wall, 2], law, spring_dt)
-                wall_spring[i, wall, 0] = xi_x
-                wall_spring[i, wall, 1] = xi_y
-                wall_spring[i, wall, 2] = xi_z
-                force[i, 0] += f_n * nx + f_tx
-                force[i, 1] += f_n * ny + f_ty
-                force[i, 2] += f_n * nz + f_tz
-                torque[i, 0] -= lever * (ny * f_tz - nz * f_ty)
-                torque[i, 1] -= lever * (nz * f_tx - nx * f_tz)
-                torque[i, 2] -= lever * (nx * f_ty - ny * f_tx)
-                if record:
-                    record_force[i, wall, 0] = f_n * nx + f_tx
-                    record_force[i, wall, 1] = f_n * ny + f_ty
-                    record_force[i, wall, 2] = f_n * nz + f_tz
+    for q in range(entry_particle.shape[0]):
+        i = entry_particle[q]
+        wall = entry_wall[q]
+        axis = wall // 2
+        if wall % 2 == 0:
+            distance = position[i, axis] - wall_lo[axis]
+            sign = 1.0
+        else:
+            distance = wall_hi[axis] - position[i, axis]
+            sign = -1.0
+        overlap = radius[i] - distance  # P1: x = 0.5 d_i − r_i
+        if not overlap > 0.0:
             if record:
-                record_overlap[i, wall] = overlap
+                record_overlap[i, wall] = 0.0
+            if overlap > -release_band:  # a contact can only have opened within the band
+                for k in range(dim):
+                    wall_spring[i, wall, k] = 0.0
+            continue
+        fraction = overlap / (2.0 * radius[i])
+        if fraction > worst_fraction:
+            worst_fraction = fraction
+            worst_particle = i
+        m_eff = 1.0 / inv_mass[i]
+        scale = math.sqrt(radius[i]) if radius_scaled else 1.0
+        lever = distance
+        # the wall moves along its normal n = sign e_axis at wall_speed
+        if dim == 2:
+            nx = sign if axis == 0 else 0.0
+            ny = sign if axis == 1 else 0.0
+            vx = velocity[i, 0] * velocity_scale - nx * wall_speed
+            vy = velocity[i, 1] * velocity_scale - ny * wall_speed
+            v_normal = vx * nx + vy * ny
+            spin = lever * angular_velocity[i, 0] * velocity_scale
+            slip_x = vx - v_normal * nx + spin * ny
+            slip_y = vy - v_normal * ny - spin * nx
+            f_n, f_tx, f_ty, xi_x, xi_y = contact_force_2d(
+                nx, ny, overlap, v_normal, slip_x, slip_y, m_eff, scale,
+                wall_spring[i, wall, 0], wall_spring[i, wall, 1], law, spring_dt)
+            wall_spring[i, wall, 0] = xi_x
+            wall_spring[i, wall, 1] = xi_y
+            fx = f_n * nx + f_tx
+            fy = f_n * ny + f_ty
+            force[i, 0] += fx
+            force[i, 1] += fy
+            torque[i, 0] -= lever * (nx * f_ty - ny * f_tx)
+            if record:
+                record_force[i, wall, 0] = fx
+                record_force[i, wall, 1] = fy
+        else:
+            nx = sign if axis == 0 else 0.0
+            ny = sign if axis == 1 else 0.0
+            nz = sign if axis == 2 else 0.0
+            vx = velocity[i, 0] * velocity_scale - nx * wall_speed
+            vy = velocity[i, 1] * velocity_scale - ny * wall_speed
+            vz = velocity[i, 2] * velocity_scale - nz * wall_speed
+            v_normal = vx * nx + vy * ny + vz * nz
+            wx = lever * angular_velocity[i, 0] * velocity_scale
+            wy = lever * angular_velocity[i, 1] * velocity_scale
+            wz = lever * angular_velocity[i, 2] * velocity_scale
+            slip_x = vx - v_normal * nx - (wy * nz - wz * ny)
+            slip_y = vy - v_normal * ny - (wz * nx - wx * nz)
+            slip_z = vz - v_normal * nz - (wx * ny - wy * nx)
+            f_n, f_tx, f_ty, f_tz, xi_x, xi_y, xi_z = contact_force_3d(
+                nx, ny, nz, overlap, v_normal, slip_x, slip_y, slip_z, m_eff, scale,
+                wall_spring[i, wall, 0], wall_spring[i, wall, 1], wall_spring[i, wall, 2], law, spring_dt)
+            wall_spring[i, wall, 0] = xi_x
+            wall_spring[i, wall, 1] = xi_y
+            wall_spring[i, wall, 2] = xi_z
+            force[i, 0] += f_n * nx + f_tx
+            force[i, 1] += f_n * ny + f_ty
+            force[i, 2] += f_n * nz + f_tz
+            torque[i, 0] -= lever * (ny * f_tz - nz * f_ty)
+            torque[i, 1] -= lever * (nz * f_tx - nx * f_tz)
+            torque[i, 2] -= lever * (nx * f_ty - ny * f_tx)
+            if record:
+                record_force[i, wall, 0] = f_n * nx + f_tx
+                record_force[i, wall, 1] = f_n * ny + f_ty
+                record_force[i, wall, 2] = f_n * nz + f_tz
+        if record:
+            record_overlap[i, wall] = overlap
     return worst_fraction, worst_particle
 
 
 # --- Gear predictor–corrector (4th order: 5 values) -----------------------------------------------------------
 
 @numba.njit(**NJIT_DEM)
-def gear_predict(gear, n_mobile, force_velocity):
-    """Taylor (Pascal-triangle) prediction of the scaled derivatives gear (5, N, C), particles < n_mobile.
+def gear_predict(gear, n_mobile, force_velocity, load):
+    """Taylor (Pascal-triangle) prediction of the scaled derivatives gear (5, N, C), particles < n_mobile; their
+    rows of load (N, C) (the force or torque about to be summed) are cleared in the same pass.
 
     force_velocity (N, C) receives the second-order prediction r1 + 2 r2 (= Δt (v + a Δt)) that the
     velocity-dependent forces (damping, spring increments) use instead of the full fourth-order r1: with the
@@ -441,6 +441,7 @@ def gear_predict(gear, n_mobile, force_velocity):
     r3 = gear[3].reshape(-1)
     r4 = gear[4].reshape(-1)
     v = force_velocity.reshape(-1)
+    f = load.reshape(-1)
     for j in range(n_mobile * gear.shape[2]):
         a1 = r1[j]
         a2 = r2[j]
@@ -451,12 +452,14 @@ def gear_predict(gear, n_mobile, force_velocity):
         r1[j] = a1 + 2.0 * a2 + 3.0 * a3 + 4.0 * a4
         r2[j] = a2 + 3.0 * a3 + 6.0 * a4
         r3[j] = a3 + 4.0 * a4
+        f[j] = 0.0
 
 
 @numba.njit(**NJIT_DEM)
-def gear_correct(gear, load, accel_scale, n_mobile):
-    """Gear 5-value corrector of gear (5, N, C): the new acceleration term is accel_scale·load, with
-    accel_scale (N, C) = Δt²/2 · (1/m or 1/I) of each component (flat loop, vectorisable)."""
+def gear_correct(gear, load, accel_scale, weight, n_mobile):
+    """Gear 5-value corrector of gear (5, N, C), particles < n_mobile: the new acceleration term is
+    accel_scale·load, with accel_scale (N, C) = Δt²/2 · (1/m or 1/I) of each component (flat loop,
+    vectorisable). Returns `kinetic_energy_dt_sq` after the correction (weight: mass or moment of inertia)."""
     r0 = gear[0].reshape(-1)
     r1 = gear[1].reshape(-1)
     r2 = gear[2].reshape(-1)
@@ -471,6 +474,7 @@ def gear_correct(gear, load, accel_scale, n_mobile):
         r2[j] += delta
         r3[j] += GEAR_C3 * delta
         r4[j] += GEAR_C4 * delta
+    return kinetic_energy_dt_sq(gear, weight, n_mobile)
 
 
 @numba.njit(**NJIT_DEM)
@@ -499,30 +503,17 @@ def check_positions(position, reference, n_mobile, lo, hi, escape_margin):
     dim = position.shape[1]
     max_sq = 0.0
     bad = -1
-    if dim == 2:
-        lo0, lo1 = lo[0] - escape_margin, lo[1] - escape_margin
-        hi0, hi1 = hi[0] + escape_margin, hi[1] + escape_margin
-        for i in range(n_mobile):
-            x = position[i, 0]
-            y = position[i, 1]
-            if not (x >= lo0 and x <= hi0 and y >= lo1 and y <= hi1):
-                if bad < 0:
-                    bad = i
-            dx = x - reference[i, 0]
-            dy = y - reference[i, 1]
-            d_sq = dx * dx + dy * dy
-            max_sq = max(max_sq, d_sq)
-        return max_sq, bad
     for i in range(n_mobile):
         d_sq = 0.0
+        inside = True
         for k in range(dim):
             x = position[i, k]
-            if bad < 0 and not (x >= lo[k] - escape_margin and x <= hi[k] + escape_margin):
-                bad = i
+            inside = inside and x >= lo[k] - escape_margin and x <= hi[k] + escape_margin
             d = x - reference[i, k]
             d_sq += d * d
-        if d_sq > max_sq:
-            max_sq = d_sq
+        if not inside and bad < 0:
+            bad = i
+        max_sq = max(max_sq, d_sq)
     return max_sq, bad
 
 
@@ -558,8 +549,12 @@ def place_wall_particles(gear_position, force_velocity, n_mobile, wall_anchor, w
 # `advance` runs many steps per call (one numba call per chunk, no allocation per step). The pair loop is
 # `_pair_loop_2d` / `_pair_loop_3d`: the operations of `pair_forces_2d` / `pair_forces_3d` in the same order (the
 # same results to the last bit under the same compiler options), with the law's constants hoisted out of the loop
-# and the per-pair products γ m_eff precomputed at each rebuild (`pair_table`); the flat walls visit only the
-# particles that can reach them before the next rebuild (`wall_candidates`) instead of testing every particle.
+# and the per-pair constants of `pair_constants` formed in the loop from per-particle values (a per-pair table
+# costs more memory traffic than the division and square root: measured 4 % of the whole 3D step). The step is
+# bound by memory traffic more than arithmetic: the Gear predictor also clears the force sums, and the flat walls
+# visit only the (particle, wall) entries that can touch before the next rebuild (`wall_candidates`). A blocked
+# pair loop (gather the touching pairs, vectorised forces, scatter) was faster in isolation but 20 % slower inside
+# the step, and was dropped.
 
 #: force-law selector of the pair loops
 MODE_LINEAR = 0
@@ -578,19 +573,6 @@ def law_mode(beta):
 
 
 @numba.njit(**NJIT_DEM)
-def pair_table(pair_mass, pair_scale, law):
-    """Per-pair constants (n_pairs, 3) of the stepping loops from `pair_constants`: γ_n m_eff, γ_t m_eff (the
-    products that P1 Eq. 1–2 form first) and the factor √R_eff (1 unless law[LAW_RADIUS_SCALED])."""
-    n_pairs = pair_mass.shape[0]
-    table = np.empty((n_pairs, 3))
-    for p in range(n_pairs):
-        table[p, 0] = law[LAW_GAMMA_N] * pair_mass[p]
-        table[p, 1] = law[LAW_GAMMA_T] * pair_mass[p]
-        table[p, 2] = pair_scale[p]
-    return table
-
-
-@numba.njit(**NJIT_DEM)
 def _x_beta(overlap, mode, beta, scale):
     if mode == MODE_LINEAR:
         return scale  # = 1.0 · scale
@@ -600,11 +582,11 @@ def _x_beta(overlap, mode, beta, scale):
 
 
 @numba.njit(**NJIT_DEM)
-def _pair_loop_2d(position, velocity, angular_velocity, velocity_scale, radius, pair_i, n_pairs, pair_j, table,
-                  spring, k_n, k_t, mu, mode, beta, spring_dt, force, torque):
+def _pair_loop_2d(position, velocity, angular_velocity, velocity_scale, radius, inv_mass, pair_i, n_pairs, pair_j,
+                  spring, k_n, k_t, gamma_n, gamma_t, mu, mode, beta, radius_scaled, spring_dt, force, torque):
     """The stepping version of `pair_forces_2d` (same operations in the same order): the law comes as scalars
-    (k_n, k_t, μ, `law_mode`, β) hoisted out of the loop and per-pair constants (`pair_table`: γ_n m_eff, γ_t m_eff,
-    √R_eff factor); spring is the flat (n_pairs·2,) view; nothing is recorded. Returns (largest excess of an overlap
+    (k_n, k_t, γ_n, γ_t, μ, `law_mode`, β, whether × √R_eff) hoisted out of the loop; inv_mass (N,) [1/m̄] gives
+    m_eff; spring is the flat (n_pairs·2,) view; nothing is recorded. Returns (largest excess of an overlap
     over the blow-up threshold, its pair; −1 when no pair touches)."""
     worst_excess = -np.inf
     worst_pair = -1
@@ -638,8 +620,10 @@ def _pair_loop_2d(position, velocity, angular_velocity, velocity_scale, radius, 
         spin = (lever_i * angular_velocity[i, 0] + lever_j * angular_velocity[j, 0]) * velocity_scale
         slip_x = vx - v_normal * nx + spin * ny
         slip_y = vy - v_normal * ny - spin * nx
-        x_beta = _x_beta(overlap, mode, beta, table[3 * p + 2])
-        f_n = x_beta * (k_n * overlap - table[3 * p] * v_normal)  # P1 Eq. 1
+        m_eff = 1.0 / (inv_mass[i] + inv_mass[j])  # `pair_constants`, formed here: cheaper than a per-pair table
+        scale = math.sqrt(r_i * r_j / (r_i + r_j)) if radius_scaled else 1.0
+        x_beta = _x_beta(overlap, mode, beta, scale)
+        f_n = x_beta * (k_n * overlap - gamma_n * m_eff * v_normal)  # P1 Eq. 1
         if f_n < 0.0:
             f_n = 0.0
         xi_x = spring[2 * p] + slip_x * spring_dt
@@ -647,9 +631,9 @@ def _pair_loop_2d(position, velocity, angular_velocity, velocity_scale, radius, 
         along = xi_x * nx + xi_y * ny
         xi_x -= along * nx
         xi_y -= along * ny
-        gamma_t = table[3 * p + 1]
-        f_tx = -x_beta * (k_t * xi_x + gamma_t * slip_x)  # P1 Eq. 2
-        f_ty = -x_beta * (k_t * xi_y + gamma_t * slip_y)
+        gamma_t_m = gamma_t * m_eff
+        f_tx = -x_beta * (k_t * xi_x + gamma_t_m * slip_x)  # P1 Eq. 2
+        f_ty = -x_beta * (k_t * xi_y + gamma_t_m * slip_y)
         f_t_sq = f_tx * f_tx + f_ty * f_ty
         f_t_max = mu * f_n
         if f_t_sq > f_t_max * f_t_max:  # P1 Eq. 3
@@ -673,8 +657,8 @@ def _pair_loop_2d(position, velocity, angular_velocity, velocity_scale, radius, 
 
 
 @numba.njit(**NJIT_DEM)
-def _pair_loop_3d(position, velocity, angular_velocity, velocity_scale, radius, pair_i, n_pairs, pair_j, table,
-                  spring, k_n, k_t, mu, mode, beta, spring_dt, force, torque):
+def _pair_loop_3d(position, velocity, angular_velocity, velocity_scale, radius, inv_mass, pair_i, n_pairs, pair_j,
+                  spring, k_n, k_t, gamma_n, gamma_t, mu, mode, beta, radius_scaled, spring_dt, force, torque):
     """3D version of `_pair_loop_2d` (the arithmetic of `pair_forces_3d`)."""
     worst_excess = -np.inf
     worst_pair = -1
@@ -715,8 +699,10 @@ def _pair_loop_3d(position, velocity, angular_velocity, velocity_scale, radius, 
         slip_x = vx - v_normal * nx - (wy * nz - wz * ny)
         slip_y = vy - v_normal * ny - (wz * nx - wx * nz)
         slip_z = vz - v_normal * nz - (wx * ny - wy * nx)
-        x_beta = _x_beta(overlap, mode, beta, table[3 * p + 2])
-        f_n = x_beta * (k_n * overlap - table[3 * p] * v_normal)
+        m_eff = 1.0 / (inv_mass[i] + inv_mass[j])
+        scale = math.sqrt(r_i * r_j / (r_i + r_j)) if radius_scaled else 1.0
+        x_beta = _x_beta(overlap, mode, beta, scale)
+        f_n = x_beta * (k_n * overlap - gamma_n * m_eff * v_normal)
         if f_n < 0.0:
             f_n = 0.0
         s = 3 * p
@@ -727,10 +713,10 @@ def _pair_loop_3d(position, velocity, angular_velocity, velocity_scale, radius, 
         xi_x -= along * nx
         xi_y -= along * ny
         xi_z -= along * nz
-        gamma_t = table[3 * p + 1]
-        f_tx = -x_beta * (k_t * xi_x + gamma_t * slip_x)
-        f_ty = -x_beta * (k_t * xi_y + gamma_t * slip_y)
-        f_tz = -x_beta * (k_t * xi_z + gamma_t * slip_z)
+        gamma_t_m = gamma_t * m_eff
+        f_tx = -x_beta * (k_t * xi_x + gamma_t_m * slip_x)
+        f_ty = -x_beta * (k_t * xi_y + gamma_t_m * slip_y)
+        f_tz = -x_beta * (k_t * xi_z + gamma_t_m * slip_z)
         f_t_sq = f_tx * f_tx + f_ty * f_ty + f_tz * f_tz
         f_t_max = mu * f_n
         if f_t_sq > f_t_max * f_t_max:
@@ -767,23 +753,28 @@ def _pair_loop_3d(position, velocity, angular_velocity, velocity_scale, radius, 
 
 @numba.njit(**NJIT_DEM)
 def wall_candidates(position, radius, n_mobile, wall_lo, wall_hi, reach):
-    """Mobile particles (sorted) whose centre is closer than radius + reach to a flat wall (see `advance`)."""
+    """The (particle, wall) entries, particle-major, of the mobile particles whose centre is closer than
+    radius + reach to that flat wall (see `advance`): two arrays (particle, wall id 2·axis + side)."""
     dim = position.shape[1]
-    keep = np.empty(n_mobile, dtype=np.int64)
+    entry_particle = np.empty(2 * dim * n_mobile, dtype=np.int64)
+    entry_wall = np.empty(2 * dim * n_mobile, dtype=np.int64)
     n = 0
     for i in range(n_mobile):
         limit = radius[i] + reach
-        for axis in range(dim):
-            if not (position[i, axis] - wall_lo[axis] >= limit and wall_hi[axis] - position[i, axis] >= limit):
-                keep[n] = i
+        for wall in range(2 * dim):
+            axis = wall // 2
+            gap = position[i, axis] - wall_lo[axis] if wall % 2 == 0 else wall_hi[axis] - position[i, axis]
+            if not gap >= limit:
+                entry_particle[n] = i
+                entry_wall[n] = wall
                 n += 1
-                break
-    return keep[:n].copy()
+    return entry_particle[:n].copy(), entry_wall[:n].copy()
 
 
 @numba.njit(**NJIT_DEM)
 def advance(gear_position, gear_rotation, n_mobile, radius, inv_mass, mass, inertia, accel_position,
-            accel_rotation, pair_i, pair_j, n_pairs, pair_table_, spring, wall_spring, wall_near, law, dt,
+            accel_rotation, pair_i, pair_j, n_pairs, spring, wall_spring, wall_entry_particle,
+            wall_entry_wall, law, dt,
             flat_walls, box_lo, box_hi, wall_state, wall_anchor, wall_axis, wall_sign, escape_margin,
             reference_position, reference_shift, half_skin,
             n_steps, kinetic_energy, force, torque, force_velocity, force_spin, status):
@@ -791,11 +782,10 @@ def advance(gear_position, gear_rotation, n_mobile, radius, inv_mass, mass, iner
 
     Per particle: inv_mass (N,) (0 for wall particles), mass and inertia (n_mobile,) for the kinetic energy,
     accel_position (N, d) and accel_rotation (N, 1|3) = Δt²/2 · 1/m, 1/I per component. Pairs: the half Verlet
-    list pair_i, pair_j (i < j, sorted), n_pairs of them, with pair_table_ from `pair_table` and the springs
-    (n_pairs, d). wall_near: the particles
-    that can reach a flat wall before the next rebuild (`wall_candidates` at the last rebuild with reach
-    release band + skin + margin: until then nobody moves by more than half the skin, nor do the walls); the
-    others are exactly those that `flat_wall_forces` would skip.
+    list pair_i, pair_j (i < j, sorted), n_pairs of them, and the springs (n_pairs, d). wall_entry_particle, wall_entry_wall: the (particle, wall) entries that can come into contact
+    before the next rebuild (`wall_candidates` at the last rebuild with reach release band + skin + margin: until
+    then nobody moves by more than half the skin, nor do the walls); the others are exactly those that
+    `flat_wall_forces` would skip.
 
     wall_state = [shift, speed, shift_max, last speed]: every wall sits `shift` inward of box_lo / box_hi [d_ave]
     and moves inward at `speed` [d_ave/τ_c] until shift reaches shift_max; shift and the speed of the last step
@@ -816,13 +806,15 @@ def advance(gear_position, gear_rotation, n_mobile, radius, inv_mass, mass, iner
     mu = law[LAW_MU]
     beta = law[LAW_BETA]
     mode = law_mode(beta)
-    table = pair_table_.reshape(-1)
+    gamma_n = law[LAW_GAMMA_N]
+    gamma_t = law[LAW_GAMMA_T]
+    radius_scaled = law[LAW_RADIUS_SCALED] != 0.0
     spring_flat = spring.reshape(-1)
     status[0] = STATUS_DONE
     status[1] = -1
     for step in range(n_steps):
-        gear_predict(gear_position, n_mobile, force_velocity)
-        gear_predict(gear_rotation, n_mobile, force_spin)
+        gear_predict(gear_position, n_mobile, force_velocity, force)
+        gear_predict(gear_rotation, n_mobile, force_spin, torque)
         # the walls at t + Δt
         old_shift = wall_state[0]
         shift = old_shift + wall_state[1] * dt
@@ -839,26 +831,24 @@ def advance(gear_position, gear_rotation, n_mobile, radius, inv_mass, mass, iner
         if wall_anchor.shape[0] > 0:
             place_wall_particles(gear_position, force_velocity, n_mobile, wall_anchor, wall_axis, wall_sign,
                                  box_lo, box_hi, shift, wall_speed * dt)
-        force[:, :] = 0.0
-        torque[:, :] = 0.0
+        force[n_mobile:, :] = 0.0  # the wall particles' rows (the mobile ones were cleared by gear_predict)
+        torque[n_mobile:, :] = 0.0
         worst_wall = 0.0
         wall_particle = -1
         if flat_walls:
             worst_wall, wall_particle = flat_wall_forces_of(
-                wall_near, gear_position[0], force_velocity, force_spin, inv_dt, radius, inv_mass, lo, hi, wall_speed,
-                wall_spring, law, dt, force, torque, False, no_overlap, no_force, 2.0 * half_skin)
+                wall_entry_particle, wall_entry_wall, gear_position[0], force_velocity, force_spin, inv_dt, radius,
+                inv_mass, lo, hi, wall_speed, wall_spring, law, dt, force, torque, False, no_overlap, no_force, 2.0 * half_skin)
         if dim == 2:
             worst_excess, worst_pair = _pair_loop_2d(
-                gear_position[0], force_velocity, force_spin, inv_dt, radius, pair_i, n_pairs, pair_j, table,
-                spring_flat, k_n, k_t, mu, mode, beta, dt, force, torque)
+                gear_position[0], force_velocity, force_spin, inv_dt, radius, inv_mass, pair_i, n_pairs, pair_j,
+                spring_flat, k_n, k_t, gamma_n, gamma_t, mu, mode, beta, radius_scaled, dt, force, torque)
         else:
             worst_excess, worst_pair = _pair_loop_3d(
-                gear_position[0], force_velocity, force_spin, inv_dt, radius, pair_i, n_pairs, pair_j, table,
-                spring_flat, k_n, k_t, mu, mode, beta, dt, force, torque)
-        gear_correct(gear_position, force, accel_position, n_mobile)
-        gear_correct(gear_rotation, torque, accel_rotation, n_mobile)
-        energy = (kinetic_energy_dt_sq(gear_position, mass, n_mobile)
-                  + kinetic_energy_dt_sq(gear_rotation, inertia, n_mobile))
+                gear_position[0], force_velocity, force_spin, inv_dt, radius, inv_mass, pair_i, n_pairs, pair_j,
+                spring_flat, k_n, k_t, gamma_n, gamma_t, mu, mode, beta, radius_scaled, dt, force, torque)
+        energy = (gear_correct(gear_position, force, accel_position, mass, n_mobile)
+                  + gear_correct(gear_rotation, torque, accel_rotation, inertia, n_mobile))
         kinetic_energy[step] = energy * inv_dt * inv_dt
         max_sq, bad = check_positions(gear_position[0], reference_position, n_mobile, lo, hi, escape_margin)
         if bad >= 0:

@@ -301,13 +301,11 @@ class Simulation:
         _kernels.transfer_springs(self.pair_i, self.pair_j, self.spring, len(self.pair_i), new_slot,
                                   pair_i, pair_j, spring, n_total)
         self.pair_i, self.pair_j, self.spring = pair_i, pair_j, spring
-        self.pair_mass, self.pair_scale = _kernels.pair_constants(pair_i, pair_j, self.radius, self.inv_mass, self.law)
-        self.pair_table = _kernels.pair_table(self.pair_mass, self.pair_scale, self.law)
-        # the particles that can touch a flat wall before the next rebuild: within the spring-release band (the
-        # skin) of a wall now, plus the skin (both they and the walls move less than half a skin until then),
+        # the (particle, wall) entries that can touch before the next rebuild: within the spring-release band (the
+        # skin) of that wall now, plus the skin (both they and the walls move less than half a skin until then),
         # plus a margin for the step that crosses the rebuild threshold
-        self.wall_near = _kernels.wall_candidates(position, self.radius, n, self.walls_lo, self.walls_hi,
-                                                  WALL_REACH_IN_SKINS * self.skin)
+        self.wall_entry_particle, self.wall_entry_wall = _kernels.wall_candidates(
+            position, self.radius, n, self.walls_lo, self.walls_hi, WALL_REACH_IN_SKINS * self.skin)
         half_dt_sq = 0.5 * self.time_step ** 2
         self.accel_position = np.repeat(half_dt_sq * self.inv_mass[:, None], dim, axis=1)
         self.accel_rotation = np.repeat(half_dt_sq * self.inv_inertia[:, None], self.gear_rotation.shape[2], axis=1)
@@ -329,8 +327,8 @@ class Simulation:
             steps = _kernels.advance(
                 self.gear_position, self.gear_rotation, self.n_mobile, self.radius, self.inv_mass, self.mass,
                 self.inertia, self.accel_position, self.accel_rotation, self.pair_i, self.pair_j,
-                len(self.pair_i), self.pair_table, self.spring, self.wall_spring, self.wall_near, self.law,
-                self.time_step, self.flat_walls, self.box_lo, self.box_hi, self.wall_state, self.wall_anchor,
+                len(self.pair_i), self.spring, self.wall_spring, self.wall_entry_particle, self.wall_entry_wall,
+                self.law, self.time_step, self.flat_walls, self.box_lo, self.box_hi, self.wall_state, self.wall_anchor,
                 self.wall_axis, self.wall_sign, self.escape_margin, self.reference_position, self.reference_shift,
                 0.5 * self.skin, n_steps - done, kinetic_energy[done:], self.force, self.torque, self.force_velocity,
                 self.force_spin, self.status)
@@ -372,8 +370,9 @@ class Simulation:
                                       self.wall_spring.copy(), self.law, 0.0, force, torque, True, wall_overlap,
                                       wall_force, np.inf)
         pair_kernel = _kernels.pair_forces_2d if dim == 2 else _kernels.pair_forces_3d
+        pair_mass, pair_scale = _kernels.pair_constants(self.pair_i, self.pair_j, self.radius, self.inv_mass, self.law)
         pair_kernel(self.gear_position[0], self.gear_position[1], self.gear_rotation[1], inv_dt, self.radius,
-                    self.pair_mass, self.pair_scale, self.pair_i, self.pair_j, n_pairs, self.spring.copy(), self.law, 0.0, force,
+                    pair_mass, pair_scale, self.pair_i, self.pair_j, n_pairs, self.spring.copy(), self.law, 0.0, force,
                     torque, True, overlap, normal, tangential)
         return force, torque, overlap, normal, tangential, wall_overlap, wall_force
 
