@@ -812,10 +812,11 @@ def advance(gear_position, gear_rotation, n_mobile, radius, inv_mass, mass, iner
 
     Per particle: inv_mass (N,) (0 for wall particles), mass and inertia (n_mobile,) for the kinetic energy,
     accel_position (N, d) and accel_rotation (N, 1|3) = Δt²/2 · 1/m, 1/I per component. Pairs: the half Verlet
-    list pair_i, pair_j (i < j, sorted), n_pairs of them, and the springs (n_pairs, d). wall_entry_particle, wall_entry_wall: the (particle, wall) entries that can come into contact
-    before the next rebuild (`wall_candidates` at the last rebuild with reach release band + skin + margin: until
-    then nobody moves by more than half the skin, nor do the walls); the others are exactly those that
-    `flat_wall_forces` would skip.
+    list pair_i, pair_j (i < j, in any fixed order: the engine lists the pairs touching at the rebuild first),
+    n_pairs of them, and the springs (n_pairs, d). wall_entry_particle, wall_entry_wall: the (particle, wall)
+    entries that can come into contact before the next rebuild (`wall_candidates` at the last rebuild with reach
+    release band + skin + margin: until then nobody moves by more than half the skin, nor do the walls); the
+    others are exactly those that `flat_wall_forces` would skip.
 
     wall_state = [shift, speed, shift_max, last speed]: every wall sits `shift` inward of box_lo / box_hi [d_ave]
     and moves inward at `speed` [d_ave/τ_c] until shift reaches shift_max; shift and the speed of the last step

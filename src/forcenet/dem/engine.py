@@ -7,7 +7,8 @@ d_ave, mass m̄, time τ_c) unless a caller passes other numbers (the LAMMPS ben
 Neighbour list: Verlet list of all pairs closer than r_i + r_j + skin, built through a cell list; it is
 rebuilt when a particle (or a wall) has moved more than skin/2 since the last build. At each rebuild the
 mobile particles are re-ordered by cell (memory locality) and the tangential springs are carried over to
-the new list (`_kernels.transfer_springs`), so contacts never lose their history.
+the new list (`_kernels.transfer_springs`), so contacts never lose their history; the pairs touching at the
+rebuild are listed first (see `rebuild`).
 """
 from __future__ import annotations
 
