@@ -65,6 +65,34 @@ def test_calibrated_damping_gives_the_restitution(beta, k_n, speed, time_step):
         assert calibration.collision_restitution(k_n, 0.0, closed, 0.5, speed) > 0.53
 
 
+def damped_oscillator_amplitude(omega_dt: float, damping_dt: float, steps: int = 3000) -> float:
+    """Run ẍ = −ω² x − c ẋ (unit mass, Δt = 1; omega_dt = ω Δt, damping_dt = c Δt) through the engine's own
+    Gear kernels, the damping seeing the velocity that `gear_predict` hands to the forces; returns the final
+    |Δt ẋ| + |Δt² ẍ/2| from x = v = 1 (x itself settles at a constant when ω = 0)."""
+    gear = np.zeros((5, 1, 1))
+    gear[0, 0, 0] = 1.0
+    gear[1, 0, 0] = 1.0
+    load = np.zeros((1, 1))
+    force_velocity = np.zeros((1, 1))
+    accel_scale = np.full((1, 1), 0.5)  # Δt²/2 · 1/m
+    for _ in range(steps):
+        _kernels.gear_predict(gear, 1, force_velocity, load)
+        load[0, 0] = -omega_dt ** 2 * gear[0, 0, 0] - damping_dt * force_velocity[0, 0]
+        _kernels.gear_correct(gear, load, accel_scale, np.ones(1), 1)
+        if not abs(gear[1, 0, 0]) < 1e6:  # grown: stop before it overflows
+            break
+    return abs(gear[1, 0, 0]) + abs(gear[2, 0, 0])
+
+
+@pytest.mark.parametrize("omega_dt, damping_bound", [(0.0, 1.5), (0.3, 1.38), (0.6, 1.05)])
+def test_gear_corrector_with_strong_damping_is_stable_up_to_its_bound(omega_dt, damping_bound):
+    """The damping sees r1 + 2 r2 (`gear_predict`): the step map's spectral radius stays ≤ 1 up to c Δt ≈ 1.5 at
+    ω = 0, 1.38 at ω Δt = 0.3 and 1.05 at ω Δt = 0.6 (the bound behind 2d_hertz's Δt, docs/decisions.md);
+    beyond it the run must grow."""
+    assert damped_oscillator_amplitude(omega_dt, 0.95 * damping_bound) < 1e-2
+    assert damped_oscillator_amplitude(omega_dt, 1.1 * damping_bound) > 1e2
+
+
 def test_spring_is_projected_onto_the_tangent_plane():
     law = ContactLaw(100.0, 80.0, 0.0, 0.0, 10.0, 0.0).as_array()
     n = np.array([0.6, 0.8, 0.0])

@@ -431,9 +431,12 @@ def gear_predict(gear, n_mobile, force_velocity, load):
     rows of load (N, C) (the force or torque about to be summed) are cleared in the same pass.
 
     force_velocity (N, C) receives the second-order prediction r1 + 2 r2 (= Δt (v + a Δt)) that the
-    velocity-dependent forces (damping, spring increments) use instead of the full fourth-order r1: with the
-    full prediction the Gear corrector is unstable as soon as a damping rate c reaches c Δt ≈ 0.25; with the
-    second-order one it stays stable to c Δt ≈ 1 (measured on ẍ = −ω² x − c ẋ, ω Δt ≤ 0.3).
+    velocity-dependent forces (damping, spring increments) use instead of the full fourth-order r1. Stability of
+    the corrector on ẍ = −ω² x − c ẋ (spectral radius of the step map; `tests/test_dem_physics.py` checks it on
+    these kernels): with the full prediction it fails at c Δt ≈ 0.25; with r1 + 2 r2 at c Δt ≈ 1.5 (ω = 0), 1.4
+    (ω Δt = 0.3), 1.05 (0.6), 0.7 (0.8). The midpoint r1 + r2 would stand c Δt ≈ 1.9 at every ω Δt ≤ 0.8, but a
+    spring integrated with it (ξ += v_t Δt, F = −k ξ) grows without damping at any ω Δt, and the 3D smoke run blew
+    up, so it was not adopted.
     """
     r0 = gear[0].reshape(-1)  # flat views: one vectorisable loop over every component
     r1 = gear[1].reshape(-1)
