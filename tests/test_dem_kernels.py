@@ -153,3 +153,34 @@ def test_rebuild_carries_tangential_history_across_reordering():
     assert after.keys() == before.keys()
     for key in before:
         np.testing.assert_array_equal(after[key], before[key])
+
+
+GEAR_CORRECTOR = np.array([19 / 120, 3 / 4, 1.0, 1 / 2, 1 / 12])  # 5-value Gear, second-order ODE
+PASCAL = np.array([[1, 1, 1, 1, 1], [0, 1, 2, 3, 4], [0, 0, 1, 3, 6], [0, 0, 0, 1, 4], [0, 0, 0, 0, 1]], float)
+
+
+@pytest.mark.parametrize("components", [1, 2, 3])
+def test_fused_gear_pass_matches_corrector_then_predictor(components):
+    """`gear_correct_predict` = the textbook corrector r_k += C_k (Δt²/2 · F/m − r2), then the Taylor (Pascal)
+    step, for the first n_mobile particles; kinetic energy of the corrected state; loads cleared."""
+    rng = np.random.default_rng(components)
+    n_total, n_mobile = 23, 19  # odd sizes: the four-lane blocks have a tail
+    gear = rng.normal(0.0, 1e-3, (5, n_total, components))
+    load = rng.normal(0.0, 1.0, (n_total, components))
+    accel_scale = rng.uniform(1e-6, 1e-5, (n_total, components))
+    half_weight = rng.uniform(0.1, 1.0, (n_total, components))
+    expected = gear.copy()
+    flat = expected[:, :n_mobile].reshape(5, -1)
+    delta = accel_scale[:n_mobile].ravel() * load[:n_mobile].ravel() - flat[2]
+    corrected = flat + GEAR_CORRECTOR[:, None] * delta
+    energy = np.sum(half_weight[:n_mobile].ravel() * corrected[1] ** 2)
+    velocity = corrected[1] + 2.0 * corrected[2]
+    flat[:] = PASCAL @ corrected
+    force_velocity = np.zeros((n_total, components))
+    result = _kernels.gear_correct_predict(gear, load, accel_scale, half_weight, n_mobile, force_velocity)
+    np.testing.assert_allclose(gear, expected, rtol=1e-13, atol=1e-18)
+    np.testing.assert_allclose(force_velocity[:n_mobile].ravel(), velocity, rtol=1e-13, atol=1e-18)
+    assert result == pytest.approx(energy, rel=1e-13)
+    assert not load[:n_mobile].any() and load[n_mobile:].all()
+    _kernels.gear_unpredict(gear, n_mobile)  # and back to the corrected state
+    np.testing.assert_allclose(gear[:, :n_mobile].reshape(5, -1), corrected, rtol=1e-9, atol=1e-15)

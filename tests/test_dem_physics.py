@@ -75,12 +75,14 @@ def damped_oscillator_amplitude(omega_dt: float, damping_dt: float, steps: int =
     load = np.zeros((1, 1))
     force_velocity = np.zeros((1, 1))
     accel_scale = np.full((1, 1), 0.5)  # Δt²/2 · 1/m
+    half_mass = np.full((1, 1), 0.5)
+    _kernels.gear_predict(gear, 1, force_velocity, load)  # as `_kernels.advance` does
     for _ in range(steps):
-        _kernels.gear_predict(gear, 1, force_velocity, load)
         load[0, 0] = -omega_dt ** 2 * gear[0, 0, 0] - damping_dt * force_velocity[0, 0]
-        _kernels.gear_correct(gear, load, accel_scale, np.ones(1), 1)
+        _kernels.gear_correct_predict(gear, load, accel_scale, half_mass, 1, force_velocity)
         if not abs(gear[1, 0, 0]) < 1e6:  # grown: stop before it overflows
             break
+    _kernels.gear_unpredict(gear, 1)
     return abs(gear[1, 0, 0]) + abs(gear[2, 0, 0])
 
 

@@ -459,44 +459,77 @@ def gear_predict(gear, n_mobile, force_velocity, load):
 
 
 @numba.njit(**NJIT_DEM)
-def gear_correct(gear, load, accel_scale, weight, n_mobile):
-    """Gear 5-value corrector of gear (5, N, C), particles < n_mobile: the new acceleration term is
-    accel_scale·load, with accel_scale (N, C) = Δt²/2 · (1/m or 1/I) of each component (flat loop,
-    vectorisable). Returns `kinetic_energy_dt_sq` after the correction (weight: mass or moment of inertia)."""
+def _correct_predict_one(j, r0, r1, r2, r3, r4, f, v, scale, weight):
+    """One component of `gear_correct_predict`; returns its weight · r1² after the correction."""
+    delta = scale[j] * f[j] - r2[j]
+    a1 = r1[j] + GEAR_C1 * delta
+    a2 = r2[j] + delta
+    a3 = r3[j] + GEAR_C3 * delta
+    a4 = r4[j] + GEAR_C4 * delta
+    v[j] = a1 + 2.0 * a2
+    r0[j] = (r0[j] + GEAR_C0 * delta) + (a1 + a2 + a3 + a4)  # corrected r0, then the Taylor step
+    r1[j] = a1 + 2.0 * a2 + 3.0 * a3 + 4.0 * a4
+    r2[j] = a2 + 3.0 * a3 + 6.0 * a4
+    r3[j] = a3 + 4.0 * a4
+    r4[j] = a4
+    f[j] = 0.0
+    return weight[j] * a1 * a1
+
+
+@numba.njit(**NJIT_DEM)
+def gear_correct_predict(gear, load, accel_scale, half_weight, n_mobile, force_velocity):
+    """Gear 5-value corrector of this step followed by `gear_predict` of the next, in one pass over gear
+    (5, N, C), particles < n_mobile: the new acceleration term is accel_scale · load, with accel_scale (N, C) =
+    Δt²/2 · (1/m or 1/I) of each component, and the corrected values are the old ones + (C0, C1, 1, C3, C4) ·
+    (accel_scale · load − r2). One pass has half the memory traffic of two (measured +6 to +13 % on the 3D
+    step). Returns the kinetic energy × Δt² of the corrected state,
+    Σ half_weight · r1², with half_weight (N, C) = ½ m or ½ I per component, summed in four interleaved partial
+    sums (a fixed order: deterministic). On return gear holds the prediction for the next step, force_velocity
+    its r1 + 2 r2 and load is cleared, as after `gear_predict`; `gear_unpredict` recovers the corrected state."""
     r0 = gear[0].reshape(-1)
     r1 = gear[1].reshape(-1)
     r2 = gear[2].reshape(-1)
     r3 = gear[3].reshape(-1)
     r4 = gear[4].reshape(-1)
     f = load.reshape(-1)
+    v = force_velocity.reshape(-1)
     scale = accel_scale.reshape(-1)
-    for j in range(n_mobile * gear.shape[2]):
-        delta = scale[j] * f[j] - r2[j]
-        r0[j] += GEAR_C0 * delta
-        r1[j] += GEAR_C1 * delta
-        r2[j] += delta
-        r3[j] += GEAR_C3 * delta
-        r4[j] += GEAR_C4 * delta
-    return kinetic_energy_dt_sq(gear, weight, n_mobile)
+    weight = half_weight.reshape(-1)
+    n = n_mobile * gear.shape[2]
+    e0 = 0.0
+    e1 = 0.0
+    e2 = 0.0
+    e3 = 0.0
+    n_blocks = n // 4
+    for block in range(n_blocks):  # four independent lanes: the sums need no reassociation to vectorise
+        j = 4 * block
+        e0 += _correct_predict_one(j, r0, r1, r2, r3, r4, f, v, scale, weight)
+        e1 += _correct_predict_one(j + 1, r0, r1, r2, r3, r4, f, v, scale, weight)
+        e2 += _correct_predict_one(j + 2, r0, r1, r2, r3, r4, f, v, scale, weight)
+        e3 += _correct_predict_one(j + 3, r0, r1, r2, r3, r4, f, v, scale, weight)
+    for j in range(4 * n_blocks, n):
+        e0 += _correct_predict_one(j, r0, r1, r2, r3, r4, f, v, scale, weight)
+    return (e0 + e1) + (e2 + e3)
 
 
 @numba.njit(**NJIT_DEM)
-def kinetic_energy_dt_sq(gear, weight, n_mobile):
-    """Σ_i ½ weight_i |gear[1, i]|² (weight: mass or moment of inertia): kinetic energy × Δt²."""
-    n_comp = gear.shape[2]
+def gear_unpredict(gear, n_mobile):
+    """Undo `gear_predict`'s Taylor step on gear (5, N, C), particles < n_mobile (the inverse Pascal matrix;
+    exact up to rounding): back to the corrected state after `gear_correct_predict`."""
+    r0 = gear[0].reshape(-1)
     r1 = gear[1].reshape(-1)
-    energy = 0.0
-    if n_comp == 1:
-        for i in range(n_mobile):
-            energy += weight[i] * r1[i] * r1[i]
-    elif n_comp == 2:
-        for i in range(n_mobile):
-            energy += weight[i] * (r1[2 * i] * r1[2 * i] + r1[2 * i + 1] * r1[2 * i + 1])
-    else:
-        for i in range(n_mobile):
-            energy += weight[i] * (r1[3 * i] * r1[3 * i] + r1[3 * i + 1] * r1[3 * i + 1]
-                                   + r1[3 * i + 2] * r1[3 * i + 2])
-    return 0.5 * energy
+    r2 = gear[2].reshape(-1)
+    r3 = gear[3].reshape(-1)
+    r4 = gear[4].reshape(-1)
+    for j in range(n_mobile * gear.shape[2]):
+        a4 = r4[j]
+        a3 = r3[j] - 4.0 * a4
+        a2 = r2[j] - 3.0 * a3 - 6.0 * a4
+        a1 = r1[j] - 2.0 * a2 - 3.0 * a3 - 4.0 * a4
+        r0[j] -= a1 + a2 + a3 + a4
+        r1[j] = a1
+        r2[j] = a2
+        r3[j] = a3
 
 
 @numba.njit(**NJIT_DEM)
@@ -561,8 +594,10 @@ def place_wall_particles(gear_position, force_velocity, n_mobile, wall_anchor, w
 # dropped: accumulating particle i's force over its row in registers (−10 % in 3D), computing every listed pair
 # without the contact branch, compacting the touching pairs and computing them two at a time, and a blocked
 # pair loop (gather the touching pairs, vectorised forces, scatter): all were slower inside the step, as was
-# an interleaved per-particle layout (no change). The Gear predictor also clears the force sums, and the flat
-# walls visit only the (particle, wall) entries that can touch before the next rebuild (`wall_candidates`).
+# an interleaved per-particle layout (no change). Outside the pair loop the step streams the Gear values: the
+# corrector of one step and the predictor of the next are one pass that also clears the force sums
+# (`gear_correct_predict`), and the flat walls visit only the (particle, wall) entries that can touch before the
+# next rebuild (`wall_candidates`).
 
 #: unsigned offsets of the flat pair loops
 U1 = np.uint64(1)
@@ -805,16 +840,19 @@ def wall_candidates(position, radius, n_mobile, wall_lo, wall_hi, reach):
 
 
 @numba.njit(**NJIT_DEM)
-def advance(gear_position, gear_rotation, n_mobile, radius, inv_mass, mass, inertia, accel_position,
+def advance(gear_position, gear_rotation, n_mobile, radius, inv_mass, half_mass, half_inertia, accel_position,
             accel_rotation, pair_i, pair_j, n_pairs, spring, wall_spring, wall_entry_particle,
             wall_entry_wall, law, dt,
             flat_walls, box_lo, box_hi, wall_state, wall_anchor, wall_axis, wall_sign, escape_margin,
             reference_position, reference_shift, half_skin,
             n_steps, kinetic_energy, force, torque, force_velocity, force_spin, status):
-    """Advance the system by up to n_steps Gear steps (predict, walls, forces, correct).
+    """Advance the system by up to n_steps Gear steps (predict, walls, forces, correct). The correction of one
+    step and the prediction of the next are one pass (`gear_correct_predict`); the last prediction is undone
+    (`gear_unpredict`) before returning, so between calls gear holds the corrected state.
 
-    Per particle: inv_mass (N,) (0 for wall particles), mass and inertia (n_mobile,) for the kinetic energy,
-    accel_position (N, d) and accel_rotation (N, 1|3) = Δt²/2 · 1/m, 1/I per component. Pairs: the half Verlet
+    Per particle: inv_mass (N,) (0 for wall particles); per component, half_mass (N, d) and half_inertia
+    (N, 1|3) = ½ m, ½ I for the kinetic energy and accel_position (N, d), accel_rotation (N, 1|3) = Δt²/2 · 1/m,
+    1/I. Pairs: the half Verlet
     list pair_i, pair_j (i < j, in any fixed order: the engine lists the pairs touching at the rebuild first),
     n_pairs of them, and the springs (n_pairs, d). wall_entry_particle, wall_entry_wall: the (particle, wall)
     entries that can come into contact before the next rebuild (`wall_candidates` at the last rebuild with reach
@@ -827,7 +865,8 @@ def advance(gear_position, gear_rotation, n_mobile, radius, inv_mass, mass, iner
     [m̄ d_ave² τ_c⁻²]. Stops early after a step whose largest displacement since the last rebuild exceeds half
     the skin (STATUS_REBUILD) or that blew up. force_velocity (N, d), force_spin (N, 1|3) are work arrays (the
     velocities the forces see, see `gear_predict`). status (2,) int receives [code, particle index]. Returns the
-    number of steps done. Results are those of the reference kernels (`pair_forces_2d` …) to the last bit.
+    number of steps done. The forces are those of the reference kernels (`pair_forces_2d` …) to the last bit;
+    the rebuild and escape checks look at the predicted positions, the ones the next forces will see.
     """
     dim = gear_position.shape[2]
     inv_dt = 1.0 / dt
@@ -846,9 +885,9 @@ def advance(gear_position, gear_rotation, n_mobile, radius, inv_mass, mass, iner
     spring_flat = spring.reshape(-1)
     status[0] = STATUS_DONE
     status[1] = -1
+    gear_predict(gear_position, n_mobile, force_velocity, force)
+    gear_predict(gear_rotation, n_mobile, force_spin, torque)
     for step in range(n_steps):
-        gear_predict(gear_position, n_mobile, force_velocity, force)
-        gear_predict(gear_rotation, n_mobile, force_spin, torque)
         # the walls at t + Δt
         old_shift = wall_state[0]
         shift = old_shift + wall_state[1] * dt
@@ -881,10 +920,18 @@ def advance(gear_position, gear_rotation, n_mobile, radius, inv_mass, mass, iner
             worst_excess, worst_pair = _pair_loop_3d(
                 gear_position[0], force_velocity, force_spin, inv_dt, radius, inv_mass, pair_i, n_pairs, pair_j,
                 spring_flat, k_n, k_t, gamma_n, gamma_t, mu, mode, beta, radius_scaled, dt, force, torque)
-        energy = (gear_correct(gear_position, force, accel_position, mass, n_mobile)
-                  + gear_correct(gear_rotation, torque, accel_rotation, inertia, n_mobile))
+        energy = (gear_correct_predict(gear_position, force, accel_position, half_mass, n_mobile, force_velocity)
+                  + gear_correct_predict(gear_rotation, torque, accel_rotation, half_inertia, n_mobile,
+                                         force_spin))
         kinetic_energy[step] = energy * inv_dt * inv_dt
         max_sq, bad = check_positions(gear_position[0], reference_position, n_mobile, lo, hi, escape_margin)
+        stop = (bad >= 0 or not math.isfinite(energy) or worst_pair >= 0 and worst_excess > 0.0
+                or worst_wall > MAX_OVERLAP_FRACTION or max_sq > half_skin * half_skin
+                or shift - reference_shift > half_skin)
+        if not stop:
+            continue
+        gear_unpredict(gear_position, n_mobile)  # back to the corrected state of this step
+        gear_unpredict(gear_rotation, n_mobile)
         if bad >= 0:
             finite = True
             for k in range(dim):
@@ -909,6 +956,8 @@ def advance(gear_position, gear_rotation, n_mobile, radius, inv_mass, mass, iner
         if max_sq > half_skin * half_skin or wall_travel > half_skin:
             status[0] = STATUS_REBUILD
             return step + 1
+    gear_unpredict(gear_position, n_mobile)
+    gear_unpredict(gear_rotation, n_mobile)
     return n_steps
 
 

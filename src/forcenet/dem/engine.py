@@ -315,7 +315,11 @@ class Simulation:
         half_dt_sq = 0.5 * self.time_step ** 2
         self.accel_position = np.repeat(half_dt_sq * self.inv_mass[:, None], dim, axis=1)
         self.accel_rotation = np.repeat(half_dt_sq * self.inv_inertia[:, None], self.gear_rotation.shape[2], axis=1)
-        self.inertia = 1.0 / self.inv_inertia[:n]
+        # ½ m and ½ I per component, for the kinetic energy summed in the fused Gear pass (0 for wall particles)
+        self.half_mass = np.zeros_like(self.accel_position)
+        self.half_mass[:n] = 0.5 * self.mass[:, None]
+        self.half_inertia = np.zeros_like(self.accel_rotation)
+        self.half_inertia[:n] = 0.5 / self.inv_inertia[:n, None]
         self.reference_position = self.gear_position[0].copy()
         self.reference_shift = float(self.wall_state[0])
 
@@ -331,8 +335,8 @@ class Simulation:
         done = 0
         while done < n_steps:
             steps = _kernels.advance(
-                self.gear_position, self.gear_rotation, self.n_mobile, self.radius, self.inv_mass, self.mass,
-                self.inertia, self.accel_position, self.accel_rotation, self.pair_i, self.pair_j,
+                self.gear_position, self.gear_rotation, self.n_mobile, self.radius, self.inv_mass, self.half_mass,
+                self.half_inertia, self.accel_position, self.accel_rotation, self.pair_i, self.pair_j,
                 len(self.pair_i), self.spring, self.wall_spring, self.wall_entry_particle, self.wall_entry_wall,
                 self.law, self.time_step, self.flat_walls, self.box_lo, self.box_hi, self.wall_state, self.wall_anchor,
                 self.wall_axis, self.wall_sign, self.escape_margin, self.reference_position, self.reference_shift,
