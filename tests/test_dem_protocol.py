@@ -16,6 +16,7 @@ import xarray as xr
 
 from conftest import load_config
 from forcenet.dem import protocol
+from forcenet.dem.engine import ContactLaw, Simulation
 from forcenet.dem.protocol import SimulationBlowUp, run_compression
 from forcenet.systems import ConfigError, Relaxation, system_from_config
 
@@ -190,3 +191,17 @@ def test_relaxation_cap_is_logged(tmp_path, caplog):
         run(system, tmp_path, log=logging.getLogger("dem-test"))
     assert any("hit the cap" in r.message for r in caplog.records)
     assert os.path.exists(tmp_path / "rho0.700.nc")
+
+
+@pytest.mark.parametrize("speed, reason", [(1e3, "outside the walls"), (np.nan, "non-finite")])
+def test_escape_and_nan_stop_with_step_and_particle(speed, reason):
+    """The other two blow-up checks of the step loop: a particle leaving the box in one step, a NaN velocity.
+    The report names the particle (input order) and its position after the step that failed."""
+    law = ContactLaw(100.0, 80.0, 1.0, 1.0, 0.5, 0.0)
+    sim = Simulation(position=[[2.0, 2.0], [5.0, 5.0]], radius=[0.5, 0.5], mass=[1.0, 1.0], law=law, time_step=0.01,
+                     box_lo=[0.0, 0.0], box_hi=[10.0, 10.0], velocity=[[0.0, 0.0], [speed, 0.0]], walls="flat")
+    with pytest.raises(SimulationBlowUp) as err:
+        sim.advance(100)
+    assert reason in str(err.value)
+    assert err.value.step == 1 and err.value.particle == 1
+    assert sim.step == 1  # stopped at once

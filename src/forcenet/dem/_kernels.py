@@ -840,6 +840,27 @@ def wall_candidates(position, radius, n_mobile, wall_lo, wall_hi, reach):
 
 
 @numba.njit(**NJIT_DEM)
+def _step_status(gear_position, bad, energy, worst_pair, worst_excess, pair_i, pair_j, radius, worst_wall,
+                 wall_particle, max_sq, wall_travel, half_skin):
+    """Whether `advance` must stop after a step, and why: (status code, particle slot or −1). A particle outside
+    the walls or not finite (`check_positions`), a non-finite energy, an overlap above MAX_OVERLAP_FRACTION of a
+    diameter (pair or wall), or a displacement / wall travel beyond half the skin (rebuild)."""
+    if bad >= 0:
+        for k in range(gear_position.shape[2]):
+            if not (math.isfinite(gear_position[0, bad, k]) and math.isfinite(gear_position[1, bad, k])):
+                return STATUS_NOT_FINITE, bad
+        return STATUS_ESCAPED, bad
+    if not math.isfinite(energy):
+        return STATUS_NOT_FINITE, -1
+    worst_pair_fraction = _worst_fraction(worst_pair, worst_excess, pair_i, pair_j, radius)
+    if worst_pair_fraction > MAX_OVERLAP_FRACTION or worst_wall > MAX_OVERLAP_FRACTION:
+        return STATUS_OVERLAP, (pair_i[worst_pair] if worst_pair_fraction >= worst_wall else wall_particle)
+    if max_sq > half_skin * half_skin or wall_travel > half_skin:
+        return STATUS_REBUILD, -1
+    return STATUS_DONE, -1
+
+
+@numba.njit(**NJIT_DEM)
 def advance(gear_position, gear_rotation, n_mobile, radius, inv_mass, half_mass, half_inertia, accel_position,
             accel_rotation, pair_i, pair_j, n_pairs, spring, wall_spring, wall_entry_particle,
             wall_entry_wall, law, dt,
@@ -904,7 +925,7 @@ def advance(gear_position, gear_rotation, n_mobile, radius, inv_mass, half_mass,
         if wall_anchor.shape[0] > 0:
             place_wall_particles(gear_position, force_velocity, n_mobile, wall_anchor, wall_axis, wall_sign,
                                  box_lo, box_hi, shift, wall_speed * dt)
-        force[n_mobile:, :] = 0.0  # the wall particles' rows (the mobile ones were cleared by gear_predict)
+        force[n_mobile:, :] = 0.0  # the wall particles' rows (the Gear pass cleared the mobile ones)
         torque[n_mobile:, :] = 0.0
         worst_wall = 0.0
         wall_particle = -1
@@ -925,36 +946,13 @@ def advance(gear_position, gear_rotation, n_mobile, radius, inv_mass, half_mass,
                                          force_spin))
         kinetic_energy[step] = energy * inv_dt * inv_dt
         max_sq, bad = check_positions(gear_position[0], reference_position, n_mobile, lo, hi, escape_margin)
-        stop = (bad >= 0 or not math.isfinite(energy) or worst_pair >= 0 and worst_excess > 0.0
-                or worst_wall > MAX_OVERLAP_FRACTION or max_sq > half_skin * half_skin
-                or shift - reference_shift > half_skin)
-        if not stop:
-            continue
-        gear_unpredict(gear_position, n_mobile)  # back to the corrected state of this step
-        gear_unpredict(gear_rotation, n_mobile)
-        if bad >= 0:
-            finite = True
-            for k in range(dim):
-                finite = finite and math.isfinite(gear_position[0, bad, k]) and math.isfinite(gear_position[1, bad, k])
-            status[0] = STATUS_ESCAPED if finite else STATUS_NOT_FINITE
-            status[1] = bad
-            return step + 1
-        if not math.isfinite(energy):
-            status[0] = STATUS_NOT_FINITE
-            status[1] = -1
-            return step + 1
-        worst_pair_fraction = 0.0
-        if worst_pair >= 0:  # as `_worst_fraction`
-            worst_i = pair_i[worst_pair]
-            diameter = 2.0 * min(radius[worst_i], radius[pair_j[worst_pair]])
-            worst_pair_fraction = MAX_OVERLAP_FRACTION + worst_excess / diameter
-        if worst_pair_fraction > MAX_OVERLAP_FRACTION or worst_wall > MAX_OVERLAP_FRACTION:
-            status[0] = STATUS_OVERLAP
-            status[1] = pair_i[worst_pair] if worst_pair_fraction >= worst_wall else wall_particle
-            return step + 1
-        wall_travel = shift - reference_shift
-        if max_sq > half_skin * half_skin or wall_travel > half_skin:
-            status[0] = STATUS_REBUILD
+        code, particle = _step_status(gear_position, bad, energy, worst_pair, worst_excess, pair_i, pair_j, radius,
+                                      worst_wall, wall_particle, max_sq, shift - reference_shift, half_skin)
+        if code != STATUS_DONE:
+            gear_unpredict(gear_position, n_mobile)  # back to the corrected state of this step
+            gear_unpredict(gear_rotation, n_mobile)
+            status[0] = code
+            status[1] = particle
             return step + 1
     gear_unpredict(gear_position, n_mobile)
     gear_unpredict(gear_rotation, n_mobile)

@@ -43,7 +43,7 @@ __all__ = ["run_compression", "SimulationBlowUp", "validate_system", "build_simu
            "CHECKPOINT_FORMAT"]
 
 #: bump when the checkpoint layout or the engine's arithmetic changes (old checkpoints are then ignored)
-CHECKPOINT_FORMAT = 2
+CHECKPOINT_FORMAT = 3
 #: seconds of wall time between progress log lines
 LOG_INTERVAL_S = 10.0
 #: steps per call into the engine between progress checks
