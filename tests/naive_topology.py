@@ -13,7 +13,7 @@ from collections import deque
 import numpy as np
 
 
-def thresholded_complex(n_vertices, edges, force, threshold, max_simplex_dim, isolated_at_zero=True):
+def thresholded_complex(n_vertices, edges, force, threshold, max_simplex_dim):
     """Simplices of the flag complex present at θ (all edges ≥ θ), by brute-force clique search.
 
     A vertex is present when some incident edge is ≥ θ, or (isolated vertex, value 0) when θ ≤ 0.
@@ -25,8 +25,7 @@ def thresholded_complex(n_vertices, edges, force, threshold, max_simplex_dim, is
     for e in edges:
         degree[e[0]] += 1
         degree[e[1]] += 1
-    vertices = {v for v in range(n_vertices) if v in touched or (isolated_at_zero and degree[v] == 0
-                                                                and threshold <= 0)}
+    vertices = {v for v in range(n_vertices) if v in touched or (degree[v] == 0 and threshold <= 0)}
     simplices = [{(v,) for v in vertices}, set(strong)]
     for size in range(3, max_simplex_dim + 2):
         simplices.append({c for c in itertools.combinations(sorted(vertices), size)

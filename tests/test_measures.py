@@ -89,13 +89,19 @@ def test_cluster_sweep_matches_breadth_first_search_and_b0(seed):
         touching = [set().union(*(wall_of.get(v, set()) for v in g)) for g in groups]
         percolating = [({0, 1} <= w) or ({2, 3} <= w) for w in touching]
         others = [len(g) for g, p in zip(groups, percolating) if not p]
+        edges_in = [sum(1 for (a, _), f in zip(edge_list, force) if f >= theta and a in g) for g in groups]
         assert curves.cluster_count[t] == len(groups) == betti[0, t]
+        assert curves.percolating_count[t] == sum(percolating)
+        assert curves.percolates[t] == any(percolating)
         assert curves.percolating_size[t] == sum(len(g) for g, p in zip(groups, percolating) if p)
         assert curves.cluster_mean_size[t] == pytest.approx(np.mean(others) if others else 0.0)
         assert curves.largest_cluster_size[t] == max((len(g) for g in groups), default=0)
         strong = int(np.count_nonzero(force >= theta))
         assert curves.edge_count[t] == strong
         assert curves.shape_parameter[t] == pytest.approx(strong / sum(map(len, groups)) if groups else 0.0)
+        assert sum(edges_in) == strong
+        assert curves.shape_parameter_cluster_mean[t] == pytest.approx(
+            np.mean([e / len(g) for e, g in zip(edges_in, groups)]) if groups else 0.0)
 
 
 # --- shape parameter (P1 §5.2) --------------------------------------------------------------------------------
@@ -219,11 +225,23 @@ def test_snapshot_measures_are_consistent():
                                   wall_particle=np.flatnonzero(position[:, 0] < 1),
                                   wall_id=np.zeros(np.count_nonzero(position[:, 0] < 1), int))
     measures = compute_snapshot_measures(network)
-    assert measures.betti.shape == (2, 61)
+    assert measures.betti.shape == (2, 61) and measures.thresholds[0] == 0.0
     np.testing.assert_array_equal(measures.betti[0], measures.cluster_count)
-    assert measures.Z == pytest.approx(2 * len(pairs) / 120)
-    assert measures.mean_force == pytest.approx(network.mean_force)
+    # ⟨F⟩: the mean total force |F_n + F_t| over all contacts, straight from the input vectors
+    assert measures.mean_force == pytest.approx(np.linalg.norm(normal + 0.2 * normal[:, ::-1], axis=1).mean())
+    # Z without rattlers by direct count: rattlers have ≤ 1 contact (one pass), walls not counted
+    degree = np.bincount(pairs.ravel(), minlength=120)
+    non_rattler = degree >= 2
+    assert 0 < np.count_nonzero(~non_rattler) < 120  # the case is not trivial
+    kept_contacts = np.count_nonzero(non_rattler[pairs[:, 0]] & non_rattler[pairs[:, 1]])
+    assert measures.Z_no_rattlers == pytest.approx(2 * kept_contacts / np.count_nonzero(non_rattler))
+    assert measures.Z == pytest.approx(degree.mean())
+    # the P1 bins cover every PD0 point once (deaths ≥ 0, so a non-rough finite point has birth > 0.1)
     assert measures.total_persistence.shape == (2,) and measures.persistence_bin_count.shape == (5,)
+    assert measures.persistence_bin_count.sum() == np.count_nonzero(measures.diagrams.homology_dim == 0)
+    # at F_th = 0 the whole complex is present: only never-dying classes are alive (finite deaths are > 0)
+    np.testing.assert_array_equal(measures.essential_count, measures.betti[:, 0])
+    assert measures.persistence_bin_count[-1] == measures.essential_count[0]
     stored = measures.as_dict()
     assert {"betti", "cluster_mean_size", "percolating_size", "percolates", "shape_parameter", "force_pdf", "Z",
             "Z_no_rattlers", "birth", "death", "essential", "diagram_homology_dim"} <= set(stored)

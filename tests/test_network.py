@@ -1,4 +1,6 @@
 """Contacts → force network: magnitudes, normalisation, rattlers, wall contacts, quadrants."""
+from dataclasses import replace
+
 import numpy as np
 import pytest
 
@@ -10,6 +12,7 @@ from forcenet.network import (
     quadrant_mask,
     rattler_free_mask,
     restrict_to_quadrant,
+    restrict_to_region,
 )
 
 
@@ -154,3 +157,18 @@ def test_coordination_without_rattlers_does_not_depend_on_the_force_kind():
     values = [coordination_number(build_force_network(position, ci, cj, normal, tangential, kind=kind),
                                   include_rattlers=False) for kind in ("total", "normal", "tangential")]
     assert values == pytest.approx([2.0, 2.0, 2.0])
+
+
+def test_compact_graph_renumbers_the_network_particles_in_edge_order():
+    network = network_from_edge_forces([5, 0, 3, 1], [1, 5, 0, 3], [1.0, 2.0, 3.0, 4.0], n_particles=6)
+    region = restrict_to_region(network, np.array([1, 1, 0, 1, 0, 1], bool))  # particles 0, 1, 3, 5
+    graph = region.compact
+    assert graph is region.compact  # computed once per network
+    np.testing.assert_array_equal(graph.particle, [0, 1, 3, 5])
+    np.testing.assert_array_equal(graph.index, [0, 1, -1, 2, -1, 3])
+    np.testing.assert_array_equal(graph.edges, [[0, 2], [0, 3], [1, 2], [1, 3]])  # sorted: (0,3) (0,5) (1,3) (1,5)
+    np.testing.assert_array_equal(graph.force, [3.0, 2.0, 4.0, 1.0])
+    np.testing.assert_array_equal(graph.vertex_value, [3.0, 4.0, 4.0, 2.0])
+    unsorted = replace(network, edge_i=network.edge_i[::-1], edge_j=network.edge_j[::-1], force=network.force[::-1])
+    with pytest.raises(ValueError, match="sorted"):
+        unsorted.compact

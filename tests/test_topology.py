@@ -150,6 +150,20 @@ def test_betti_curves_match_gf2_homology_at_many_thresholds(dim, n, p):
             assert curves[:, t].tolist() == betti_numbers(n, edge_list, list(force), theta, dim - 1)
 
 
+@pytest.mark.parametrize("dim,n,p", [(2, 10, 0.4), (3, 8, 0.7)])
+def test_betti_curves_match_gf2_homology_at_thresholds_equal_to_forces(dim, n, p):
+    # integer forces 1..5 and integer thresholds: θ equal to a force must count that edge as present (F ≥ θ)
+    rng = np.random.default_rng(7 * dim + n)
+    thresholds = np.arange(0.0, 7.0)
+    for _ in range(6):
+        edges, force = random_graph(rng, n, p, integer_forces=True)
+        d = diagrams_of(edges, force, dim=dim, n=n)
+        curves = betti_curves(d, thresholds)
+        edge_list = [tuple(e) for e in edges.tolist()]
+        for t, theta in enumerate(thresholds):
+            assert curves[:, t].tolist() == betti_numbers(n, edge_list, list(force), theta, dim - 1)
+
+
 def test_betti_curves_count_points_alive_at_each_threshold():
     d = PersistenceDiagrams(homology_dim=np.array([0, 0, 1, 1]), birth=np.array([2.0, 1.0, 1.5, 0.5]),
                             death=np.array([-np.inf, 0.5, 1.0, -np.inf]), essential=np.array([1, 0, 0, 1], bool))
@@ -157,6 +171,19 @@ def test_betti_curves_count_points_alive_at_each_threshold():
     # alive iff birth ≥ θ > death: (1, 0.5) only for θ in (0.5, 1]; (1.5, 1.0) only for θ in (1, 1.5]
     np.testing.assert_array_equal(curves, [[1, 1, 2, 2, 1, 1, 0],
                                            [1, 1, 0, 0, 1, 0, 0]])
+
+
+def test_essential_is_read_off_the_deaths():
+    d = PersistenceDiagrams(homology_dim=np.array([0, 0, 1]), birth=np.array([2.0, 1.0, 1.5]),
+                            death=np.array([-np.inf, 0.5, 1.0]))
+    np.testing.assert_array_equal(d.essential, [True, False, False])
+    np.testing.assert_array_equal(d.select(0).essential, [True, False])
+    assert d.top_dim == 1 and PersistenceDiagrams(d.homology_dim, d.birth, d.death, max_dim=2).top_dim == 2
+    np.testing.assert_array_equal(d.lifespan, [np.inf, 0.5, 0.5])
+    same = PersistenceDiagrams(d.homology_dim, d.birth, d.death, np.array([True, False, False]))  # still accepted
+    np.testing.assert_array_equal(same.essential, d.essential)
+    with pytest.raises(ValueError, match="essential"):
+        PersistenceDiagrams(d.homology_dim, d.birth, d.death, np.array([True, True, False]))
 
 
 def test_default_threshold_grid():

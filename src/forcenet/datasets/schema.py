@@ -66,8 +66,9 @@ INDEX_FILL = -1  # fill value for integer index variables (never used for valid 
 # ds.where((ds.diagram_force_kind == k) & (ds.diagram_homology_dim == h), drop=True) or
 # forcenet.datasets.diagram_points(ds, kind, dim).
 
-FORCE_KINDS = ("total", "normal", "tangential")
-PERSISTENCE_BINS = ("rough", "weak", "medium", "strong", "essential")
+# the one definition of both: forcenet.network and forcenet.measures import them from here
+FORCE_KINDS = ("total", "normal", "tangential")  # P1 uses total; P2 normal and tangential
+PERSISTENCE_BINS = ("rough", "weak", "medium", "strong", "essential")  # P1 §5.3, PD0
 
 ANALYSIS_VARIABLES: dict[str, VariableSpec] = {
     "betti": VariableSpec(("force_kind", "homology_dim", "threshold"), DIMENSIONLESS,

@@ -5,7 +5,6 @@ from forcenet.measures.clusters import (
     ClusterSet,
     aggregate_shape_parameter,
     cluster_curves,
-    cluster_sizes,
     clusters_at,
     opposite_wall_masks,
 )
@@ -33,7 +32,7 @@ from forcenet.measures.persistence_stats import (
 from forcenet.measures.snapshot import SnapshotMeasures, compute_snapshot_measures
 
 __all__ = [
-    "ClusterCurves", "ClusterSet", "aggregate_shape_parameter", "cluster_curves", "cluster_sizes", "clusters_at",
+    "ClusterCurves", "ClusterSet", "aggregate_shape_parameter", "cluster_curves", "clusters_at",
     "opposite_wall_masks", "FORCE_PDF_BINS", "FORCE_PDF_MAX", "coordination_number", "default_force_bin_edges",
     "force_pdf", "JAMMING_METHODS", "LogisticFit", "fit_logistic", "isostatic_crossing", "jamming_point",
     "smoothed_slope", "PERSISTENCE_BINS", "essential_counts", "persistence_bin_counts", "total_persistence",

@@ -10,8 +10,8 @@ import numpy as np
 from forcenet._numba import NJIT
 
 # columns of the sweep's per-threshold output table
-N_VERTICES, N_CLUSTERS, N_EDGES, N_PERCOLATING, PERCOLATING_SIZE, PERCOLATING_EDGES, LARGEST_SIZE = range(7)
-N_COUNTS = 7
+N_VERTICES, N_CLUSTERS, N_EDGES, N_PERCOLATING, PERCOLATING_SIZE, LARGEST_SIZE = range(6)
+N_COUNTS = 6
 
 
 @numba.njit(**NJIT)
@@ -51,7 +51,7 @@ def cluster_sweep(vertex_value, edge_a, edge_b, edge_value, vertex_walls, opposi
     Returns
     -------
     counts : int64 (T, N_COUNTS) — per threshold: vertices present, clusters, edges present, percolating
-        clusters, particles and edges in percolating clusters, largest cluster size.
+        clusters, particles in percolating clusters, largest cluster size.
     ratio_sum : float64 (T,) — Σ over clusters of edges/particles (for a per-cluster mean shape parameter).
     """
     n_vertices = vertex_value.size
@@ -62,7 +62,7 @@ def cluster_sweep(vertex_value, edge_a, edge_b, edge_value, vertex_walls, opposi
     vertex_order = np.argsort(-vertex_value, kind="mergesort")
     counts = np.zeros((thresholds.size, N_COUNTS), np.int64)
     ratio_sum_out = np.zeros(thresholds.size)
-    present = clusters = edges = n_perc = perc_size = perc_edges = largest = 0
+    present = clusters = edges = n_perc = perc_size = largest = 0
     ratio_sum = 0.0
     next_vertex = next_edge = 0
     for t in range(thresholds.size):
@@ -84,8 +84,6 @@ def cluster_sweep(vertex_value, edge_a, edge_b, edge_value, vertex_walls, opposi
             if root_a == root_b:  # closes a loop inside one cluster
                 ratio_sum += 1.0 / size[root_a]
                 edges_in[root_a] += 1
-                if _percolates(walls[root_a], opposite_pairs):
-                    perc_edges += 1
                 continue
             # remove both clusters' contributions, merge (union by size), add the merged one's
             for root in (root_a, root_b):
@@ -93,7 +91,6 @@ def cluster_sweep(vertex_value, edge_a, edge_b, edge_value, vertex_walls, opposi
                 if _percolates(walls[root], opposite_pairs):
                     n_perc -= 1
                     perc_size -= size[root]
-                    perc_edges -= edges_in[root]
             if size[root_a] < size[root_b]:
                 root_a, root_b = root_b, root_a
             parent[root_b] = root_a
@@ -106,13 +103,11 @@ def cluster_sweep(vertex_value, edge_a, edge_b, edge_value, vertex_walls, opposi
             if _percolates(walls[root_a], opposite_pairs):
                 n_perc += 1
                 perc_size += size[root_a]
-                perc_edges += edges_in[root_a]
         counts[t, N_VERTICES] = present
         counts[t, N_CLUSTERS] = clusters
         counts[t, N_EDGES] = edges
         counts[t, N_PERCOLATING] = n_perc
         counts[t, PERCOLATING_SIZE] = perc_size
-        counts[t, PERCOLATING_EDGES] = perc_edges
         counts[t, LARGEST_SIZE] = largest
         ratio_sum_out[t] = ratio_sum
     return counts, ratio_sum_out

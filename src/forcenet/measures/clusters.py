@@ -25,7 +25,6 @@ import numpy as np
 from forcenet.measures import _kernels
 from forcenet.network.force_network import ForceNetwork
 from forcenet.topology.betti import default_thresholds
-from forcenet.topology.complex import vertex_values
 
 
 @dataclass(frozen=True)
@@ -42,7 +41,6 @@ class ClusterCurves:
     percolates : bool — some cluster touches two opposite walls.
     percolating_count : number of percolating clusters.
     percolating_size : N_per [particles], particles in percolating clusters.
-    percolating_edge_count : edges in percolating clusters.
     largest_cluster_size : [particles].
     shape_parameter : S̄_p = edge_count / cluster_particle_count (0 without clusters), P1 §5.2.
     shape_parameter_cluster_mean : mean over clusters of edges/particles (0 without clusters).
@@ -56,7 +54,6 @@ class ClusterCurves:
     percolates: np.ndarray
     percolating_count: np.ndarray
     percolating_size: np.ndarray
-    percolating_edge_count: np.ndarray
     largest_cluster_size: np.ndarray
     shape_parameter: np.ndarray
     shape_parameter_cluster_mean: np.ndarray
@@ -90,17 +87,18 @@ def opposite_wall_masks(dim: int, axes=None) -> np.ndarray:
     return np.array([(1 << (2 * a)) | (1 << (2 * a + 1)) for a in axes], dtype=np.int64)
 
 
-def _compact_network(network: ForceNetwork):
-    """Compact vertex ids, edges, vertex values and wall bits of a network's particles."""
-    particle = network.kept_particles
-    compact = np.full(network.n_particles, -1, dtype=np.int64)
-    compact[particle] = np.arange(particle.size)
-    edge_a, edge_b = compact[network.edge_i], compact[network.edge_j]
-    force = np.asarray(network.force, dtype=np.float64)
-    walls = np.zeros(particle.size, dtype=np.int64)
-    np.bitwise_or.at(walls, compact[network.wall_particle], np.left_shift(1, network.wall_id).astype(np.int64))
-    value = vertex_values(particle.size, np.stack([edge_a, edge_b], axis=1), force)
-    return particle, edge_a, edge_b, force, value, walls
+def _vertex_walls(network: ForceNetwork) -> np.ndarray:
+    """Wall bits of each compact vertex (`ForceNetwork.compact`): bit w set when it touches wall w."""
+    graph = network.compact
+    walls = np.zeros(graph.n_vertices, dtype=np.int64)
+    np.bitwise_or.at(walls, graph.index[network.wall_particle], np.left_shift(1, network.wall_id).astype(np.int64))
+    return walls
+
+
+def _percolating(wall_mask: np.ndarray, opposite_pairs: np.ndarray) -> np.ndarray:
+    """Whether each wall mask holds both walls of some opposite pair, shape of `wall_mask`, bool."""
+    pairs = np.asarray(opposite_pairs, dtype=np.int64)
+    return np.any((np.asarray(wall_mask, dtype=np.int64)[..., None] & pairs) == pairs, axis=-1)
 
 
 def cluster_curves(network: ForceNetwork, thresholds=None, *, percolation_axes=None) -> ClusterCurves:
@@ -113,12 +111,13 @@ def cluster_curves(network: ForceNetwork, thresholds=None, *, percolation_axes=N
     percolation_axes : axes whose two walls count for percolation (default: all d axes).
     """
     thresholds = default_thresholds() if thresholds is None else np.asarray(thresholds, dtype=np.float64)
-    _, edge_a, edge_b, force, value, walls = _compact_network(network)
+    graph = network.compact
+    force = graph.force
     by_force = np.argsort(-force, kind="stable")
     by_threshold = np.argsort(-thresholds, kind="stable")
     counts_sorted, ratio_sorted = _kernels.cluster_sweep(
-        value, edge_a[by_force], edge_b[by_force], force[by_force], walls,
-        opposite_wall_masks(network.dim, percolation_axes), thresholds[by_threshold])
+        graph.vertex_value, graph.edges[by_force, 0], graph.edges[by_force, 1], force[by_force],
+        _vertex_walls(network), opposite_wall_masks(network.dim, percolation_axes), thresholds[by_threshold])
     counts = np.empty_like(counts_sorted)
     counts[by_threshold] = counts_sorted
     ratio_sum = np.empty_like(ratio_sorted)
@@ -132,8 +131,7 @@ def cluster_curves(network: ForceNetwork, thresholds=None, *, percolation_axes=N
         edge_count=counts[:, k.N_EDGES],
         cluster_mean_size=_ratio_or_zero(other_particles, other_clusters),
         percolates=counts[:, k.N_PERCOLATING] > 0, percolating_count=counts[:, k.N_PERCOLATING],
-        percolating_size=counts[:, k.PERCOLATING_SIZE], percolating_edge_count=counts[:, k.PERCOLATING_EDGES],
-        largest_cluster_size=counts[:, k.LARGEST_SIZE],
+        percolating_size=counts[:, k.PERCOLATING_SIZE], largest_cluster_size=counts[:, k.LARGEST_SIZE],
         shape_parameter=_ratio_or_zero(counts[:, k.N_EDGES], particles),
         shape_parameter_cluster_mean=_ratio_or_zero(ratio_sum, n_clusters))
 
@@ -146,9 +144,11 @@ def _ratio_or_zero(numerator, denominator) -> np.ndarray:
 
 def clusters_at(network: ForceNetwork, threshold: float, *, percolation_axes=None) -> ClusterSet:
     """The individual clusters at one threshold (sizes, edges, walls, percolation); see module docstring."""
-    particle, edge_a, edge_b, force, value, walls = _compact_network(network)
-    present = value >= threshold
-    strong = force >= threshold
+    graph = network.compact
+    particle, walls = graph.particle, _vertex_walls(network)
+    edge_a, edge_b = graph.edges[:, 0], graph.edges[:, 1]
+    present = graph.vertex_value >= threshold
+    strong = graph.force >= threshold
     labels = _kernels.component_labels(particle.size, edge_a[strong], edge_b[strong])
     # relabel the present vertices' components 0..K−1
     _, labels_present = np.unique(labels[present], return_inverse=True)
@@ -159,17 +159,11 @@ def clusters_at(network: ForceNetwork, threshold: float, *, percolation_axes=Non
     edge_count = np.bincount(cluster_of_vertex[edge_a[strong]], minlength=n_clusters)
     wall_mask = np.zeros(n_clusters, dtype=np.int64)
     np.bitwise_or.at(wall_mask, labels_present, walls[present])
-    pairs = opposite_wall_masks(network.dim, percolation_axes)
-    percolating = np.array([any((m & p) == p for p in pairs) for m in wall_mask.tolist()], dtype=bool)
+    percolating = _percolating(wall_mask, opposite_wall_masks(network.dim, percolation_axes))
     particle_label = np.full(network.n_particles, -1, dtype=np.int64)
     particle_label[particle] = cluster_of_vertex
     return ClusterSet(threshold=float(threshold), particle_label=particle_label, size=size.astype(np.int64),
                       edge_count=edge_count.astype(np.int64), wall_mask=wall_mask, percolating=percolating)
-
-
-def cluster_sizes(network: ForceNetwork, threshold: float) -> np.ndarray:
-    """Sizes S (particles) of the clusters at one threshold, shape (K,), percolating ones included."""
-    return clusters_at(network, threshold).size
 
 
 def aggregate_shape_parameter(values, axis: int = 0) -> np.ndarray:

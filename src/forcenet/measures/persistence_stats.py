@@ -3,9 +3,9 @@ from __future__ import annotations
 
 import numpy as np
 
+from forcenet.datasets.schema import PERSISTENCE_BINS  # noqa: F401  (re-exported: the bin order)
 from forcenet.topology.persistence import PersistenceDiagrams
 
-PERSISTENCE_BINS = ("rough", "weak", "medium", "strong", "essential")
 ROUGH_LIFESPAN = 0.1  # P1 §5.3: rough if θ_b − θ_d ≤ 0.1
 WEAK_BIRTH, MEDIUM_BIRTH, STRONG_BIRTH = 0.1, 1.0, 2.5  # P1 §5.3: weak [0.1, 1), medium [1, 2.5), strong ≥ 2.5
 
@@ -22,11 +22,9 @@ def persistence_bin_counts(diagrams: PersistenceDiagrams, homology_dim: int = 0)
     ndarray, shape (5,), int64.
     """
     one = diagrams.select(homology_dim)
-    essential = np.asarray(one.essential, dtype=bool)
-    birth = np.asarray(one.birth)[~essential]
-    lifespan = birth - np.asarray(one.death)[~essential]
-    rough = lifespan <= ROUGH_LIFESPAN
-    birth = birth[~rough]
+    essential = one.essential
+    rough = one.lifespan[~essential] <= ROUGH_LIFESPAN
+    birth = np.asarray(one.birth)[~essential][~rough]
     return np.array([np.count_nonzero(rough),
                      np.count_nonzero((birth >= WEAK_BIRTH) & (birth < MEDIUM_BIRTH)),
                      np.count_nonzero((birth >= MEDIUM_BIRTH) & (birth < STRONG_BIRTH)),
@@ -37,23 +35,17 @@ def persistence_bin_counts(diagrams: PersistenceDiagrams, homology_dim: int = 0)
 def total_persistence(diagrams: PersistenceDiagrams, max_dim: int | None = None) -> np.ndarray:
     """TP_k = Σ (θ_b − θ_d) over the finite points of PD_k (P1 §5.3), k = 0..max_dim; shape (max_dim + 1,).
 
-    Never-dying classes are left out (their lifespan is infinite); count them with `essential_counts`.
+    `max_dim` defaults to `PersistenceDiagrams.top_dim`. Never-dying classes are left out (their lifespan is
+    infinite); count them with `essential_counts`.
     """
-    max_dim = _max_dim(diagrams, max_dim)
-    finite = ~np.asarray(diagrams.essential, dtype=bool)
-    lifespan = np.asarray(diagrams.birth)[finite] - np.asarray(diagrams.death)[finite]
-    return np.bincount(np.asarray(diagrams.homology_dim)[finite], weights=lifespan, minlength=max_dim + 1
-                       )[:max_dim + 1].astype(np.float64)
+    max_dim = diagrams.top_dim if max_dim is None else int(max_dim)
+    finite = ~diagrams.essential
+    return np.bincount(np.asarray(diagrams.homology_dim)[finite], weights=diagrams.lifespan[finite],
+                       minlength=max_dim + 1)[:max_dim + 1].astype(np.float64)
 
 
 def essential_counts(diagrams: PersistenceDiagrams, max_dim: int | None = None) -> np.ndarray:
-    """Never-dying classes per homology dimension, shape (max_dim + 1,), int64."""
-    max_dim = _max_dim(diagrams, max_dim)
-    essential = np.asarray(diagrams.essential, dtype=bool)
-    return np.bincount(np.asarray(diagrams.homology_dim)[essential], minlength=max_dim + 1)[:max_dim + 1]
-
-
-def _max_dim(diagrams: PersistenceDiagrams, max_dim: int | None) -> int:
-    if max_dim is not None:
-        return int(max_dim)
-    return diagrams.max_dim if diagrams.max_dim >= 0 else int(np.max(diagrams.homology_dim, initial=0))
+    """Never-dying classes per homology dimension, shape (max_dim + 1,), int64; `max_dim` defaults to
+    `PersistenceDiagrams.top_dim`."""
+    max_dim = diagrams.top_dim if max_dim is None else int(max_dim)
+    return np.bincount(np.asarray(diagrams.homology_dim)[diagrams.essential], minlength=max_dim + 1)[:max_dim + 1]

@@ -7,12 +7,7 @@ import numpy as np
 
 from forcenet.measures.clusters import ClusterCurves, cluster_curves
 from forcenet.measures.forces import coordination_number, force_pdf
-from forcenet.measures.persistence_stats import (
-    PERSISTENCE_BINS,
-    essential_counts,
-    persistence_bin_counts,
-    total_persistence,
-)
+from forcenet.measures.persistence_stats import essential_counts, persistence_bin_counts, total_persistence
 from forcenet.network.force_network import ForceNetwork
 from forcenet.topology.betti import betti_curves, default_thresholds
 from forcenet.topology.persistence import PersistenceDiagrams, persistence_diagrams
@@ -29,8 +24,8 @@ class SnapshotMeasures:
     betti : (K, T) B_k(F_th) (P1 §5.1).
     clusters : ClusterCurves — its (T,) arrays are also readable here by name: cluster_count,
         cluster_particle_count, edge_count, cluster_mean_size ⟨S⟩ (P1 §4.2), percolates, percolating_count,
-        percolating_size N_per (P1 §4.3), percolating_edge_count, largest_cluster_size, shape_parameter
-        S̄_p (P1 §5.2), shape_parameter_cluster_mean.
+        percolating_size N_per (P1 §4.3), largest_cluster_size, shape_parameter S̄_p (P1 §5.2),
+        shape_parameter_cluster_mean.
     force_bin_edges : (B + 1,) [⟨F⟩]; force_pdf : (B,) [⟨F⟩⁻¹] (P1 §4.1).
     Z, Z_no_rattlers : mean contacts per particle, all particles / network particles only.
     mean_force : ⟨F⟩ [m̄ d_ave τ_c⁻²].
@@ -53,8 +48,6 @@ class SnapshotMeasures:
     total_persistence: np.ndarray
     essential_count: np.ndarray
     diagrams: PersistenceDiagrams
-
-    persistence_bins = PERSISTENCE_BINS
 
     def __getattr__(self, name: str):
         # only reached for names that are not fields: the cluster curves, read by name

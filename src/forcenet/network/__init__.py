@@ -2,6 +2,7 @@
 from forcenet.network.force_network import (
     FORCE_KINDS,
     RATTLER_RULES,
+    CompactGraph,
     ForceNetwork,
     build_force_network,
     force_magnitude,
@@ -12,13 +13,12 @@ from forcenet.network.force_network import (
 from forcenet.network.regions import (
     QUADRANTS,
     quadrant_mask,
-    quadrant_subnetwork,
     restrict_to_quadrant,
     restrict_to_region,
 )
 
 __all__ = [
-    "FORCE_KINDS", "RATTLER_RULES", "ForceNetwork", "build_force_network", "force_magnitude",
+    "FORCE_KINDS", "RATTLER_RULES", "CompactGraph", "ForceNetwork", "build_force_network", "force_magnitude",
     "network_from_edge_forces", "rattler_free_mask", "resolve_rattler_rule", "QUADRANTS", "quadrant_mask",
-    "quadrant_subnetwork", "restrict_to_quadrant", "restrict_to_region",
+    "restrict_to_quadrant", "restrict_to_region",
 ]

@@ -25,10 +25,12 @@ Decisions (DESIGN.md "Topology decisions", written out here because the papers l
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
-FORCE_KINDS = ("total", "normal", "tangential")  # P1 uses total; P2 normal and tangential
+from forcenet.datasets.schema import FORCE_KINDS
+
 RATTLER_RULES = ("once", "iterative", "none")
 
 
@@ -45,7 +47,8 @@ class ForceNetwork:
         with at least one edge of this kind when rattlers are removed).
     non_rattler : ndarray, shape (N,), bool — particles that are not rattlers by the contact rule alone
         (the same for every force kind of a snapshot): the particles of Z without rattlers.
-    edge_i, edge_j : ndarray, shape (E,), int64 — edge end points, ``edge_i < edge_j``, both in the mask.
+    edge_i, edge_j : ndarray, shape (E,), int64 — edge end points, ``edge_i < edge_j``, both in the mask,
+        pairs in lexicographic order (an invariant that `compact` and the flag complex rely on).
     force : ndarray, shape (E,) — edge force in units of ⟨F⟩ (dimensionless, > 0).
     mean_force : ⟨F⟩ [m̄ d_ave τ_c⁻²], mean positive magnitude of this kind over all particle contacts.
     kind : "total" (|F_n + F_t|, P1), "normal" or "tangential" (P2).
@@ -82,12 +85,6 @@ class ForceNetwork:
         return int(np.count_nonzero(self.particle_mask))
 
     @property
-    def contact_count(self) -> np.ndarray:
-        """Particle–particle contacts of each particle before rattler removal, shape (N,), int64."""
-        return (np.bincount(self.contact_i, minlength=self.n_particles)
-                + np.bincount(self.contact_j, minlength=self.n_particles))
-
-    @property
     def n_contacts(self) -> int:
         """Particle–particle contacts (total force > 0), all particles."""
         return int(self.contact_i.size)
@@ -101,6 +98,81 @@ class ForceNetwork:
     def kept_particles(self) -> np.ndarray:
         """Original ids of the network particles, shape (n_kept,), increasing."""
         return np.flatnonzero(self.particle_mask)
+
+    @cached_property
+    def compact(self) -> "CompactGraph":
+        """The network on compact vertex ids, with vertex values (computed once per network, then cached):
+        what the flag complex and the cluster statistics both read."""
+        return compact_graph(self)
+
+
+@dataclass(frozen=True)
+class CompactGraph:
+    """A force network's graph on compact vertex ids 0..V−1 (the network particles in increasing id order).
+
+    Attributes
+    ----------
+    particle : ndarray, shape (V,), int64 — original particle id of each compact vertex.
+    index : ndarray, shape (N,), int64 — compact id of each original particle, −1 when not a vertex.
+    edges : ndarray, shape (E, 2), int64 — compact end points, ``a < b``, lexicographically sorted (the order
+        of the network's ``edge_i``, ``edge_j``).
+    force : ndarray, shape (E,), float64 — edge forces [⟨F⟩].
+    vertex_value : ndarray, shape (V,), float64 — max force of each vertex's edges, 0 without edges
+        (`vertex_values`).
+    """
+
+    particle: np.ndarray
+    index: np.ndarray
+    edges: np.ndarray
+    force: np.ndarray
+    vertex_value: np.ndarray
+
+    @property
+    def n_vertices(self) -> int:
+        return int(self.particle.size)
+
+
+def vertex_values(n_vertices: int, edges: np.ndarray, edge_value: np.ndarray) -> np.ndarray:
+    """f(vertex) = max over incident edges (P2 §III A), 0 for a vertex without edges; shape (n_vertices,)."""
+    value = np.zeros(n_vertices, dtype=np.float64)
+    np.maximum.at(value, edges[:, 0], edge_value)
+    np.maximum.at(value, edges[:, 1], edge_value)
+    return value
+
+
+def compact_graph(network: ForceNetwork) -> CompactGraph:
+    """`ForceNetwork.compact` (read that: it is cached).
+
+    Relies on the edge invariant of every ForceNetwork (`_assemble` sorts the edges, `restrict_to_region`
+    keeps a subset in order): ``edge_i < edge_j``, pairs in lexicographic order; the compact ids keep the
+    order of the original ids, so the compact edges are sorted too. The invariant is checked (O(E)).
+    """
+    edge_i, edge_j = network.edge_i, network.edge_j
+    step_i = np.diff(edge_i)
+    if not (np.all(edge_i < edge_j) and np.all((step_i > 0) | ((step_i == 0) & (np.diff(edge_j) > 0)))):
+        raise ValueError("ForceNetwork edges must have edge_i < edge_j and be sorted lexicographically")
+    particle = network.kept_particles
+    index = np.full(network.n_particles, -1, dtype=np.int64)
+    index[particle] = np.arange(particle.size)
+    edges = np.stack([index[edge_i], index[edge_j]], axis=1).reshape(-1, 2)
+    force = np.asarray(network.force, dtype=np.float64)
+    return CompactGraph(particle=particle, index=index, edges=edges, force=force,
+                        vertex_value=vertex_values(particle.size, edges, force))
+
+
+def drop_edgeless(keep: np.ndarray, edge_i: np.ndarray, edge_j: np.ndarray, rule: str) -> np.ndarray:
+    """`keep` without the particles that have no edge among (edge_i, edge_j), unless ``rule == "none"``.
+
+    After a rattler removal, particles left without any edge of the network's kind carry no force of that
+    kind and would otherwise count as clusters born at zero force (module docstring); with rattlers kept
+    ("none") every particle stays a vertex.
+    """
+    if rule == "none":
+        return keep
+    has_edge = np.zeros(keep.size, dtype=bool)
+    has_edge[edge_i] = True
+    has_edge[edge_j] = True
+    return keep & has_edge
 
 
 def force_magnitude(force_normal: np.ndarray, force_tangential: np.ndarray, kind: str) -> np.ndarray:
@@ -286,17 +358,11 @@ def _assemble(dim, n_particles, position, contact_i, contact_j, total, magnitude
     ci, cj = contact_i[is_contact], contact_j[is_contact]
     extra = np.bincount(wall_particle, minlength=n_particles) if count_wall_contacts else None
     non_rattler = rattler_free_mask(n_particles, ci, cj, rule, extra)
-    keep = non_rattler.copy()
 
     carries = magnitude > 0
     mean_force = float(magnitude[carries].mean()) if carries.any() else 0.0
-    is_edge = carries & keep[contact_i] & keep[contact_j]
-    if rule != "none":
-        # particles with no edge of this kind left carry no force of this kind: not vertices
-        has_edge = np.zeros(n_particles, dtype=bool)
-        has_edge[contact_i[is_edge]] = True
-        has_edge[contact_j[is_edge]] = True
-        keep &= has_edge
+    is_edge = carries & non_rattler[contact_i] & non_rattler[contact_j]
+    keep = drop_edgeless(non_rattler.copy(), contact_i[is_edge], contact_j[is_edge], rule)
     low = np.minimum(contact_i[is_edge], contact_j[is_edge])
     high = np.maximum(contact_i[is_edge], contact_j[is_edge])
     order = np.lexsort((high, low))

@@ -12,7 +12,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from forcenet.network.force_network import ForceNetwork
+from forcenet.network.force_network import ForceNetwork, drop_edgeless
 
 # P2 Tables II–III row order; each entry is (x half, y half): 0 = lower half, 1 = upper half
 QUADRANTS = {
@@ -40,11 +40,7 @@ def restrict_to_region(network: ForceNetwork, inside: np.ndarray) -> ForceNetwor
     inside = np.asarray(inside, dtype=bool).reshape(network.n_particles)
     keep = network.particle_mask & inside
     is_edge = keep[network.edge_i] & keep[network.edge_j]
-    if network.rattler_rule != "none":
-        has_edge = np.zeros(network.n_particles, dtype=bool)
-        has_edge[network.edge_i[is_edge]] = True
-        has_edge[network.edge_j[is_edge]] = True
-        keep &= has_edge
+    keep = drop_edgeless(keep, network.edge_i[is_edge], network.edge_j[is_edge], network.rattler_rule)
     on_region_wall = keep[network.wall_particle]
     return replace(network, particle_mask=keep, edge_i=network.edge_i[is_edge], edge_j=network.edge_j[is_edge],
                    force=network.force[is_edge], wall_particle=network.wall_particle[on_region_wall],
@@ -78,8 +74,3 @@ def quadrant_mask(position: np.ndarray, box_lo, box_hi, quadrant: str) -> np.nda
 def restrict_to_quadrant(network: ForceNetwork, box_lo, box_hi, quadrant: str) -> ForceNetwork:
     """The subnetwork of one quarter of the box (P2 Tables II–III); see `restrict_to_region`."""
     return restrict_to_region(network, quadrant_mask(network.position, box_lo, box_hi, quadrant))
-
-
-def quadrant_subnetwork(network: ForceNetwork, quadrant: str, box_lo, box_hi) -> ForceNetwork:
-    """Alias of `restrict_to_quadrant` with the quadrant first."""
-    return restrict_to_quadrant(network, box_lo, box_hi, quadrant)

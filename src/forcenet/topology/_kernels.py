@@ -187,13 +187,11 @@ def _nearest_useful(birth_from, death_from, birth_to, death_to, q, n_nearest):
     """
     order = np.argsort(birth_to)
     sorted_birth = birth_to[order]
-    reach_to = np.empty(birth_to.size)
-    for j in range(birth_to.size):
-        reach_to[j] = _power(0.5 * (birth_to[j] - death_to[j]), q)
+    delta_to = 0.5 * (birth_to - death_to)
     best = np.full((birth_from.size, n_nearest), -1, np.int64)
     cost = np.full((birth_from.size, n_nearest), np.inf)
     for i in range(birth_from.size):
-        reach_i = _power(0.5 * (birth_from[i] - death_from[i]), q)
+        delta_i = 0.5 * (birth_from[i] - death_from[i])
         middle = np.searchsorted(sorted_birth, birth_from[i])
         low, high = middle - 1, middle
         while low >= 0 or high < sorted_birth.size:
@@ -208,7 +206,7 @@ def _nearest_useful(birth_from, death_from, birth_to, death_to, q, n_nearest):
                 k = order[high]
                 high += 1
             c = max(abs(birth_from[i] - birth_to[k]), abs(death_from[i] - death_to[k]))
-            if c < cost[i, n_nearest - 1] and _power(c, q) < reach_i + reach_to[k]:
+            if c < cost[i, n_nearest - 1] and _useful(c, delta_i, delta_to[k], q, False):
                 _keep_smallest(cost[i], best[i], c, k)
     return best
 
@@ -244,12 +242,12 @@ def dual_violations(birth_a, death_a, birth_b, death_b, q, potential, tolerance,
     worst_a = np.full((m, n_worst), -1, np.int64)
     slack_a = np.full((m, n_worst), -tolerance)
     for i in range(n):
-        reach_a = _power(0.5 * (birth_a[i] - death_a[i]), q)
+        delta_a = 0.5 * (birth_a[i] - death_a[i])
         for j in range(m):
-            c = _power(max(abs(birth_a[i] - birth_b[j]), abs(death_a[i] - death_b[j])), q)
-            slack = c + potential[i] - potential[n + 1 + j]
+            distance = max(abs(birth_a[i] - birth_b[j]), abs(death_a[i] - death_b[j]))
+            slack = _power(distance, q) + potential[i] - potential[n + 1 + j]
             if slack < slack_b[i, n_worst - 1] or slack < slack_a[j, n_worst - 1]:
-                if c < reach_a + _power(0.5 * (birth_b[j] - death_b[j]), q):  # useful pairs only
+                if _useful(distance, delta_a, 0.5 * (birth_b[j] - death_b[j]), q, False):
                     _keep_smallest(slack_b[i], worst_b[i], slack, j)
                     _keep_smallest(slack_a[j], worst_a[j], slack, i)
     return _flatten_pairs(worst_b, worst_a)

@@ -32,7 +32,7 @@ def betti_curves(diagrams: PersistenceDiagrams, thresholds: np.ndarray | None = 
     ----------
     diagrams : PersistenceDiagrams.
     thresholds : array, shape (n_thresholds,) [⟨F⟩]; default `default_thresholds()`.
-    max_dim : highest k; default ``diagrams.max_dim`` (or the highest dimension present).
+    max_dim : highest k; default ``diagrams.top_dim`` (``max_dim``, or the highest dimension present).
 
     Returns
     -------
@@ -40,8 +40,7 @@ def betti_curves(diagrams: PersistenceDiagrams, thresholds: np.ndarray | None = 
     """
     thresholds = default_thresholds() if thresholds is None else np.asarray(thresholds, dtype=np.float64)
     homology_dim = np.asarray(diagrams.homology_dim)
-    if max_dim is None:
-        max_dim = diagrams.max_dim if diagrams.max_dim >= 0 else int(homology_dim.max(initial=0))
+    max_dim = diagrams.top_dim if max_dim is None else int(max_dim)
     birth, death = np.asarray(diagrams.birth), np.asarray(diagrams.death)
     curves = np.zeros((max_dim + 1, thresholds.size), dtype=np.int64)
     for k in range(max_dim + 1):

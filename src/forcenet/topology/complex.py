@@ -21,7 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from forcenet.network.force_network import ForceNetwork
+from forcenet.network.force_network import ForceNetwork, vertex_values  # noqa: F401  (re-exported)
 
 
 @dataclass(frozen=True)
@@ -59,14 +59,6 @@ class FlagComplex:
             return np.arange(self.n_vertices, dtype=np.int64)[:, None], self.vertex_value
         return ((self.edges, self.edge_value), (self.triangles, self.triangle_value),
                 (self.tetrahedra, self.tetrahedron_value))[dimension - 1]
-
-
-def vertex_values(n_vertices: int, edges: np.ndarray, edge_value: np.ndarray) -> np.ndarray:
-    """f(vertex) = max over incident edges (P2 §III A), 0 for a vertex without edges; shape (n_vertices,)."""
-    value = np.zeros(n_vertices, dtype=np.float64)
-    np.maximum.at(value, edges[:, 0], edge_value)
-    np.maximum.at(value, edges[:, 1], edge_value)
-    return value
 
 
 def enumerate_cliques(n_vertices: int, edges: np.ndarray, edge_value: np.ndarray, max_size: int = 3):
@@ -141,16 +133,9 @@ def flag_complex(network: ForceNetwork, max_simplex_dim: int | None = None) -> F
         3D), enough for homology up to dimension d − 1 (PD0, PD1 and, in 3D, PD2).
     """
     max_simplex_dim = network.dim if max_simplex_dim is None else int(max_simplex_dim)
-    particle = network.kept_particles
-    compact = np.full(network.n_particles, -1, dtype=np.int64)
-    compact[particle] = np.arange(particle.size)
-    low = compact[np.minimum(network.edge_i, network.edge_j)]
-    high = compact[np.maximum(network.edge_i, network.edge_j)]
-    order = np.lexsort((high, low))  # already sorted for networks from build_force_network: cheap
-    edges = np.stack([low[order], high[order]], axis=1)
-    edge_value = np.asarray(network.force, dtype=np.float64)[order]
+    graph = network.compact  # compact edges already sorted (a < b, lexicographic): the ForceNetwork invariant
     triangles, triangle_value, tetrahedra, tetrahedron_value = enumerate_cliques(
-        particle.size, edges, edge_value, max_size=max_simplex_dim + 1)
-    return FlagComplex(particle=particle, vertex_value=vertex_values(particle.size, edges, edge_value),
-                       edges=edges, edge_value=edge_value, triangles=triangles, triangle_value=triangle_value,
+        graph.n_vertices, graph.edges, graph.force, max_size=max_simplex_dim + 1)
+    return FlagComplex(particle=graph.particle, vertex_value=graph.vertex_value, edges=graph.edges,
+                       edge_value=graph.force, triangles=triangles, triangle_value=triangle_value,
                        tetrahedra=tetrahedra, tetrahedron_value=tetrahedron_value)

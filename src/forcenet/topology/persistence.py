@@ -16,7 +16,7 @@ bins and counts ignore them.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -27,7 +27,7 @@ from forcenet.topology.complex import FlagComplex, flag_complex
 _FLOAT32_EXACT_INTEGERS = 2 ** 24
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, init=False)
 class PersistenceDiagrams:
     """Persistence diagrams of all homology dimensions of one network, as flat arrays of points.
 
@@ -36,25 +36,45 @@ class PersistenceDiagrams:
     homology_dim : ndarray, shape (P,), int64 — k of each point (0 components, 1 loops, 2 voids).
     birth : ndarray, shape (P,) — threshold at which the class appears [⟨F⟩].
     death : ndarray, shape (P,) — threshold at which it dies [⟨F⟩]; −inf when it never dies.
-    essential : ndarray, shape (P,), bool — the class never dies.
     max_dim : highest homology dimension computed (d − 1); −1 when unknown (diagrams built by hand).
+    essential (property) : ndarray, shape (P,), bool — the class never dies, i.e. ``~isfinite(death)``.
+
+    The constructor still accepts ``essential`` (4th argument) for callers that pass it; it must then agree
+    with the deaths.
     """
 
     homology_dim: np.ndarray
     birth: np.ndarray
     death: np.ndarray
-    essential: np.ndarray
-    max_dim: int = field(default=-1)
+    max_dim: int = -1
 
-    def __post_init__(self):
-        n = np.asarray(self.birth).shape
-        for name in ("homology_dim", "death", "essential"):
+    def __init__(self, homology_dim, birth, death, essential=None, max_dim: int = -1):
+        for name, value in (("homology_dim", homology_dim), ("birth", birth), ("death", death),
+                            ("max_dim", max_dim)):
+            object.__setattr__(self, name, value)
+        n = np.asarray(birth).shape
+        for name in ("homology_dim", "death"):
             if np.asarray(getattr(self, name)).shape != n:
                 raise ValueError(f"{name} must have the shape of birth {n}")
+        if essential is not None:
+            if np.asarray(essential).shape != n:
+                raise ValueError(f"essential must have the shape of birth {n}")
+            if not np.array_equal(np.asarray(essential, dtype=bool), self.essential):
+                raise ValueError("essential must be ~isfinite(death): never-dying classes have death −inf")
+
+    @property
+    def essential(self) -> np.ndarray:
+        """The class never dies (death −inf), shape (P,), bool."""
+        return ~np.isfinite(np.asarray(self.death))
 
     @property
     def n_points(self) -> int:
         return int(np.asarray(self.birth).size)
+
+    @property
+    def top_dim(self) -> int:
+        """Highest homology dimension: `max_dim`, or when unknown (−1) the highest one present (0 if none)."""
+        return self.max_dim if self.max_dim >= 0 else int(np.max(np.asarray(self.homology_dim), initial=0))
 
     @property
     def lifespan(self) -> np.ndarray:
@@ -65,12 +85,12 @@ class PersistenceDiagrams:
         """The points of one homology dimension."""
         mask = np.asarray(self.homology_dim) == homology_dim
         return PersistenceDiagrams(np.asarray(self.homology_dim)[mask], np.asarray(self.birth)[mask],
-                                   np.asarray(self.death)[mask], np.asarray(self.essential)[mask], self.max_dim)
+                                   np.asarray(self.death)[mask], max_dim=self.max_dim)
 
     def points(self, homology_dim: int, *, include_essential: bool = True) -> np.ndarray:
         """(birth, death) pairs of one homology dimension, shape (n, 2); essential ones have death −inf."""
         one = self.select(homology_dim)
-        keep = np.ones(one.n_points, dtype=bool) if include_essential else ~np.asarray(one.essential)
+        keep = np.ones(one.n_points, dtype=bool) if include_essential else ~one.essential
         return np.stack([one.birth[keep], one.death[keep]], axis=1).astype(np.float64).reshape(-1, 2)
 
 
@@ -92,15 +112,13 @@ def filtration_order(complex_: FlagComplex, max_simplex_dim: int) -> tuple[list,
     return [as_lists[k] for k in order.tolist()], value[order], dimension[order]
 
 
-def persistence_of_complex(complex_: FlagComplex, max_homology_dim: int, *, keep_zero_length: bool = False,
-                           ) -> PersistenceDiagrams:
+def persistence_of_complex(complex_: FlagComplex, max_homology_dim: int) -> PersistenceDiagrams:
     """Persistence diagrams of a flag complex with dionysus (module docstring).
 
     Parameters
     ----------
     complex_ : FlagComplex — must contain simplices up to dimension ``max_homology_dim + 1``.
     max_homology_dim : highest homology dimension reported.
-    keep_zero_length : keep points with birth == death (default False).
     """
     import dionysus  # imported lazily: heavy, and only this function needs it
 
@@ -124,23 +142,20 @@ def persistence_of_complex(complex_: FlagComplex, max_homology_dim: int, *, keep
     death = np.full(birth.size, -np.inf)
     death[~essential] = value[death_rank[~essential].astype(np.int64)]
     homology_dim = np.asarray(homology_dim, dtype=np.int64)
-    keep = essential | (birth > death) if not keep_zero_length else np.ones(birth.size, dtype=bool)
+    keep = essential | (birth > death)  # zero-length points are not stored (module docstring)
     # order: by dimension, then birth descending, then death descending (stable, readable storage)
     order = np.lexsort((-death[keep], -birth[keep], homology_dim[keep]))
     return PersistenceDiagrams(homology_dim=homology_dim[keep][order], birth=birth[keep][order],
-                               death=death[keep][order], essential=essential[keep][order],
-                               max_dim=max_homology_dim)
+                               death=death[keep][order], max_dim=max_homology_dim)
 
 
-def persistence_diagrams(network: ForceNetwork, *, max_homology_dim: int | None = None,
-                         keep_zero_length: bool = False) -> PersistenceDiagrams:
+def persistence_diagrams(network: ForceNetwork, *, max_homology_dim: int | None = None) -> PersistenceDiagrams:
     """PD0, PD1 (and PD2 in 3D) of a force network's super-level flag filtration (P1 §5.3, P2 §III C).
 
     Parameters
     ----------
     network : ForceNetwork (forces in ⟨F⟩).
     max_homology_dim : default d − 1 (1 in 2D, 2 in 3D).
-    keep_zero_length : keep birth == death points (default False).
 
     Returns
     -------
@@ -148,7 +163,7 @@ def persistence_diagrams(network: ForceNetwork, *, max_homology_dim: int | None 
     """
     max_homology_dim = network.dim - 1 if max_homology_dim is None else int(max_homology_dim)
     complex_ = flag_complex(network, max_simplex_dim=max_homology_dim + 1)
-    return persistence_of_complex(complex_, max_homology_dim, keep_zero_length=keep_zero_length)
+    return persistence_of_complex(complex_, max_homology_dim)
 
 
 def quadrant_persistence_diagrams(network: ForceNetwork, box_lo, box_hi) -> dict[str, PersistenceDiagrams]:
