@@ -40,8 +40,8 @@ node_state() {  # the node's state as sinfo reports it (idle, mixed, alloc, down
     timeout 10 sinfo -h -N -n "$NODE" -o '%T' 2>/dev/null | head -n1 || true
 }
 
-node_usable() {
-    case "$(node_state)" in idle|mixed|allocated|alloc|completing) return 0 ;; *) return 1 ;; esac
+node_usable() {  # whether the node takes jobs; the state may be given (else sinfo is asked)
+    case "${1-$(node_state)}" in idle|mixed|allocated|alloc|completing) return 0 ;; *) return 1 ;; esac
 }
 
 need_root() {
@@ -200,8 +200,8 @@ wait_idle() {
     local state="" resumed=0
     for _ in $(seq "$WAIT_S"); do
         state=$(node_state)
+        if node_usable "$state"; then log "node $NODE is $state"; return 0; fi
         case "$state" in
-            idle|mixed|allocated|alloc|completing) log "node $NODE is $state"; return 0 ;;
             down*|drain*|drained*)
                 # a node left down by an earlier run (ReturnToService covers most cases): resume it once
                 if [[ $resumed -eq 0 ]]; then

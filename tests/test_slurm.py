@@ -1,19 +1,18 @@
 """config/smoke.yaml through the Slurm profile on a real one-node cluster gives the same data as a local run.
 
 Needs a Slurm cluster whose configuration is at /etc/slurm/slurm.conf (the executor plugin unsets SLURM_CONF).
-If `sinfo` shows this machine's node taking jobs, that cluster is used as it is. Otherwise, with
+If `scripts/slurm_cluster.sh status` says this machine's node takes jobs, that cluster is used as it is. Otherwise, with
 FORCENET_SLURM_TESTS=1 or CI=true, root and apt-get (or Slurm already installed), the test brings one up with
 scripts/slurm_cluster.sh and stops what it started afterwards; anywhere else it is skipped, with the reason.
 
-Target: every snapshot, every analysis and the aggregated datasets of the smoke config (5 simulations, 27
-snapshot analyses in one grouped cluster job, 5 aggregations). Figures and tables are left out: they read only
+Target: every snapshot, every analysis and the aggregated datasets of the smoke config (5 simulations, the
+snapshot analyses in grouped cluster jobs, 5 aggregations). Figures and tables are left out: they read only
 the aggregated datasets compared here, and twenty more one-figure cluster jobs would triple the runtime.
 """
 from __future__ import annotations
 
 import os
 import shutil
-import socket
 import subprocess
 import sys
 import time
@@ -26,6 +25,7 @@ import yaml
 
 from conftest import REPO
 from forcenet.datasets import open_dataset
+from forcenet.systems import validate_config
 
 pytestmark = [pytest.mark.slurm, pytest.mark.workflow, pytest.mark.slow]
 
@@ -37,14 +37,11 @@ VOLATILE_ATTRS = {"git_commit"}
 
 
 def _node_takes_jobs() -> bool:
-    if shutil.which("sinfo") is None:
-        return False
+    """`scripts/slurm_cluster.sh status` exits 0 when this node takes jobs (the one definition of that)."""
     try:
-        state = subprocess.run(["sinfo", "-h", "-N", "-n", socket.gethostname().split(".")[0], "-o", "%T"],
-                               capture_output=True, text=True, timeout=15).stdout.split()
+        return subprocess.run([str(SCRIPT), "status"], capture_output=True, timeout=60).returncode == 0
     except (OSError, subprocess.SubprocessError):
         return False
-    return bool(state) and state[0] in {"idle", "mixed", "allocated", "completing"}
 
 
 def _why_cluster_cannot_start() -> str | None:
@@ -115,7 +112,6 @@ def _netcdf_files(root: Path) -> list[Path]:
 
 def test_slurm_submitted_jobs(runs):
     _, slurm_dir, log = runs
-    assert "sbatch" in log or "SLURM run ID" in log or "slurm" in log.lower(), log[-2000:]
     # analyses went as grouped cluster jobs, not one allocation per snapshot
     assert (slurm_dir / ".snakemake/slurm_logs").is_dir()
     assert list((slurm_dir / ".snakemake/slurm_logs").glob("group_analysis*")), \
@@ -126,8 +122,10 @@ def test_same_files(runs):
     local_dir, slurm_dir, _ = runs
     local_files, slurm_files = _netcdf_files(local_dir), _netcdf_files(slurm_dir)
     assert slurm_files == local_files
-    n_snapshots = sum(1 for p in local_files if p.parts[1] == "sim")
-    assert n_snapshots == 27 and sum(1 for p in local_files if p.parts[1] == "analysis") == n_snapshots
+    smoke = yaml.safe_load(SMOKE.read_text())
+    expected = smoke["realizations"] * sum(len(spec.rho_grid) for spec in validate_config(smoke).values())
+    assert sum(1 for p in local_files if p.parts[1] == "sim") == expected
+    assert sum(1 for p in local_files if p.parts[1] == "analysis") == expected
 
 
 def test_outputs_identical_to_local_run(runs):

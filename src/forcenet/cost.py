@@ -51,8 +51,9 @@ def simulation_cost(spec: SystemSpec) -> SimulationCost:
     return SimulationCost(particles, int(steps), seconds / 3600, memory_mb)
 
 
-#: analysis kernels per snapshot and force kind, per particle [s] (bench/analysis.py: ~60 ms for 2000 disks,
-#: ~300 ms for 4000 spheres) plus netCDF reading and writing (~0.1 s per snapshot, bench/workflow_overhead.py)
+#: analysis kernels per snapshot and force kind, per particle [s]: the README's targets (60 ms for 2000 disks,
+#: 300 ms for 4000 spheres; bench/analysis.py measures 28 and 115 ms), so that estimates err long, plus netCDF
+#: reading and writing (~0.1 s per snapshot, bench/workflow_overhead.py)
 ANALYSIS_SECONDS_PER_PARTICLE = {2: 3e-5, 3: 7.5e-5}
 ANALYSIS_IO_SECONDS = 0.15
 

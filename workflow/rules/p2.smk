@@ -65,7 +65,7 @@ rule p2_tables:
         p2_table_snapshots,
     output:
         csv=[f"{RESULTS}/tables/p2_table{i}.csv" for i in (1, 2, 3)],
-        md=[report(f"{RESULTS}/tables/p2_table{i}.md", caption="../report/table.rst", category="P2") for i in (1, 2, 3)],
+        md=[report(f"{RESULTS}/tables/p2_table{i}.md", caption="../report/p2_tables.rst", category="P2") for i in (1, 2, 3)],
     log:
         f"{LOGS}/tables/p2_tables.log",
     params:
