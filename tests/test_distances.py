@@ -141,7 +141,8 @@ def test_dionysus_timeout_falls_back_to_the_exact_solver():
     assert result["wasserstein_1"] == pytest.approx(5.5)
 
 
-def test_consecutive_distances_and_ratios():
+def test_consecutive_diagram_distances():
+    # (ratios d_B/d_Wq: forcenet.report.p2.distance_ratio, tested in test_report_p2.py)
     def one_dim(points):
         points = np.asarray(points, float).reshape(-1, 2)
         return PersistenceDiagrams(np.zeros(len(points), int), points[:, 0], points[:, 1],
@@ -150,10 +151,11 @@ def test_consecutive_distances_and_ratios():
     sequence = [one_dim([[5.0, -np.inf]]), one_dim([[3.0, -np.inf]] + [[1.0, 0.0]] * 7),
                 one_dim([[3.0, -np.inf]] + [[1.0, 0.0]] * 7)]
     result = consecutive_diagram_distances(sequence, homology_dims=(0, 1))
+    assert sorted(result) == sorted(distances.METRICS)
     assert result["bottleneck"].shape == (2, 2)
     np.testing.assert_allclose(result["bottleneck"][:, 0], [2.0, 0.0])
-    np.testing.assert_allclose(result["ratio_bottleneck_wasserstein_1"][0, 0], 2.0 / 5.5)
-    assert np.isnan(result["ratio_bottleneck_wasserstein_2"][1, 0])  # 0 / 0
+    np.testing.assert_allclose(result["wasserstein_1"][:, 0], [5.5, 0.0])
+    np.testing.assert_allclose(result["wasserstein_2"][:, 1], [0.0, 0.0])  # no PD1 points anywhere
 
 
 @pytest.mark.parametrize("q", [1.0, 2.0])

@@ -69,16 +69,30 @@ def test_consecutive_distances_reproduce_the_worked_example():
         assert float(pair1.sel(force_kind="normal", homology_dim=1)) == pytest.approx(0.5, rel=1e-6)
         assert float(pair2.sel(force_kind="normal", homology_dim=1)) == pytest.approx(0.0, abs=1e-9)
     assert ds.attrs["essential_convention"] == "minus_one"
-    assert "-1" in ds.attrs["essential_convention_description"]
 
 
-def test_bottleneck_below_wasserstein_and_ratio_reductions():
-    ds = p2.consecutive_distances(worked_example_analyses())
+def test_consecutive_distances_pass_the_never_dying_convention_on():
+    # "drop": PD0(f) = {} and PD0(g) = 7 x (1, 0) (the never-dying classes left out): each point to the diagonal
+    ds = p2.consecutive_distances(worked_example_analyses(), "drop")
     d = ds["distance"].sel(force_kind="normal", homology_dim=0, rho=0.71)
-    assert float(d.sel(metric="bottleneck")) <= float(d.sel(metric="wasserstein_2")) <= float(
-        d.sel(metric="wasserstein_1"))
-    ratio = p2.distance_ratio(ds, "wasserstein_1").sel(force_kind="normal", homology_dim=0, rho=0.71)
-    assert float(ratio) == pytest.approx(2 / 5.5, rel=1e-6)
+    np.testing.assert_allclose(d.sel(metric=list(WORKED)), [0.5, 3.5, math.sqrt(7 * 0.25)], rtol=1e-6)
+    assert ds.attrs["essential_convention"] == "drop"
+
+
+def test_ratio_reductions():
+    ds = stacked_worked_example()
+    ratio = p2.distance_ratio(ds, "wasserstein_1").sel(force_kind="normal", homology_dim=0)
+    np.testing.assert_allclose(ratio.isel(rho=0), 2 / 5.5, rtol=1e-6)
+    assert np.isnan(ratio.isel(rho=1)).all()  # identical diagrams: 0 / 0
+    w2 = p2.distance_ratio(ds, "wasserstein_2").sel(force_kind="normal", homology_dim=0).isel(rho=0)
+    np.testing.assert_allclose(w2, 2 / WORKED["wasserstein_2"], rtol=1e-6)
+    # mean_distance_ratio: the ratio of the realization means (the curves of Figs 6, 8), not the mean of the ratios.
+    # PD1 {(2, 1)} against {}: every distance 0.5; realization 1 scaled to d_B 1.5, d_W1 1.0
+    distance = ds["distance"].copy()
+    distance.loc[dict(realization=1, metric="bottleneck")] *= 3
+    distance.loc[dict(realization=1, metric="wasserstein_1")] *= 2
+    mean = p2.mean_distance_ratio(ds.assign(distance=distance), "wasserstein_1")
+    assert float(mean.sel(force_kind="normal", homology_dim=1).isel(rho=0)) == pytest.approx(1.0 / 0.75)
 
 
 def test_consecutive_distances_reject_unordered_or_single_snapshots():
@@ -264,17 +278,14 @@ def verdicts(distances=None, tables=None, **kw) -> pd.Series:
     return p2.p2_validation(distances or {}, tables, **kw).set_index("claim_id")["verdict"]
 
 
-def test_table_claims_hold_on_p2_numbers_and_flip_when_swapped():
+def test_table_claims_hold_on_p2_numbers():
     v = verdicts(tables=paper_tables())
     assert [v[c] for c in ("III.D-1", "III.D-2", "III.D-3", "III.D-4")] == [p2.HOLDS] * 4
-    t = paper_tables()
-    swapped = verdicts(tables={"table1": t["table1"].iloc[::-1].set_axis(list(p2.TABLE_PAIRS)),
-                               "table2": t["table3"], "table3": t["table2"]})
-    assert swapped["III.D-3"] == p2.FAILS and swapped["III.D-4"] == p2.FAILS and swapped["III.D-2"] == p2.FAILS
 
 
 RHO = np.round(np.arange(0.63, 0.9001, 0.005), 4)
 J = 0.78  # rho_J of the frictional shapes below (P2 Fig. 6: Z ≈ 3 near 0.78)
+B, W1, W2 = "bottleneck", "wasserstein_1", "wasserstein_2"
 
 
 def frictional_shapes(x, *, peak=0.70, loop_peak=0.77, ratio_w1=0.2, ratio_w2=0.75, after=1.0):
@@ -290,27 +301,42 @@ def frictional_shapes(x, *, peak=0.70, loop_peak=0.77, ratio_w1=0.2, ratio_w2=0.
     decay = np.exp(-np.clip(x - 0.76, 0, None) / 0.01)
     r2_1 = np.where(jammed, 0.05, 0.5 * decay)
     r1_1 = np.where(jammed, 1e-4, 0.1 * decay)
-    return {(0, "bottleneck"): d_b0, (0, "wasserstein_1"): d_b0 / r1_0, (0, "wasserstein_2"): d_b0 / r2_0,
-            (1, "bottleneck"): d_b1, (1, "wasserstein_1"): d_b1 / r1_1, (1, "wasserstein_2"): d_b1 / r2_1}
+    return {(0, B): d_b0, (0, W1): d_b0 / r1_0, (0, W2): d_b0 / r2_0,
+            (1, B): d_b1, (1, W1): d_b1 / r1_1, (1, W2): d_b1 / r2_1}
 
 
-def p2_shaped(*, frictionless=False, rho_j=None, tangential="track", n_realizations=3, seed=0, **shape):
+def p2_shaped(*, frictionless=False, rho_j=None, tangential="track", n_realizations=3, seed=0, modify=None,
+              tangential_w_near=0.2, tangential_w_away=1.0, tangential_b=1.0, w1_factor=0.6,
+              loop_factors=(0.4, 4.0, 2.0), **shape):
     """A distances dataset whose curves follow P2's description: frictional (mu = 0.5, rho_J = 0.78) or, with
-    `frictionless`, the mu = 0 system (rho_J = 0.80, curves shifted by 0.02 and rescaled as P2 §IV C says)."""
+    `frictionless`, the mu = 0 system (rho_J = 0.80, curves shifted by 0.02 and rescaled as P2 §IV C says).
+
+    The factors are P2's numbers where it gives one (0.6, 1.3, 2) and otherwise values that fit its words
+    ("much less" …). The keywords exist so that a test can violate one claim:
+    - `modify(x, curves)`: changes the frictional-shaped curves {(dim, metric): values over x} in place (before
+      the frictionless rescaling), x the frictional-equivalent density.
+    - tangential (frictional system, P2 §IV B): `tangential="reversed"` mirrors the curves in rho; the tangential
+      d_W1, d_W2 are `tangential_w_near` × the normal ones within 0.02 of rho_J ("significantly smaller") and
+      `tangential_w_away` × elsewhere; the tangential d_B is `tangential_b` × the normal one ("similar").
+    - frictionless (P2 §IV C): `w1_factor` = d_W1(mu=0) / d_W1(mu=0.5) for beta0, 0.6 ("≈ 40 % smaller", stated
+      for rho < 0.65; P2 gives no other value, so it is used at every rho); `loop_factors` = beta1 rates mu=0 /
+      mu=0.5 for rho < 0.75, [0.75, rho_J), after rho_J ("much less", "much more dramatically", "about twice").
+    """
     rho_j = rho_j if rho_j is not None else (0.80 if frictionless else J)
     x = RHO - (rho_j - J)  # the frictional-equivalent density
+    curves = frictional_shapes(x, **({"peak": 0.72, **shape} if frictionless else shape))
+    if modify is not None:
+        modify(x, curves)
     if frictionless:
-        curves = frictional_shapes(x, peak=0.72, **shape)
         before = x < J
-        s = np.where(x < 0.65, 1.0, 1 / 1.3)  # component peaks 30 % lower without friction (§V)
-        curves[0, "bottleneck"] = np.where(before, curves[0, "bottleneck"] * s, curves[0, "bottleneck"])
-        curves[0, "wasserstein_2"] = np.where(before, curves[0, "wasserstein_2"] * s, curves[0, "wasserstein_2"])
-        curves[0, "wasserstein_1"] = curves[0, "wasserstein_1"] * 0.6 * np.where(before, 1.0, 1.17)
-        g = np.where(x < 0.75, 0.4, np.where(before, 4.0, 2.0))  # loops: slower, then much faster, then 2x
+        s = np.where(x < 0.65, 1.0, 1 / 1.3)  # component peaks 30 % lower without friction (§V: 20-40 % higher with)
+        curves[0, B] = np.where(before, curves[0, B] * s, curves[0, B])
+        curves[0, W2] = np.where(before, curves[0, W2] * s, curves[0, W2])
+        curves[0, W1] = curves[0, W1] * w1_factor
+        below, close, after = loop_factors
+        g = np.where(x < 0.75, below, np.where(before, close, after))
         for m in p2.METRICS:
             curves[1, m] = curves[1, m] * g
-    else:
-        curves = frictional_shapes(x, **shape)
     rng = np.random.default_rng(seed)
     values = np.empty((n_realizations, RHO.size, 2, 2, 3))
     near = np.abs(RHO - rho_j) <= 0.02
@@ -321,8 +347,10 @@ def p2_shaped(*, frictionless=False, rho_j=None, tangential="track", n_realizati
                 base = curves[h, m]
                 values[r, :, 0, h, k] = base * noise[0]
                 other = base[::-1] if tangential == "reversed" else base
-                if not frictionless and m != "bottleneck":
-                    other = np.where(near, 0.2 * other, other)  # §IV B: smaller d_W near rho_J
+                if not frictionless:
+                    factor = (np.full(RHO.size, tangential_b) if m == B
+                              else np.where(near, tangential_w_near, tangential_w_away))
+                    other = factor * other
                 values[r, :, 1, h, k] = other * noise[1]
     z = 3.0 + 1.5 * np.tanh((RHO - rho_j) / 0.02)
     return xr.Dataset(
@@ -333,31 +361,125 @@ def p2_shaped(*, frictionless=False, rho_j=None, tangential="track", n_realizati
         attrs={"essential_convention": "minus_one", "dimension": 2})
 
 
-def both_systems(**frictional_options):
-    return {p2.FRICTIONAL: p2_shaped(**frictional_options), p2.FRICTIONLESS: p2_shaped(frictionless=True)}
+def both_systems(frictional=None, frictionless=None):
+    return {p2.FRICTIONAL: p2_shaped(**(frictional or {})),
+            p2.FRICTIONLESS: p2_shaped(frictionless=True, **(frictionless or {}))}
 
 
-def test_data_shaped_as_p2_describes_satisfy_every_claim():
-    table = p2.p2_validation(both_systems(), paper_tables())
-    failing = table[table["verdict"] != p2.HOLDS]
-    assert failing.empty, failing[["claim_id", "measured", "verdict"]].to_string()
+# --- modifications of the shaped curves (`p2_shaped(modify=...)`) --------------------------------------------------
+def late(x):  # 0.75 <= rho < rho_J
+    return (x >= 0.75) & (x < J)
 
 
-@pytest.mark.parametrize("claim_id, options", [
-    ("IV.A-3", {"ratio_w2": 0.3}),
-    ("IV.A-4", {"ratio_w1": 0.05}),
-    ("IV.A-8", {"loop_peak": 0.66}),
-    ("IV.A-9", {"loop_peak": 0.72}),
-    ("IV.A-11a", {"after": 3000.0}),
-    ("IV.B-1", {"tangential": "reversed"}),
-    ("IV.C-1", {"rho_j": 0.83}),
-    ("V-1", {"ratio_w1": 0.02}),
-])
-def test_verdicts_flip_when_the_data_violate_a_claim(claim_id, options):
-    good = verdicts(both_systems())
-    assert good[claim_id] == p2.HOLDS
-    bad = verdicts(both_systems(**options))
-    assert bad[claim_id] == p2.FAILS
+def scaled(dim, metrics, factor, where):
+    """Multiply the PD_dim curves of `metrics` by `factor` where `where(x)`."""
+    def modify(x, curves):
+        for m in metrics:
+            curves[dim, m] = np.where(where(x), factor * curves[dim, m], curves[dim, m])
+    return modify
+
+
+def with_ratio(dim, denominator, ratio, where):
+    """Set d_B / `denominator` of PD_dim to `ratio(x)` where `where(x)` (the Wasserstein curve follows d_B)."""
+    def modify(x, curves):
+        curves[dim, denominator] = np.where(where(x), curves[dim, B] / ratio(x), curves[dim, denominator])
+    return modify
+
+
+# The synthetic data contain the one number P2 gives for d_W1 with and without friction (mu=0 / mu=0.5 = 0.6,
+# §IV C) at every rho. After jamming that contradicts V-2 ("the component rates become quite similar"; criterion:
+# within value_factor = 1.5 of 1 for every metric), so V-2 is the one claim these data do not satisfy. (A factor
+# near 0.7 would satisfy V-2 and IV.C-3 both, but P2 states no such number.)
+SHAPED_DATA_FAIL = {"V-2"}
+
+
+def test_data_shaped_as_p2_describes_satisfy_every_claim_but_v2():
+    table = p2.p2_validation(both_systems(), paper_tables()).set_index("claim_id")
+    not_holding = table[table["verdict"] != p2.HOLDS]
+    assert set(not_holding.index) == SHAPED_DATA_FAIL, not_holding[["measured", "verdict"]].to_string()
+    assert (not_holding["verdict"] == p2.FAILS).all()
+    assert "d_W1 0.6" in table.loc["V-2", "measured"]
+
+
+def test_equal_w1_rates_satisfy_v2_but_not_iv_c3():
+    # d_W1 equal with and without friction: the component rates after jamming are similar (V-2), but d_B/d_W1 is
+    # no longer consistently larger for mu = 0 (IV.C-3)
+    v = verdicts(both_systems(frictionless={"w1_factor": 1.0}), paper_tables())
+    assert v["V-2"] == p2.HOLDS and v["IV.C-3"] == p2.FAILS
+
+
+def table_variation(change):
+    def tables():
+        t = paper_tables()
+        change(t)
+        return t
+    return tables
+
+
+def swap_rows(t):
+    t["table1"] = t["table1"].iloc[::-1].set_axis(list(p2.TABLE_PAIRS))
+
+
+def larger_bottleneck(t):
+    t["table1"][[p2.table_column(h, B) for h in (0, 1)]] *= 3
+
+
+def even_table2(t):
+    t["table2"] = t["table3"].copy()
+
+
+def localised_table3(t):
+    t["table3"] = t["table2"].copy()
+
+
+# One variation of the data per claim under which it does not hold: {"frictional": p2_shaped options,
+# "frictionless": p2_shaped(frictionless=True) options, "tables": () -> Tables I-III}.
+VIOLATIONS = [
+    ("III.D-1", {"tables": table_variation(larger_bottleneck)}),  # d_B(a,c) 0.36-0.45 > 0.15·1.5
+    ("III.D-2", {"tables": table_variation(swap_rows)}),  # d_W1 grows less than d_W2 from (a,b) to (a,c)
+    ("III.D-3", {"tables": table_variation(even_table2)}),  # (a,b) differences spread over all quadrants
+    ("III.D-4", {"tables": table_variation(localised_table3)}),  # (a,c) differences in one quadrant
+    ("IV.A-1", {"frictional": {"modify": scaled(0, [W1], 10.0, lambda x: x < 0.70)}}),  # d_W1 peaks at 0.70
+    ("IV.A-2", {"frictional": {"modify": scaled(0, p2.METRICS, 0.1, lambda x: x < J)}}),  # d_B ≈ 2 before rho_J
+    ("IV.A-3", {"frictional": {"ratio_w2": 0.3}}),
+    ("IV.A-4", {"frictional": {"ratio_w1": 0.05}}),
+    ("IV.A-5", {"frictional": {"modify": scaled(0, p2.METRICS, 5.0, late)}}),  # no drop of d_B at 0.75
+    ("IV.A-6", {"frictional": {"modify": with_ratio(0, W1, lambda x: 0.2 * np.exp((x - 0.75) / 0.01), late)}}),
+    ("IV.A-7", {"frictional": {"modify": with_ratio(0, W2, lambda x: 0.75, lambda x: x >= J - 0.02)}}),  # no plunge
+    ("IV.A-8", {"frictional": {"loop_peak": 0.66}}),
+    ("IV.A-9", {"frictional": {"loop_peak": 0.72}}),
+    ("IV.A-10", {"frictional": {"modify": with_ratio(1, W1, lambda x: 0.1 * np.exp((x - 0.76) / 0.01),
+                                                     lambda x: (x >= 0.76) & (x < J))}}),  # loop d_B/d_W1 rises
+    ("IV.A-11a", {"frictional": {"after": 3000.0}}),
+    ("IV.A-11b", {"frictionless": {"after": 3000.0}}),
+    ("IV.A-12a", {"frictional": {"modify": with_ratio(0, W2, lambda x: 0.75, lambda x: x >= J)}}),  # no drop
+    ("IV.A-12b", {"frictional": {"modify": with_ratio(1, W1, lambda x: 0.1, lambda x: x >= J)}}),  # no drop
+    ("IV.B-1", {"frictional": {"tangential": "reversed"}}),
+    ("IV.B-2", {"frictional": {"tangential_w_near": 1.0, "tangential_w_away": 0.2}}),  # deviation away from rho_J
+    ("IV.B-3", {"frictional": {"tangential_w_near": 1.0}}),  # tangential d_W as large as normal near rho_J
+    ("IV.B-4", {"frictional": {"tangential_b": 3.0}}),  # tangential d_B three times the normal one
+    ("IV.C-1", {"frictional": {"rho_j": 0.83}}),
+    ("IV.C-2", {"frictionless": {"w1_factor": 1.5}}),  # d_W1 larger without friction
+    ("IV.C-3", {"frictionless": {"w1_factor": 1.0}}),  # d_B/d_W1 no longer larger for mu = 0
+    ("IV.C-4", {"frictionless": {"peak": 0.68}}),  # mu = 0 slows down earlier relative to its rho_J
+    ("IV.C-5", {"frictionless": {"loop_factors": (2.0, 4.0, 2.0)}}),  # loops change faster for mu = 0 early on
+    ("IV.C-6", {"frictionless": {"loop_factors": (0.4, 1.0, 2.0)}}),  # no stronger change near jamming
+    ("IV.C-7", {"frictionless": {"loop_factors": (0.4, 4.0, 1.0)}}),  # same loop rates after jamming
+    ("V-1", {"frictional": {"ratio_w1": 0.02}}),  # frictional d_W1 peak 10x larger
+    ("V-2", {}),  # the shaped data themselves (SHAPED_DATA_FAIL)
+]
+
+
+def test_every_claim_has_a_violating_variation():
+    assert [claim_id for claim_id, _ in VIOLATIONS] == [c.claim_id for c in p2.CLAIMS]
+
+
+@pytest.mark.parametrize("claim_id, variation", VIOLATIONS, ids=[c for c, _ in VIOLATIONS])
+def test_verdict_is_does_not_hold_when_the_data_violate_the_claim(claim_id, variation):
+    tables = variation.get("tables", paper_tables)()
+    data = both_systems(variation.get("frictional"), variation.get("frictionless"))
+    table = p2.p2_validation(data, tables).set_index("claim_id")
+    assert table.loc[claim_id, "verdict"] == p2.FAILS, table.loc[claim_id, "measured"]
 
 
 def test_missing_system_is_not_evaluated():
@@ -368,16 +490,50 @@ def test_missing_system_is_not_evaluated():
     assert alone.loc["III.D-1", "verdict"] == p2.NOT_EVALUATED
 
 
+# claims that read one normal-force curve: its argmax (IV.A-1, IV.A-9, IV.C-4), a ratio (IV.A-3, IV.C-3), a median
+ALL_NAN_NOT_EVALUATED = {
+    (p2.FRICTIONAL, 0, B): ["IV.A-2", "IV.A-3", "IV.C-3", "IV.C-4"],
+    (p2.FRICTIONAL, 0, W1): ["IV.A-1", "IV.A-4", "IV.C-3"],
+    (p2.FRICTIONAL, 1, B): ["IV.A-9", "IV.A-10"],
+    (p2.FRICTIONLESS, 0, B): ["IV.C-2", "IV.C-3", "IV.C-4", "V-2"],
+    (p2.FRICTIONLESS, 1, W2): ["IV.A-11b", "IV.C-5", "IV.C-7"],
+}
+
+
+@pytest.mark.parametrize("system, dim, metric", list(ALL_NAN_NOT_EVALUATED))
+def test_all_nan_curve_is_not_evaluated(system, dim, metric):
+    data = both_systems()
+    data[system]["distance"].loc[dict(force_kind="normal", homology_dim=dim, metric=metric)] = np.nan
+    table = p2.p2_validation(data, paper_tables()).set_index("claim_id")
+    for claim_id in ALL_NAN_NOT_EVALUATED[system, dim, metric]:
+        assert table.loc[claim_id, "verdict"] == p2.NOT_EVALUATED, claim_id
+        assert "0 rho value(s)" in table.loc[claim_id, "measured"], claim_id
+
+
+def test_after_jamming_windows_leave_out_rho_j():
+    curves = p2._Curves(p2.FRICTIONAL, p2_shaped(), 2, p2.ValidationTolerances(min_points=1))
+    s = curves.mean("normal", 0, B)
+    assert curves.window(s, lo=J).index.min() == pytest.approx(J)
+    assert curves.window(s, lo=J, closed_lo=False).index.min() == pytest.approx(J + 0.005)
+    assert curves.window(s, hi=J, closed_hi=True).index.max() == pytest.approx(J)
+    with pytest.raises(p2._NotEvaluated, match=r"0 rho value\(s\) in \(0.900, inf\)"):
+        curves.window(s, lo=0.9, closed_lo=False)
+
+
 def test_jamming_density_from_z_crossing():
     assert p2.jamming_density(p2_shaped(rho_j=0.81)) == pytest.approx(0.81, abs=0.005)
 
 
 def test_validation_markdown_lists_every_claim(tmp_path):
     table = p2.p2_validation(both_systems(), paper_tables())
-    assert set(table["verdict"]) <= {p2.HOLDS, p2.FAILS, p2.NOT_EVALUATED}
-    assert table["claim_id"].is_unique and len(table) == len(p2.CLAIMS)
     p2.write_p2_validation(table, tmp_path / "p2_validation.md", tmp_path / "p2_validation.csv")
     md = (tmp_path / "p2_validation.md").read_text()
-    for claim_id in table["claim_id"]:
-        assert f"| {claim_id} |" in md
+    n = len(p2.CLAIMS)
+    assert f"holds: {n - len(SHAPED_DATA_FAIL)}; does not hold: {len(SHAPED_DATA_FAIL)}; not evaluated: 0" in md
+    rows = {line.split(" | ")[0].removeprefix("| "): line for line in md.splitlines() if line.startswith("| ")}
+    for claim_id, verdict in zip(table["claim_id"], table["verdict"]):
+        assert rows[claim_id].endswith(f"| {verdict} |"), rows[claim_id]
+    assert f"| {p2.FRICTIONAL} | 3 | {RHO.size} | 0.630–0.900 | 0.78 | minus_one |" in md
     assert "value_factor = 1.5" in md and "2d_poly_mu0 " in md
+    back = pd.read_csv(tmp_path / "p2_validation.csv")
+    assert list(back.columns) == list(p2.VALIDATION_COLUMNS) and list(back["verdict"]) == list(table["verdict"])

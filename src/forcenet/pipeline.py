@@ -120,6 +120,11 @@ def aggregate(*, analyses: Sequence[str], realizations: Sequence[int], rhos: Seq
         log.info("stacked %d analyses of %s", len(datasets), system)
 
 
+#: the `analysis:` config keys that the per-snapshot analysis reads (`snapshot_measures`, `analysis_attrs`); the
+#: workflow passes only these to the analysis jobs, so that other keys do not rerun every snapshot analysis
+SNAPSHOT_ANALYSIS_KEYS = ("thresholds", "remove_rattlers", "force_pdf")
+
+
 def analyze_run(*, snapshots: Sequence[str], outputs: Sequence[str], analysis: Mapping[str, Any],
                 log_path: str | None = None) -> None:
     """Analyse every snapshot of one compression run (one process: imports and JIT paid once)."""
@@ -238,16 +243,19 @@ def p2_distances(*, analyses: Sequence[str], realizations: Sequence[int], output
 
 def p2_tables(*, snapshots: Sequence[str], csv: Sequence[str], md: Sequence[str], analysis: Mapping[str, Any],
               log_path: str | None = None) -> None:
-    """P2 Tables I–III from three nearby snapshots a, b, c (whole box and quadrants)."""
+    """P2 Tables I–III from three nearby snapshots a, b, c (whole box and quadrants); `csv` and `md` are the
+    paths `forcenet.report.p2.write_p2_tables` writes (``{directory}/p2_table{1,2,3}.{csv,md}``)."""
     from forcenet.datasets import read_snapshot
-    from forcenet.report.p2 import p2_tables as compute_tables, write_table
+    from forcenet.report.p2 import p2_tables as compute_tables, write_p2_tables
 
     with job_logger(log_path, "p2_tables") as log:
         tables = compute_tables([read_snapshot(p) for p in snapshots], remove_rattlers=analysis["remove_rattlers"],
                                 essential_convention=analysis["essential_convention"],
                                 timeout_s=analysis["distance_timeout_s"])
-        for (name, table), csv_path, md_path in zip(sorted(tables.items()), csv, md):
-            write_table(table, csv_path, md_path)
+        written = write_p2_tables(tables, Path(csv[0]).parent)
+        expected = sorted(Path(p).resolve() for p in (*csv, *md))
+        if sorted(p.resolve() for p in written) != expected:
+            raise ValueError(f"P2 tables written as {[str(p) for p in written]}, expected {[str(p) for p in expected]}")
         log.info("P2 tables from %s", ", ".join(snapshots))
 
 

@@ -14,7 +14,9 @@ for _name, _spec in SYSTEMS.items():
         log:
             f"{LOGS}/analyze/{_name}/{{realization}}.log",
         params:
-            analysis=config["analysis"],
+            # only the keys the snapshot analysis reads: changing another `analysis:` key (P2's distance settings)
+            # must not rerun every snapshot analysis
+            analysis={key: config["analysis"][key] for key in SNAPSHOT_ANALYSIS_KEYS},
         group:
             "analysis"
         threads: 1

@@ -285,7 +285,10 @@ def dionysus_distances(points_a: np.ndarray, points_b: np.ndarray, *, timeout_s:
 
 def consecutive_diagram_distances(diagrams: Sequence, homology_dims: Sequence[int] = (0, 1),
                                   essential: str = "minus_one", **options) -> dict[str, np.ndarray]:
-    """Distances between consecutive diagrams of a sequence (P2 §IV, Figs 6–10) and their ratios (Figs 7, 10).
+    """Distances between consecutive diagrams of a sequence (P2 §IV, Figs 6–10).
+
+    `forcenet.report.p2.consecutive_distances` labels these per force kind; the ratios d_B/d_Wq of P2 Figs 7, 10
+    are `forcenet.report.p2.distance_ratio`.
 
     Parameters
     ----------
@@ -295,9 +298,8 @@ def consecutive_diagram_distances(diagrams: Sequence, homology_dims: Sequence[in
 
     Returns
     -------
-    dict of ndarrays, shape (S − 1, len(homology_dims)): "bottleneck", "wasserstein_1", "wasserstein_2",
-    and "ratio_bottleneck_wasserstein_1" = d_B/d_W1, "ratio_bottleneck_wasserstein_2" = d_B/d_W2 (NaN where
-    the denominator is 0). Row s compares diagrams s and s + 1.
+    dict {"bottleneck", "wasserstein_1", "wasserstein_2"} of ndarrays, shape (S − 1, len(homology_dims)) [⟨F⟩].
+    Row s compares diagrams s and s + 1.
     """
     n_pairs = max(len(diagrams) - 1, 0)
     result = {metric: np.zeros((n_pairs, len(homology_dims))) for metric in METRICS}
@@ -305,9 +307,4 @@ def consecutive_diagram_distances(diagrams: Sequence, homology_dims: Sequence[in
         for column, k in enumerate(homology_dims):
             for metric, value in diagram_distances(diagrams[s], diagrams[s + 1], k, essential, **options).items():
                 result[metric][s, column] = value
-    with np.errstate(divide="ignore", invalid="ignore"):
-        for q in (1, 2):
-            denominator = result[f"wasserstein_{q}"]
-            result[f"ratio_bottleneck_wasserstein_{q}"] = np.where(
-                denominator > 0, result["bottleneck"] / np.where(denominator > 0, denominator, 1.0), np.nan)
     return result
