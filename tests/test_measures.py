@@ -160,7 +160,7 @@ def constructed_diagrams():
         homology_dim=np.array([0, 0, 0, 0, 0, 0, 1, 1, 1]),
         birth=np.array([3.0, 2.55, 1.2, 0.5, 0.45, 4.0, 1.0, 0.8, 2.0]),
         death=np.array([2.95, 0.5, 0.2, 0.3, 0.2, -np.inf, 0.5, 0.6, -np.inf]),
-        essential=np.array([0, 0, 0, 0, 0, 1, 0, 0, 1], bool), max_dim=1)
+        max_dim=1)
 
 
 def test_persistence_bins_of_a_constructed_diagram():

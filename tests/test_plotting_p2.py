@@ -1,6 +1,11 @@
 """P2 figures: every figure function returns a Figure whose axes are labelled; the data reach the plot."""
 from __future__ import annotations
 
+import ast
+import inspect
+import re
+from pathlib import Path
+
 import matplotlib.pyplot as plt
 import numpy as np
 import pytest
@@ -8,6 +13,8 @@ from matplotlib.figure import Figure
 
 from forcenet.plotting import p2 as figures
 from forcenet.report import p2 as report
+
+REPO = Path(__file__).resolve().parents[1]
 
 from test_report_p2 import (NEVER, analysis_factory, lattice_contacts, lattice_forces_and_quadrants,
                             lattice_snapshot, p2_shaped, permuted)
@@ -20,10 +27,13 @@ def snapshots():
             lattice_snapshot(permuted(forces, quadrant, report.QUADRANTS), 0.80)]
 
 
+DIAGRAMS = {("normal", 0): [(3.0, NEVER), (0.0, NEVER), (2.5, 1.0), (1.8, 0.9)],
+            ("normal", 1): [(1.2, NEVER), (0.9, 0.4)]}
+
+
 @pytest.fixture(scope="module")
 def analysis():
-    return analysis_factory(0.79, 3.1, {("normal", 0): [(3.0, NEVER), (0.0, NEVER), (2.5, 1.0), (1.8, 0.9)],
-                                        ("normal", 1): [(1.2, NEVER), (0.9, 0.4)]})
+    return analysis_factory(0.79, 3.1, DIAGRAMS)
 
 
 def inputs(name, snapshots, analysis):
@@ -35,14 +45,20 @@ def inputs(name, snapshots, analysis):
 
 
 def labelled(fig: Figure) -> None:
+    """Every axis (and colour bar) is labelled, and every label names its quantity's symbol ($…$)."""
     drawn = [ax for ax in fig.axes if ax.axison and (ax.lines or ax.collections)]
     assert drawn, "nothing drawn"
     for ax in fig.axes:
-        if not ax.axison or ax.get_label() == "<colorbar>":
+        if not ax.axison:
+            continue
+        if ax.get_label() == "<colorbar>":
+            label = ax.get_ylabel() or ax.get_xlabel()
+            assert "$" in label, f"colour bar without a symbol: {label!r}"
             continue
         twin = ax.get_shared_x_axes().get_siblings(ax)
-        assert ax.get_ylabel(), f"unlabelled y axis in {ax.get_title()!r}"
-        assert ax.get_xlabel() or any(t.get_xlabel() for t in twin), f"unlabelled x axis in {ax.get_title()!r}"
+        xlabel = ax.get_xlabel() or next((t.get_xlabel() for t in twin if t.get_xlabel()), "")
+        assert "$" in ax.get_ylabel(), f"y axis without a symbol in {ax.get_title()!r}: {ax.get_ylabel()!r}"
+        assert "$" in xlabel, f"x axis without a symbol in {ax.get_title()!r}: {xlabel!r}"
 
 
 @pytest.mark.parametrize("name", sorted(figures.P2_FIGURES))
@@ -55,11 +71,27 @@ def test_every_figure_returns_a_labelled_figure(name, snapshots, analysis):
         plt.close(fig)
 
 
-def test_registry_names_the_issue_figures():
-    assert set(figures.P2_FIGURES) == {
-        "p2_fig01_snapshots_differences", "p2_fig03_diagrams", "p2_fig06_distances_normal_mu05",
-        "p2_fig07_ratios_mu05", "p2_fig08_distances_tangential_mu05", "p2_fig09_distances_normal_mu0",
-        "p2_fig10_ratios_mu0"}
+def workflow_dict(name: str) -> ast.Dict:
+    """The literal ``NAME = {...}`` of workflow/rules/p2.smk (a Snakemake file, so only that statement is parsed)."""
+    text = (REPO / "workflow" / "rules" / "p2.smk").read_text()
+    match = re.search(rf"^{name} = \{{.*?^\}}", text, re.MULTILINE | re.DOTALL)
+    assert match, f"{name} is not a top-level dict literal of workflow/rules/p2.smk"
+    node = ast.parse(match.group(0)).body[0].value
+    assert isinstance(node, ast.Dict)
+    return node
+
+
+def test_registry_matches_the_workflow():
+    """The workflow builds (rule all → P2_FIGURES ⊆ P2_FIGURE_INPUTS) and captions exactly the registered
+    figures, and hands each one the input its function takes first (snapshots, analysis or distances)."""
+    inputs_node = workflow_dict("P2_FIGURE_INPUTS")
+    names = [ast.literal_eval(k) for k in inputs_node.keys]
+    assert set(names) == set(figures.P2_FIGURES)
+    assert {ast.literal_eval(k) for k in workflow_dict("P2_CAPTIONS").keys} == set(figures.P2_FIGURES)
+    for name, value in zip(names, inputs_node.values):
+        kind = ast.literal_eval(value.elts[0])
+        first = next(iter(inspect.signature(figures.P2_FIGURES[name]).parameters))
+        assert first == kind, f"{name}: the workflow passes {kind!r}, the function takes {first!r}"
 
 
 def test_distance_figure_draws_realization_means_on_log_axes():
@@ -82,6 +114,65 @@ def test_tangential_figure_plots_tangential_distances():
         expected = report.realization_mean(ds["distance"].sel(force_kind="tangential", homology_dim=1,
                                                               metric="wasserstein_1"))
         np.testing.assert_allclose(fig.axes[1].lines[1].get_ydata(), expected.values)
+    finally:
+        plt.close(fig)
+
+
+@pytest.mark.parametrize("name, system", [("p2_fig07_ratios_mu05", report.FRICTIONAL),
+                                          ("p2_fig10_ratios_mu0", report.FRICTIONLESS)])
+def test_ratio_figure_draws_the_ratio_of_mean_distances(name, system):
+    ds = p2_shaped(frictionless=system == report.FRICTIONLESS)
+    fig = figures.P2_FIGURES[name](ds)
+    try:
+        for h, ax in zip(report.P2_HOMOLOGY_DIMS, fig.axes):
+            assert ax.get_yscale() == "log"
+            for line, den in zip(ax.lines, ("wasserstein_1", "wasserstein_2")):
+                expected = report.mean_distance_ratio(ds, den).sel(force_kind="normal", homology_dim=h)
+                np.testing.assert_allclose(line.get_xdata(), expected["rho"].values)
+                np.testing.assert_allclose(line.get_ydata(), expected.values)
+            rho_j = report.jamming_density(ds, int(ds.attrs.get("dimension", 2)))
+            assert [float(line.get_xdata()[0]) for line in ax.lines[2:]] == [pytest.approx(rho_j)]  # ρ_J marked
+    finally:
+        plt.close(fig)
+
+
+def test_diagram_figure_plots_each_point_once(analysis):
+    fig = figures.p2_fig03_diagrams(analysis, essential_death=-1.0)
+    try:
+        for h, ax in zip(report.P2_HOMOLOGY_DIMS, fig.axes):
+            points = DIAGRAMS["normal", h]
+            finite, essential = ax.collections[:2]
+            assert sorted(map(tuple, finite.get_offsets().tolist())) == sorted(p for p in points if p[1] is not NEVER)
+            assert sorted(map(tuple, essential.get_offsets().tolist())) == sorted(
+                (b, -1.0) for b, d in points if d is NEVER)
+            assert f"{len(points)} points" in ax.get_title()
+    finally:
+        plt.close(fig)
+
+
+def edge_rows(collection) -> np.ndarray:
+    """(x0, y0, x1, y1, value) per drawn edge, in a canonical order."""
+    segments = np.array([path.vertices[:2].ravel() for path in collection.get_paths()]).reshape(-1, 4)
+    rows = np.column_stack([segments, np.asarray(collection.get_array(), dtype=float)])
+    return rows[np.lexsort(rows.T[::-1])]
+
+
+def test_fig01_builds_each_network_once_and_draws_the_reported_differences(snapshots, monkeypatch):
+    import forcenet.network
+
+    built = []
+    original = forcenet.network.build_force_network
+    monkeypatch.setattr(forcenet.network, "build_force_network",
+                        lambda *args, **kwargs: built.append(1) or original(*args, **kwargs))
+    fig = figures.p2_fig01_snapshots_differences(snapshots)
+    monkeypatch.undo()
+    try:
+        assert len(built) == len(snapshots)  # a, b, c: the difference panels reuse them
+        position = snapshots[0]["position"].values
+        for ax, k in zip(fig.axes[3:5], (1, 2)):
+            diff = report.force_differences(snapshots[0], snapshots[k])
+            expected = np.column_stack([position[diff.i, :2], position[diff.j, :2], diff.force])
+            np.testing.assert_allclose(edge_rows(ax.collections[0]), expected[np.lexsort(expected.T[::-1])])
     finally:
         plt.close(fig)
 

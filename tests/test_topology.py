@@ -166,7 +166,7 @@ def test_betti_curves_match_gf2_homology_at_thresholds_equal_to_forces(dim, n, p
 
 def test_betti_curves_count_points_alive_at_each_threshold():
     d = PersistenceDiagrams(homology_dim=np.array([0, 0, 1, 1]), birth=np.array([2.0, 1.0, 1.5, 0.5]),
-                            death=np.array([-np.inf, 0.5, 1.0, -np.inf]), essential=np.array([1, 0, 0, 1], bool))
+                            death=np.array([-np.inf, 0.5, 1.0, -np.inf]))
     curves = betti_curves(d, np.array([0.0, 0.5, 0.75, 1.0, 1.25, 2.0, 2.5]), max_dim=1)
     # alive iff birth ≥ θ > death: (1, 0.5) only for θ in (0.5, 1]; (1.5, 1.0) only for θ in (1, 1.5]
     np.testing.assert_array_equal(curves, [[1, 1, 2, 2, 1, 1, 0],
@@ -180,10 +180,8 @@ def test_essential_is_read_off_the_deaths():
     np.testing.assert_array_equal(d.select(0).essential, [True, False])
     assert d.top_dim == 1 and PersistenceDiagrams(d.homology_dim, d.birth, d.death, max_dim=2).top_dim == 2
     np.testing.assert_array_equal(d.lifespan, [np.inf, 0.5, 0.5])
-    same = PersistenceDiagrams(d.homology_dim, d.birth, d.death, np.array([True, False, False]))  # still accepted
-    np.testing.assert_array_equal(same.essential, d.essential)
-    with pytest.raises(ValueError, match="essential"):
-        PersistenceDiagrams(d.homology_dim, d.birth, d.death, np.array([True, True, False]))
+    with pytest.raises(ValueError, match="death"):
+        PersistenceDiagrams(d.homology_dim, d.birth, d.death[:2])
 
 
 def test_default_threshold_grid():

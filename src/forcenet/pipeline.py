@@ -222,17 +222,19 @@ def p1_validation_table(*, measures: Sequence[str], systems: Sequence[str], csv:
 
 
 def p2_distances(*, analyses: Sequence[str], realizations: Sequence[int], output: str, essential_convention: str,
-                 timeout_s: float, config: Mapping[str, Any], system: str, log_path: str | None = None) -> None:
+                 config: Mapping[str, Any], system: str, log_path: str | None = None) -> None:
     """P2 §III D: d_B, d_W1, d_W2 between consecutive snapshots of every realization → distances.nc."""
     from forcenet.datasets import open_dataset, provenance_attrs, write_netcdf
     from forcenet.report.p2 import consecutive_distances, stack_distances
 
     with job_logger(log_path, f"p2_distances.{system}") as log:
-        per_realization_count = len(analyses) // len(realizations)
+        per_realization_count, left = divmod(len(analyses), len(realizations))
+        if left or not per_realization_count:
+            raise ValueError(f"{len(analyses)} analyses cannot be split evenly over realizations {list(realizations)}")
         results = []
         for index, realization in enumerate(realizations):
             paths = analyses[index * per_realization_count:(index + 1) * per_realization_count]
-            results.append(consecutive_distances([open_dataset(p) for p in paths], essential_convention, timeout_s))
+            results.append(consecutive_distances([open_dataset(p) for p in paths], essential_convention))
             log.info("%s realization %d: %d consecutive pairs", system, realization, len(paths) - 1)
         spec = system_from_config(system, config)
         attrs = provenance_attrs(system=system, realization=-1, seed=config["seed"], config=config,
@@ -250,8 +252,7 @@ def p2_tables(*, snapshots: Sequence[str], csv: Sequence[str], md: Sequence[str]
 
     with job_logger(log_path, "p2_tables") as log:
         tables = compute_tables([read_snapshot(p) for p in snapshots], remove_rattlers=analysis["remove_rattlers"],
-                                essential_convention=analysis["essential_convention"],
-                                timeout_s=analysis["distance_timeout_s"])
+                                essential_convention=analysis["essential_convention"])
         written = write_p2_tables(tables, Path(csv[0]).parent)
         expected = sorted(Path(p).resolve() for p in (*csv, *md))
         if sorted(p.resolve() for p in written) != expected:

@@ -49,9 +49,8 @@ rule p2_distances:
     log:
         f"{LOGS}/distances/{{system}}.log",
     params:
-        realizations=lambda wildcards: [realization_index(r) for r in REALIZATIONS],
+        realizations=[realization_index(r) for r in REALIZATIONS],
         essential_convention=config["analysis"]["essential_convention"],
-        timeout_s=config["analysis"]["distance_timeout_s"],
     resources:
         runtime=60,
         mem_mb=4000,
@@ -69,7 +68,7 @@ rule p2_tables:
     log:
         f"{LOGS}/tables/p2_tables.log",
     params:
-        analysis=config["analysis"],
+        analysis={key: config["analysis"][key] for key in ("remove_rattlers", "essential_convention")},
     script:
         "../scripts/p2_tables.py"
 

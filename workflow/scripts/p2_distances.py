@@ -3,6 +3,6 @@ from forcenet.pipeline import p2_distances
 
 p2_distances(  # noqa: F821 — `snakemake` is injected by Snakemake
     analyses=list(snakemake.input), realizations=snakemake.params.realizations, output=snakemake.output[0],
-    essential_convention=snakemake.params.essential_convention, timeout_s=snakemake.params.timeout_s,
+    essential_convention=snakemake.params.essential_convention,
     config=snakemake.config, system=snakemake.wildcards.system, log_path=snakemake.log[0],
 )

@@ -26,7 +26,7 @@ METRIC_COLORS = {metric: FALLBACK_COLORS[i] for i, metric in enumerate(report.ME
 METRIC_MARKERS = {"bottleneck": "o", "wasserstein_1": "s", "wasserstein_2": "^"}
 METRIC_TEX = {"bottleneck": r"$d_B$", "wasserstein_1": r"$d_{W1}$", "wasserstein_2": r"$d_{W2}$"}
 KIND_WORDS = {"normal": "normal forces", "tangential": "tangential forces"}
-DISTANCE_LABEL = r"distance between consecutive PDs $[\langle F\rangle]$"
+DISTANCE_LABEL = r"distance $d$ between consecutive PDs $[\langle F\rangle]$"
 RATIO_LABEL = r"ratio of distances $d_B/d_{Wq}$"
 
 
@@ -40,14 +40,15 @@ def p2_fig01_snapshots_differences(snapshots: Sequence[xr.Dataset], *, kind: str
         raise ValueError(f"Fig. 1 needs three snapshots a, b, c; got {len(snapshots)}")
     apply_style()
     fig, axes = plt.subplots(2, 3, figsize=(13, 8.6), constrained_layout=True)
+    # each network is built once: panels (a–c) draw it, (d–e) take differences of the same edge values
     networks = [report.contact_forces(s, kind, remove_rattlers=remove_rattlers) for s in snapshots]
     vmax = max(float(np.max(n.force)) if n.force.size else 1.0 for n in networks)
     for ax, snap, net, letter in zip(axes[0], snapshots, networks, "abc"):
         lines = _draw_edges(ax, snap["position"].values, net.i, net.j, net.force, "viridis", 0.0, vmax)
         _frame(ax, snap, f"({letter}) ρ = {float(snap['rho']):.4f}")
     fig.colorbar(lines, ax=axes[0].tolist(), shrink=0.8, label=rf"{kind} force $F/\langle F\rangle$")
-    diffs = [report.force_differences(snapshots[0], snapshots[k], kind, remove_rattlers=remove_rattlers)
-             for k in (1, 2)]
+    n_particles = max(int(s.sizes["particle"]) for s in snapshots)
+    diffs = [report.edge_differences(networks[0], networks[k], n_particles) for k in (1, 2)]
     dmax = max([float(np.max(d.force)) for d in diffs if d.force.size] + [1e-12])
     for ax, diff, letter, pair in zip(axes[1], diffs, "de", ("b", "c")):
         lines = _draw_edges(ax, snapshots[0]["position"].values, diff.i, diff.j, diff.force, "inferno_r", 0.0, dmax)
@@ -132,39 +133,50 @@ def p2_fig09_distances_normal_mu0(distances: xr.Dataset, *, system: str = report
 def _distance_figure(distances: xr.Dataset, kind: str, system: str, source: str) -> Figure:
     apply_style()
     fig, axes = plt.subplots(1, 2, figsize=(11.5, 4.6), constrained_layout=True)
-    rho_j = report.jamming_density(distances, int(distances.attrs.get("dimension", 2)))
+    dimension, rho_j = _jamming(distances)
     for ax, h in zip(axes, report.P2_HOMOLOGY_DIMS):
         for metric in report.METRICS:
             da = distances["distance"].sel(force_kind=kind, homology_dim=h, metric=metric)
-            _mean_band(ax, da, METRIC_COLORS[metric], METRIC_MARKERS[metric], METRIC_TEX[metric])
-        ax.set_yscale("log", nonpositive="mask")
-        ax.set_xlabel(LABELS["rho"])
-        ax.set_ylabel(DISTANCE_LABEL)
-        ax.set_title(rf"({'ab'[h]}) $\beta_{h}$")
-        twin = _z_twin(ax, distances, system, rho_j)
+            _mean_band(ax, report.realization_mean(da), da, METRIC_COLORS[metric], METRIC_MARKERS[metric],
+                       METRIC_TEX[metric])
+        _log_panel_vs_rho(ax, h, DISTANCE_LABEL, rho_j, dimension)
+        twin = _z_twin(ax, distances, system, dimension)
     _figure_legend(fig, [axes[0], twin])
     fig.suptitle(f"{system_label(system)}, {KIND_WORDS.get(kind, kind)}: distances between consecutive states "
                  f"({_realizations_text(distances)}; {source})")
     return fig
 
 
-def _mean_band(ax, da: xr.DataArray, color, marker: str, label: str) -> None:
-    mean = report.realization_mean(da)
-    low, high = report.realization_band(da)
+def _jamming(distances: xr.Dataset) -> tuple[int, float]:
+    """(d, ρ_J) of a distances dataset: its spatial dimension and where the mean Z(ρ) reaches d + 1."""
+    dimension = int(distances.attrs.get("dimension", 2))
+    return dimension, report.jamming_density(distances, dimension)
+
+
+def _mean_band(ax, mean: xr.DataArray, band_source: xr.DataArray, color, marker: str, label: str) -> None:
+    """The curve `mean` (vs ρ) and the 16–84 % band of `band_source` over its realizations."""
+    low, high = report.realization_band(band_source)
     rho = mean["rho"].values
     ax.plot(rho, mean.values, color=color, marker=marker, ms=3.5, lw=1.3, label=label)
     ax.fill_between(rho, low.values, high.values, color=color, alpha=0.2, lw=0)
 
 
-def _z_twin(ax, distances: xr.Dataset, system: str, rho_j: float):
+def _log_panel_vs_rho(ax, h: int, ylabel: str, rho_j: float, dimension: int) -> None:
+    """Panel set-up shared by Figs 6–10: ρ_J marked (if Z reaches d + 1), log y axis, labels, β_h title."""
+    if np.isfinite(rho_j):
+        ax.axvline(rho_j, color="0.3", ls=":", lw=1.0, label=rf"$\rho_J$ = {rho_j:.3f} ($Z = {dimension + 1}$)")
+    ax.set_yscale("log", nonpositive="mask")
+    ax.set_xlabel(LABELS["rho"])
+    ax.set_ylabel(ylabel)
+    ax.set_title(rf"({'ab'[h]}) $\beta_{h}$")
+
+
+def _z_twin(ax, distances: xr.Dataset, system: str, dimension: int):
     twin = ax.twinx()
     z = report.realization_mean(distances["Z"])
-    dimension = int(distances.attrs.get("dimension", 2))
     twin.plot(z["rho"].values, z.values, color=system_color(system), ls="--", lw=1.5, label=r"$Z$")
     twin.axhline(dimension + 1, color="0.6", ls=":", lw=0.8)
     twin.set_ylabel(LABELS["Z"])
-    if np.isfinite(rho_j):
-        ax.axvline(rho_j, color="0.3", ls=":", lw=1.0, label=rf"$\rho_J$ = {rho_j:.3f} ($Z = {dimension + 1}$)")
     return twin
 
 
@@ -193,22 +205,14 @@ def p2_fig10_ratios_mu0(distances: xr.Dataset, *, kind: str = "normal", system: 
 def _ratio_figure(distances: xr.Dataset, kind: str, system: str, source: str) -> Figure:
     apply_style()
     fig, axes = plt.subplots(1, 2, figsize=(11, 4.4), constrained_layout=True)
-    rho_j = report.jamming_density(distances, int(distances.attrs.get("dimension", 2)))
+    dimension, rho_j = _jamming(distances)
     for ax, h in zip(axes, report.P2_HOMOLOGY_DIMS):
         for den in ("wasserstein_1", "wasserstein_2"):
-            mean = report.mean_distance_ratio(distances, den).sel(force_kind=kind, homology_dim=h)
-            low, high = report.realization_band(report.distance_ratio(distances, den).sel(force_kind=kind,
-                                                                                         homology_dim=h))
-            rho = mean["rho"].values
-            ax.plot(rho, mean.values, color=METRIC_COLORS[den], marker=METRIC_MARKERS[den], ms=3.5, lw=1.3,
-                    label=rf"$d_B/${METRIC_TEX[den]}")
-            ax.fill_between(rho, low.values, high.values, color=METRIC_COLORS[den], alpha=0.2, lw=0)
-        if np.isfinite(rho_j):
-            ax.axvline(rho_j, color="0.3", ls=":", lw=1.0, label=rf"$\rho_J$ = {rho_j:.3f}")
-        ax.set_yscale("log", nonpositive="mask")
-        ax.set_xlabel(LABELS["rho"])
-        ax.set_ylabel(RATIO_LABEL)
-        ax.set_title(rf"({'ab'[h]}) $\beta_{h}$")
+            panel = {"force_kind": kind, "homology_dim": h}
+            _mean_band(ax, report.mean_distance_ratio(distances, den).sel(panel),
+                       report.distance_ratio(distances, den).sel(panel),
+                       METRIC_COLORS[den], METRIC_MARKERS[den], rf"$d_B/${METRIC_TEX[den]}")
+        _log_panel_vs_rho(ax, h, RATIO_LABEL, rho_j, dimension)
     _figure_legend(fig, [axes[0]])
     fig.suptitle(f"{system_label(system)}, {KIND_WORDS.get(kind, kind)}: ratios of the rates of change "
                  f"({_realizations_text(distances)}; {source})")

@@ -64,33 +64,30 @@ VALIDATION_COLUMNS = ("claim_id", "section", "system", "claim", "reference", "cr
 # Adapters to forcenet.network / forcenet.topology / forcenet.measures (the only places that call them)
 # =============================================================================================================
 def _diagram_from_points(birth: np.ndarray, death: np.ndarray, essential: np.ndarray, homology_dim: int):
-    """A `forcenet.topology.PersistenceDiagrams` holding one homology dimension's points."""
+    """A `forcenet.topology.PersistenceDiagrams` holding one homology dimension's points (never-dying ones at
+    death −inf, whatever death the file gave them)."""
     from forcenet.topology import PersistenceDiagrams
 
     n = len(birth)
+    death = np.where(np.asarray(essential, dtype=bool), -np.inf, np.asarray(death, dtype=float))
     return PersistenceDiagrams(homology_dim=np.full(n, homology_dim, dtype=np.int64),
-                               birth=np.asarray(birth, dtype=float), death=np.asarray(death, dtype=float),
-                               essential=np.asarray(essential, dtype=bool))
+                               birth=np.asarray(birth, dtype=float), death=death)
 
 
-def _distances(pd_a, pd_b, homology_dim: int, essential_convention: str, timeout_s: float,
-               backend: str = "exact") -> dict[str, float]:
-    """{metric: value} between the PD_k of two networks (`forcenet.topology.diagram_distances`, which is
-    guarded: the dionysus/hera backend runs in a child process killed after `timeout_s`)."""
+def _distances(pd_a, pd_b, homology_dim: int, essential_convention: str) -> dict[str, float]:
+    """{metric: value} between the PD_k of two networks (`forcenet.topology.diagram_distances`, exact solver)."""
     from forcenet.topology import diagram_distances
 
-    result = diagram_distances(pd_a, pd_b, homology_dim, essential_convention, backend=backend, timeout_s=timeout_s)
+    result = diagram_distances(pd_a, pd_b, homology_dim, essential_convention)
     return {metric: float(result[metric]) for metric in METRICS}
 
 
-def _consecutive_distances(diagrams: Sequence, homology_dim: int, essential_convention: str, timeout_s: float,
-                           backend: str = "exact") -> np.ndarray:
+def _consecutive_distances(diagrams: Sequence, homology_dim: int, essential_convention: str) -> np.ndarray:
     """Distances between the PD_k of consecutive networks (`forcenet.topology.consecutive_diagram_distances`):
     array of shape (len(diagrams) - 1, len(METRICS))."""
     from forcenet.topology import consecutive_diagram_distances
 
-    result = consecutive_diagram_distances(diagrams, (homology_dim,), essential_convention, backend=backend,
-                                           timeout_s=timeout_s)
+    result = consecutive_diagram_distances(diagrams, (homology_dim,), essential_convention)
     return np.stack([result[metric][:, 0] for metric in METRICS], axis=-1)
 
 
@@ -125,13 +122,17 @@ def force_differences(snapshot_a: xr.Dataset, snapshot_b: xr.Dataset, kind: str 
     same particles in both snapshots (one realization)."""
     a = contact_forces(snapshot_a, kind, remove_rattlers=remove_rattlers)
     b = contact_forces(snapshot_b, kind, remove_rattlers=remove_rattlers)
-    n = int(max(snapshot_a.sizes["particle"], snapshot_b.sizes["particle"]))
-    key_a, key_b = a.i * n + a.j, b.i * n + b.j
+    return edge_differences(a, b, int(max(snapshot_a.sizes["particle"], snapshot_b.sizes["particle"])))
+
+
+def edge_differences(a: EdgeValues, b: EdgeValues, n_particles: int) -> EdgeValues:
+    """|F_b − F_a| on every pair that is an edge of a or b (F = 0 where the edge is missing); ids < n_particles."""
+    key_a, key_b = a.i * n_particles + a.j, b.i * n_particles + b.j
     keys = np.union1d(key_a, key_b)
     fa, fb = np.zeros(keys.size), np.zeros(keys.size)
     fa[np.searchsorted(keys, key_a)] = a.force
     fb[np.searchsorted(keys, key_b)] = b.force
-    return EdgeValues(keys // n, keys % n, np.abs(fb - fa))
+    return EdgeValues(keys // n_particles, keys % n_particles, np.abs(fb - fa))
 
 
 def _network_diagrams(network):
@@ -175,8 +176,7 @@ def analysis_diagram(analysis: xr.Dataset, kind: str, homology_dim: int):
     return _diagram_from_points(*diagram_points(analysis, kind, homology_dim), homology_dim)
 
 
-def consecutive_distances(analyses: Sequence[xr.Dataset], essential_convention: str = "minus_one",
-                          timeout_s: float = 60, *, backend: str = "exact",
+def consecutive_distances(analyses: Sequence[xr.Dataset], essential_convention: str = "minus_one", *,
                           force_kinds: Sequence[str] = P2_FORCE_KINDS,
                           homology_dims: Sequence[int] = P2_HOMOLOGY_DIMS) -> xr.Dataset:
     """d_B, d_W1, d_W2 between the diagrams of consecutive snapshots of ONE realization.
@@ -185,10 +185,7 @@ def consecutive_distances(analyses: Sequence[xr.Dataset], essential_convention: 
     ----------
     analyses : per-snapshot analysis datasets (``results/analysis/{system}/r{NN}/rho{ρ}.nc``) in increasing ρ
     essential_convention : how never-dying classes enter the matching (see `forcenet.topology.diagram_distances`);
-        default ``"minus_one"``: death −1 ⟨F⟩, as P2 §III B
-    timeout_s : limit for one distance computation with the ``"dionysus"`` backend [s] (it then falls back to
-        the exact backend, which always terminates)
-    backend : ``"exact"`` (default) or ``"dionysus"``, see `forcenet.topology.diagram_distances`
+        default ``"minus_one"``: death −1 ⟨F⟩, as P2 §III B. Distances come from forcenet's exact solver.
 
     Returns
     -------
@@ -205,7 +202,7 @@ def consecutive_distances(analyses: Sequence[xr.Dataset], essential_convention: 
     for a, kind in enumerate(force_kinds):
         for b, dim in enumerate(homology_dims):
             diagrams = [analysis_diagram(ds, kind, dim) for ds in analyses]
-            values[:, a, b] = _consecutive_distances(diagrams, dim, essential_convention, timeout_s, backend)
+            values[:, a, b] = _consecutive_distances(diagrams, dim, essential_convention)
     z = np.array([float(ds["Z"]) if "Z" in ds else math.nan for ds in analyses[1:]])
     out = xr.Dataset(
         {
@@ -216,7 +213,7 @@ def consecutive_distances(analyses: Sequence[xr.Dataset], essential_convention: 
                                                   "long_name": "packing fraction of the earlier snapshot"}),
         },
         coords=_distance_coords(rho[1:], force_kinds, homology_dims),
-        attrs={**_convention_attrs(essential_convention, timeout_s), "distance_backend": backend},
+        attrs=_convention_attrs(essential_convention),
     )
     return out
 
@@ -285,13 +282,13 @@ def _distance_coords(rho, force_kinds, homology_dims) -> dict:
     }
 
 
-def _convention_attrs(essential_convention: str, timeout_s: float) -> dict:
+def _convention_attrs(essential_convention: str) -> dict:
     return {
         "essential_convention": essential_convention,
         "essential_convention_description": ESSENTIAL_CONVENTIONS_DOC.get(
             essential_convention, f"never-dying classes: forcenet.topology convention '{essential_convention}'"),
         "ground_metric": "L-infinity",
-        "distance_timeout_s": float(timeout_s),
+        "distance_solver": "forcenet.topology exact optimal matching (float64)",
         "matching": "optimal matching of points and diagonal, points with birth == death left out",
         "rho_convention": "rho is the packing fraction of the later snapshot of each consecutive pair",
     }
@@ -369,7 +366,7 @@ def select_table_snapshots(rhos: Sequence[float], table_rho: float) -> tuple[int
 
 
 def p2_tables(snapshots: Sequence[xr.Dataset], *, kind: str = "normal", remove_rattlers: bool | str = True,
-              essential_convention: str = "minus_one", timeout_s: float = 60) -> dict[str, pd.DataFrame]:
+              essential_convention: str = "minus_one") -> dict[str, pd.DataFrame]:
     """P2 Tables I–III from three nearby snapshots (a, b, c) of one realization, in increasing ρ.
 
     Table I: distances (PD^a, PD^b) and (PD^a, PD^c) over the whole box. Tables II and III: the same for each
@@ -391,7 +388,7 @@ def p2_tables(snapshots: Sequence[xr.Dataset], *, kind: str = "normal", remove_r
     def row(pd_x, pd_y) -> dict[str, float]:
         out = {}
         for h in P2_HOMOLOGY_DIMS:
-            d = _distances(pd_x, pd_y, h, essential_convention, timeout_s)
+            d = _distances(pd_x, pd_y, h, essential_convention)
             out.update({table_column(h, m): d[m] for m in METRICS})
         return out
 

@@ -69,7 +69,7 @@ def matchable_points(diagram, homology_dim: int | None = None, essential: str = 
             raise ValueError("homology_dim is required for a PersistenceDiagrams")
         one = diagram.select(homology_dim)
         points = np.stack([np.asarray(one.birth, np.float64), np.asarray(one.death, np.float64)], axis=1)
-        never_dies = np.asarray(one.essential, bool) | ~np.isfinite(points[:, 1])
+        never_dies = one.essential
     else:
         points = np.asarray(diagram, dtype=np.float64).reshape(-1, 2).copy()
         never_dies = ~np.isfinite(points[:, 1])

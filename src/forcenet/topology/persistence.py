@@ -27,7 +27,7 @@ from forcenet.topology.complex import FlagComplex, flag_complex
 _FLOAT32_EXACT_INTEGERS = 2 ** 24
 
 
-@dataclass(frozen=True, init=False)
+@dataclass(frozen=True)
 class PersistenceDiagrams:
     """Persistence diagrams of all homology dimensions of one network, as flat arrays of points.
 
@@ -38,9 +38,6 @@ class PersistenceDiagrams:
     death : ndarray, shape (P,) — threshold at which it dies [⟨F⟩]; −inf when it never dies.
     max_dim : highest homology dimension computed (d − 1); −1 when unknown (diagrams built by hand).
     essential (property) : ndarray, shape (P,), bool — the class never dies, i.e. ``~isfinite(death)``.
-
-    The constructor still accepts ``essential`` (4th argument) for callers that pass it; it must then agree
-    with the deaths.
     """
 
     homology_dim: np.ndarray
@@ -48,19 +45,11 @@ class PersistenceDiagrams:
     death: np.ndarray
     max_dim: int = -1
 
-    def __init__(self, homology_dim, birth, death, essential=None, max_dim: int = -1):
-        for name, value in (("homology_dim", homology_dim), ("birth", birth), ("death", death),
-                            ("max_dim", max_dim)):
-            object.__setattr__(self, name, value)
-        n = np.asarray(birth).shape
+    def __post_init__(self):
+        n = np.asarray(self.birth).shape
         for name in ("homology_dim", "death"):
             if np.asarray(getattr(self, name)).shape != n:
                 raise ValueError(f"{name} must have the shape of birth {n}")
-        if essential is not None:
-            if np.asarray(essential).shape != n:
-                raise ValueError(f"essential must have the shape of birth {n}")
-            if not np.array_equal(np.asarray(essential, dtype=bool), self.essential):
-                raise ValueError("essential must be ~isfinite(death): never-dying classes have death −inf")
 
     @property
     def essential(self) -> np.ndarray:
