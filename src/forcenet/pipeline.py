@@ -152,15 +152,16 @@ def analyze_snapshot(snapshot: str, output: str, analysis: Mapping[str, Any], lo
 def snapshot_measures(snap, analysis: Mapping[str, Any]) -> dict[str, Any]:
     """Every single-snapshot measure of the total (P1), normal and tangential (P2) force networks of a snapshot
     dataset, each network normalised by its own mean: {kind: SnapshotMeasures}."""
-    import numpy as np
-
+    from forcenet.datasets.schema import FORCE_KINDS
+    from forcenet.measures.forces import default_force_bin_edges
     from forcenet.measures.snapshot import compute_snapshot_measures
     from forcenet.network import build_force_network
+    from forcenet.topology.betti import default_thresholds
 
-    thresholds = threshold_grid(analysis["thresholds"])
-    edges = np.linspace(0.0, analysis["force_pdf"]["max"], analysis["force_pdf"]["bins"] + 1)
+    thresholds = default_thresholds(**analysis["thresholds"])
+    edges = default_force_bin_edges(analysis["force_pdf"]["max"], analysis["force_pdf"]["bins"])
     measures = {}
-    for kind in ("total", "normal", "tangential"):
+    for kind in FORCE_KINDS:
         network = build_force_network(
             snap.position.values, snap.contact_i.values, snap.contact_j.values, snap.force_normal.values,
             snap.force_tangential.values, kind=kind, remove_rattlers=analysis["remove_rattlers"],
@@ -178,14 +179,6 @@ def analysis_attrs(snap, source: str, analysis: Mapping[str, Any]) -> dict[str, 
     attrs["source"] = str(source)
     attrs["remove_rattlers"] = int(bool(analysis["remove_rattlers"]))
     return attrs
-
-
-def threshold_grid(spec: Mapping[str, float]):
-    """F_th grid from the config: start to stop (inclusive) by step [⟨F⟩]."""
-    import numpy as np
-
-    n = int(round((spec["stop"] - spec["start"]) / spec["step"])) + 1
-    return np.round(spec["start"] + spec["step"] * np.arange(n), 10)
 
 
 def _open_by_system(paths: Sequence[str]) -> dict[str, Any]:

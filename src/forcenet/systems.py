@@ -210,3 +210,19 @@ def config_sha256(config: Mapping[str, Any]) -> str:
 def realization_seed(base_seed: int, system_name: str, realization: int) -> int:
     """Seed of one compression run: independent of the order systems appear in the config."""
     return (int(base_seed) * 1_000_003 + zlib.crc32(system_name.encode()) * 101 + int(realization)) % (2 ** 32)
+
+
+def select_table_snapshots(rhos, table_rho: float) -> tuple[int, int, int]:
+    """Indices (a, b, c) of three consecutive grid points around `table_rho` (P2 Fig. 1: three values of ρ close
+    to 0.79): b is the grid point nearest `table_rho`, a and c its neighbours below and above (shifted inwards at
+    the ends of the grid). Indices refer to `rhos` as given (it need not be sorted)."""
+    rhos = np.asarray(rhos, dtype=float)
+    if rhos.ndim != 1 or rhos.size < 3:
+        raise ValueError(f"need at least three snapshots, got {rhos.size}")
+    if not np.all(np.isfinite(rhos)) or len(np.unique(rhos)) != rhos.size:
+        raise ValueError("rho values must be finite and distinct")
+    order = np.argsort(rhos)
+    nearest = int(np.argmin(np.abs(rhos[order] - table_rho)))
+    middle = min(max(nearest, 1), rhos.size - 2)
+    a, b, c = (int(order[i]) for i in (middle - 1, middle, middle + 1))
+    return a, b, c

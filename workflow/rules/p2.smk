@@ -6,7 +6,7 @@ P2_FRICTIONLESS = P2_SYSTEMS[1] if len(P2_SYSTEMS) > 1 else None
 
 def p2_table_labels():
     """ρ labels of the three nearby snapshots a, b, c around studies.p2.table_rho (P2 Tables I–III)."""
-    from forcenet.report.p2 import select_table_snapshots
+    from forcenet.systems import select_table_snapshots  # pure numpy: no xarray at parse time
 
     spec = SYSTEMS[P2_FRICTIONAL]
     indices = select_table_snapshots(spec.rho_grid, config["studies"]["p2"].get("table_rho", 0.79))

@@ -35,6 +35,7 @@ import xarray as xr
 
 from forcenet.datasets.schema import DIMENSIONLESS, FORCE_KINDS, NETWORK_FORCE_UNITS
 from forcenet.network.regions import QUADRANTS as _NETWORK_QUADRANTS
+from forcenet.systems import select_table_snapshots  # noqa: F401 — part of this module's P2 API (Tables I–III)
 
 # --- what P2 compares -------------------------------------------------------------------------------------------
 P2_FORCE_KINDS = ("normal", "tangential")  # P2 §IV A (normal), §IV B (tangential)
@@ -349,22 +350,6 @@ def jamming_density_per_realization(distances: xr.Dataset, dimension: int = 2) -
 # =============================================================================================================
 # Tables I–III (P2 §III D): three nearby snapshots, whole box and quadrants
 # =============================================================================================================
-def select_table_snapshots(rhos: Sequence[float], table_rho: float) -> tuple[int, int, int]:
-    """Indices (a, b, c) of three consecutive grid points around `table_rho` (P2 Fig. 1: three values of ρ close
-    to 0.79): b is the grid point nearest `table_rho`, a and c its neighbours below and above (shifted inwards at
-    the ends of the grid). Indices refer to `rhos` as given (it need not be sorted)."""
-    rhos = np.asarray(rhos, dtype=float)
-    if rhos.ndim != 1 or rhos.size < 3:
-        raise ValueError(f"need at least three snapshots, got {rhos.size}")
-    if not np.all(np.isfinite(rhos)) or len(np.unique(rhos)) != rhos.size:
-        raise ValueError("rho values must be finite and distinct")
-    order = np.argsort(rhos)
-    nearest = int(np.argmin(np.abs(rhos[order] - table_rho)))
-    middle = min(max(nearest, 1), rhos.size - 2)
-    a, b, c = (int(order[i]) for i in (middle - 1, middle, middle + 1))
-    return a, b, c
-
-
 def p2_tables(snapshots: Sequence[xr.Dataset], *, kind: str = "normal", remove_rattlers: bool | str = True,
               essential_convention: str = "minus_one") -> dict[str, pd.DataFrame]:
     """P2 Tables I–III from three nearby snapshots (a, b, c) of one realization, in increasing ρ.
