@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from forcenet import units
-from forcenet.dem import _kernels, calibration
+from forcenet.dem import _kernels, calibration, stability
 from forcenet.dem.engine import ContactLaw, Simulation
 
 P1_HERTZ_K = units.reduced_normal_stiffness(units.Material(), 0.5)
@@ -86,11 +86,11 @@ def damped_oscillator_amplitude(omega_dt: float, damping_dt: float, steps: int =
     return abs(gear[1, 0, 0]) + abs(gear[2, 0, 0])
 
 
-@pytest.mark.parametrize("omega_dt, damping_bound", [(0.0, 1.5), (0.3, 1.38), (0.6, 1.05)])
+@pytest.mark.parametrize("omega_dt, damping_bound", [(0.0, 1.5), (0.3, stability.GEAR_DAMPING_BOUND), (0.6, 1.05)])
 def test_gear_corrector_with_strong_damping_is_stable_up_to_its_bound(omega_dt, damping_bound):
     """The damping sees r1 + 2 r2 (`gear_predict`): the step map's spectral radius stays ≤ 1 up to c Δt ≈ 1.5 at
-    ω = 0, 1.38 at ω Δt = 0.3 and 1.05 at ω Δt = 0.6 (the bound behind 2d_hertz's Δt, docs/decisions.md);
-    beyond it the run must grow."""
+    ω = 0, 1.38 at ω Δt = 0.3 and 1.05 at ω Δt = 0.6 (`forcenet.dem.stability` checks every snapshot against
+    the 0.3 value, docs/decisions.md); beyond it the run must grow."""
     assert damped_oscillator_amplitude(omega_dt, 0.95 * damping_bound) < 1e-2
     assert damped_oscillator_amplitude(omega_dt, 1.1 * damping_bound) > 1e2
 

@@ -35,7 +35,7 @@ from typing import Sequence
 import numpy as np
 
 from forcenet import datasets
-from forcenet.dem import calibration, packing
+from forcenet.dem import calibration, packing, stability
 from forcenet.dem.engine import ContactLaw, Simulation, SimulationBlowUp
 from forcenet.systems import MIN_STEPS_PER_COLLISION, ConfigError, SystemSpec, check_system
 
@@ -261,6 +261,23 @@ def _relax(sim: Simulation, system: SystemSpec, index: int, progress: _Progress,
             return done
 
 
+def check_damping_is_integrable(sim: Simulation, system: SystemSpec) -> float:
+    """Raise SimulationBlowUp when the fastest damped mode of the current contacts is faster than the Gear
+    corrector can integrate at Δt (`forcenet.dem.stability`): the state would be a numerical artefact (energy
+    pumped into that mode and held by the Coulomb cap), not a packing. Returns rate · Δt."""
+    fastest = stability.fastest_damping_rate_of(sim)
+    product = fastest.rate * sim.time_step
+    if product > stability.GEAR_DAMPING_BOUND:
+        raise SimulationBlowUp(
+            f"the contact damping is too fast for the time step: its fastest mode decays at "
+            f"{fastest.rate:.4g}/τ_c, and rate · Δt = {product:.2f} exceeds the Gear corrector's stability bound "
+            f"{stability.GEAR_DAMPING_BOUND}, so each step amplifies that mode instead of damping it; set "
+            f"systems.{system.name}.time_step ≤ {stability.stable_time_step(fastest.rate):.3g} "
+            f"(or weaker damping)", step=sim.step, particle=int(sim.particle_id[fastest.particle]),
+            rho=sim.packing_fraction)
+    return product
+
+
 def run_compression(system: SystemSpec, *, seed: int, snapshot_paths: Sequence[str | os.PathLike],
                     checkpoint_path: str | os.PathLike, attrs: dict, log: logging.Logger | None = None) -> None:
     """Compress one realization of `system` through its ρ grid, writing one snapshot per grid value.
@@ -299,8 +316,10 @@ def run_compression(system: SystemSpec, *, seed: int, snapshot_paths: Sequence[s
         else:
             _compress_to(sim, target, index, progress, system.wall_speed, stop_walls=False)
             relaxation_steps = -1
+        damping_dt = check_damping_is_integrable(sim, system)
         datasets.write_snapshot(paths[index], attrs=file_attrs, **snapshot_arrays(sim, relaxation_steps))
         save_checkpoint(Path(checkpoint_path), sim, next_index=index + 1, fingerprint=fingerprint, rng=rng)
         sim.rebuild()  # the resumed run rebuilds here too (Simulation.from_state_dict): identical arrays
-        log.info("%s: snapshot ρ = %.3f written (step %d, Z = %.3f)", system.name, rho, sim.step,
-                 2.0 * sim.contact_count() / sim.n_mobile)
+        log.info("%s: snapshot ρ = %.3f written (step %d, Z = %.3f, fastest damping rate × Δt = %.2f of %.2f)",
+                 system.name, rho, sim.step, 2.0 * sim.contact_count() / sim.n_mobile, damping_dt,
+                 stability.GEAR_DAMPING_BOUND)

@@ -1,0 +1,117 @@
+"""The damping-stability check (`forcenet.dem.stability`): the damping operator against a dense construction,
+its fastest rate against hand-countable contacts and a dense eigen-solve, and the protocol refusing to write a
+snapshot whose contact damping is too fast for Δt."""
+from __future__ import annotations
+
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from forcenet.dem import stability
+from forcenet.dem.protocol import SimulationBlowUp
+from forcenet.systems import Relaxation
+from test_dem_protocol import run, tiny
+
+
+def contacts(i, j, normal, g_n, g_t, lever_i, lever_j):
+    return stability.DampingContacts(i=np.asarray(i), j=np.asarray(j), normal=np.asarray(normal, dtype=float),
+                                     normal_coefficient=np.asarray(g_n, dtype=float),
+                                     tangential_coefficient=np.asarray(g_t, dtype=float),
+                                     lever_i=np.asarray(lever_i, dtype=float), lever_j=np.asarray(lever_j, dtype=float))
+
+
+def test_one_disk_on_a_wall_has_the_rates_of_its_two_modes():
+    """Normal: g_n / m. Tangential slip u_t − l ω: g_t (1/m + l²/I)."""
+    mass, inertia, lever = np.array([2.0]), np.array([0.3]), 0.45
+    normal_only = contacts([0], [-1], [[0.0, 1.0]], [10.0], [0.0], [lever], [0.0])
+    assert stability.fastest_damping_rate(normal_only, mass, inertia).rate == pytest.approx(10.0 / 2.0)
+    tangential_only = contacts([0], [-1], [[0.0, 1.0]], [0.0], [10.0], [lever], [0.0])
+    expected = 10.0 * (1 / 2.0 + lever ** 2 / 0.3)
+    assert stability.fastest_damping_rate(tangential_only, mass, inertia).rate == pytest.approx(expected)
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_a_pair_has_the_rates_of_its_relative_modes(dim):
+    """Two particles, one contact: normal g_n (1/m_i + 1/m_j), slip g_t (1/m_i + 1/m_j + l_i²/I_i + l_j²/I_j)."""
+    mass, inertia = np.array([1.0, 3.0]), np.array([0.1, 0.4])
+    normal = np.eye(dim)[0]
+    g_n, g_t, li, lj = 4.0, 2.0, 0.4, 0.6
+    pair = contacts([0], [1], [normal], [g_n], [g_t], [li], [lj])
+    both = g_n * (1 + 1 / 3), g_t * (1 + 1 / 3 + li ** 2 / 0.1 + lj ** 2 / 0.4)
+    assert stability.fastest_damping_rate(pair, mass, inertia).rate == pytest.approx(max(both))
+    assert stability.fastest_damping_rate(pair, mass, inertia).particle == 0  # the light one moves most
+
+
+def dense_damping(c: stability.DampingContacts, n: int, dim: int) -> np.ndarray:
+    """D by the slow obvious construction: Σ g_n b bᵀ + g_t B_tᵀ B_t over contacts, per particle (u, ω)."""
+    n_rot = 1 if dim == 2 else 3
+    width = dim + n_rot
+    damping = np.zeros((n * width, n * width))
+    for q in range(len(c.i)):
+        n_q = c.normal[q]
+        if dim == 2:
+            spin = np.array([[-n_q[1]], [n_q[0]]])                                     # ω ↦ ω ẑ × n
+        else:
+            spin = np.array([[0, n_q[2], -n_q[1]], [-n_q[2], 0, n_q[0]], [n_q[1], -n_q[0], 0]])  # ω ↦ ω × n
+        b_n = np.zeros((1, n * width))
+        b_t = np.zeros((dim, n * width))
+        for particle, sign, lever in ((c.i[q], 1.0, c.lever_i[q]), (c.j[q], -1.0, c.lever_j[q])):
+            if particle < 0:
+                continue
+            start = particle * width
+            b_n[0, start:start + dim] = sign * n_q
+            b_t[:, start:start + dim] = sign * (np.eye(dim) - np.outer(n_q, n_q))
+            b_t[:, start + dim:start + width] = -lever * spin
+        damping += c.normal_coefficient[q] * b_n.T @ b_n + c.tangential_coefficient[q] * b_t.T @ b_t
+    return damping
+
+
+@pytest.mark.parametrize("dim", [2, 3])
+def test_operator_and_fastest_rate_match_a_dense_reference(dim):
+    rng = np.random.default_rng(dim)
+    n, count = 10, 25
+    n_rot = 1 if dim == 2 else 3
+    i = rng.integers(0, n, count)
+    j = rng.integers(-1, n, count)
+    j = np.where(j == i, -1, j)  # some wall contacts
+    normal = rng.standard_normal((count, dim))
+    normal /= np.linalg.norm(normal, axis=1)[:, None]
+    c = contacts(i, j, normal, rng.uniform(1, 5, count), rng.uniform(1, 5, count), rng.uniform(0.3, 0.6, count),
+                 rng.uniform(0.3, 0.6, count))
+    mass, inertia = rng.uniform(0.5, 2.0, n), rng.uniform(0.05, 0.3, n)
+    damping = dense_damping(c, n, dim)
+    q = rng.standard_normal(n * (dim + n_rot)).reshape(n, dim + n_rot)
+    force, torque = stability.damping_matvec(c, q[:, :dim], q[:, dim:])
+    np.testing.assert_allclose(np.hstack([force, torque]).reshape(-1), damping @ q.reshape(-1), atol=1e-12)
+    weights = np.hstack([np.repeat(mass[:, None], dim, 1), np.repeat(inertia[:, None], n_rot, 1)]).reshape(-1)
+    largest = np.linalg.eigvalsh(damping / np.sqrt(np.outer(weights, weights)))[-1]
+    assert stability.fastest_damping_rate(c, mass, inertia).rate == pytest.approx(largest, rel=1e-4)
+
+
+def hertz_packing(time_step: float):
+    """36 Hertzian disks (default-config damping, e_n = 0.5 at v0) compressed to ρ = 0.84 and 0.88."""
+    return tiny("2d_hertz", box_length=8.0, rho_grid=(0.84, 0.88), time_step=time_step,
+                relaxation=Relaxation(window_steps=2000, tolerance=0.1, max_steps=20000))
+
+
+def test_a_packing_at_a_stable_time_step_relaxes(tmp_path):
+    """At Δt = 0.0025 τ_c the damped modes are integrable (rate · Δt ≈ 1): above jamming the packing comes to
+    rest (kinetic energy far below the elastic energy scale)."""
+    paths = run(hertz_packing(0.0025), tmp_path)
+    with xr.open_dataset(paths[-1]) as ds:
+        assert float(ds.Z) > 3.0
+        typical_force = np.mean(np.linalg.norm(ds.force_normal.values, axis=1))
+        assert float(ds.kinetic_energy) < 1e-9 * typical_force
+
+
+def test_a_time_step_too_long_for_the_damping_stops_before_the_snapshot(tmp_path):
+    """At P1's 3D step 0.005 τ_c the rotational damping of these contacts is past the Gear bound: the run stops
+    with the step, particle, ρ and the config key, and writes no snapshot for that ρ."""
+    paths = [tmp_path / "rho0.840.nc", tmp_path / "rho0.880.nc"]
+    with pytest.raises(SimulationBlowUp, match=r"systems\.2d_hertz\.time_step ≤") as failure:
+        run(hertz_packing(0.005), tmp_path)
+    assert failure.value.rho == pytest.approx(0.84)
+    assert 0 <= failure.value.particle < 36
+    assert "rate · Δt" in str(failure.value) and "particle" in str(failure.value)
+    assert not any(path.exists() for path in paths)
