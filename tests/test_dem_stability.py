@@ -3,7 +3,6 @@ its fastest rate against hand-countable contacts and a dense eigen-solve, and th
 snapshot whose contact damping is too fast for Δt."""
 from __future__ import annotations
 
-
 import numpy as np
 import pytest
 import xarray as xr
@@ -97,12 +96,14 @@ def hertz_packing(time_step: float):
 
 def test_a_packing_at_a_stable_time_step_relaxes(tmp_path):
     """At Δt = 0.0025 τ_c the damped modes are integrable (rate · Δt ≈ 1): above jamming the packing comes to
-    rest (kinetic energy far below the elastic energy scale)."""
-    paths = run(hertz_packing(0.0025), tmp_path)
+    rest, its particles far slower than the walls were (kinetic energy < 1 % of N · ½ m̄ v0²). At 0.005 τ_c the
+    chatter made rms speeds exceed v0 (docs/decisions.md)."""
+    system = hertz_packing(0.0025)
+    paths = run(system, tmp_path)
     with xr.open_dataset(paths[-1]) as ds:
         assert float(ds.Z) > 3.0
-        typical_force = np.mean(np.linalg.norm(ds.force_normal.values, axis=1))
-        assert float(ds.kinetic_energy) < 1e-9 * typical_force
+        wall_speed_energy = ds.sizes["particle"] * 0.5 * system.wall_speed ** 2
+        assert float(ds.kinetic_energy) < 0.01 * wall_speed_energy
 
 
 def test_a_time_step_too_long_for_the_damping_stops_before_the_snapshot(tmp_path):

@@ -24,8 +24,10 @@ import numpy as np
 #: largest c Δt at which the Gear corrector with the engine's velocity estimate (r1 + 2 r2) damps ẍ = −ω² x − c ẋ,
 #: for ω Δt ≤ 0.3 (1.5 at ω = 0; `test_gear_corrector_with_strong_damping_is_stable_up_to_its_bound`)
 GEAR_DAMPING_BOUND = 1.38
-#: power iterations; the estimate approaches the largest eigenvalue from below
+#: at most this many power iterations; the estimate approaches the largest eigenvalue from below and stops
+#: once it changes by less than POWER_TOLERANCE (relative)
 POWER_ITERATIONS = 200
+POWER_TOLERANCE = 1e-6
 
 
 @dataclass(frozen=True)
@@ -116,8 +118,10 @@ def fastest_damping_rate(contacts: DampingContacts, mass: np.ndarray, inertia: n
         u, w = u / norm, w / norm
         f, t = damping_matvec(contacts, u * scale_v, w * scale_w)
         f, t = f * scale_v, t * scale_w
-        rate = float(np.sum(u * f) + np.sum(w * t))
+        previous, rate = rate, float(np.sum(u * f) + np.sum(w * t))
         u, w = f, t
+        if abs(rate - previous) <= POWER_TOLERANCE * rate:
+            break
     weight = np.sum(u * u, axis=1) + np.sum(w * w, axis=1)
     return DampingRate(rate, int(np.argmax(weight)))
 
@@ -144,7 +148,7 @@ def damping_contacts(sim) -> DampingContacts:
     if sim.flat_walls:
         mobile = np.arange(n)
         for axis in range(dim):
-            for side, plane, sign in ((0, sim.walls_lo[axis], 1.0), (1, sim.walls_hi[axis], -1.0)):
+            for plane, sign in ((sim.walls_lo[axis], 1.0), (sim.walls_hi[axis], -1.0)):  # inward normals
                 gap = sign * (position[:n, axis] - plane)
                 wall_overlap = radius[:n] - gap
                 on = wall_overlap > 0.0
