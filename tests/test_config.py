@@ -52,6 +52,8 @@ BAD_CONFIGS = {
     "negative_count": (["realizations"], -2, "realizations"),
     "empty_rho_list": (["systems", "2d_hertz", "rho"], [], "rho"),
     "unknown_force_law": (["systems", "3d_hertz", "force_law"], "hooke", "force_law"),
+    "unknown_damping_model": (["systems", "3d_hertz", "damping_model"], "implicit", "damping_model"),
+    "missing_damping_model": (["systems", "2d_linear", "damping_model"], KeyError, "damping_model"),
 }
 
 

@@ -65,6 +65,47 @@ def test_calibrated_damping_gives_the_restitution(beta, k_n, speed, time_step):
         assert calibration.collision_restitution(k_n, 0.0, closed, 0.5, speed) > 0.53
 
 
+def test_linear_law_damping_is_minus_two_ln_e_per_collision_time():
+    """P1 ref. [47]: γ_n = −2 ln(e_n)/τ_c. In τ_c units 1.386 for e_n = 0.5; a linear collision of effective mass
+    m̄ (it lasts τ_c, P1 Eq. 4) then has restitution e_n up to the weak-damping approximation (and the cut of the
+    attractive tail, which raises it), while two mean particles (m_eff = m̄/2, shorter contact) keep more."""
+    assert units.collision_time_damping(0.5) == pytest.approx(2.0 * math.log(2.0))
+    assert units.collision_time_damping(0.5, collision_time=2.0) == pytest.approx(math.log(2.0))
+    assert units.collision_time_damping(1.0) == 0.0
+    with pytest.raises(ValueError):
+        units.collision_time_damping(0.0)
+    k_n = math.pi ** 2  # τ_c = π √(m̄/k_n) = 1
+    for e_n in (0.9, 0.95):
+        gamma = units.collision_time_damping(e_n)
+        assert calibration.collision_restitution(k_n, 0.0, gamma, 1.0, 0.1) == pytest.approx(e_n, abs=0.01)
+    gamma = units.collision_time_damping(0.5)
+    assert calibration.collision_restitution(k_n, 0.0, gamma, 1.0, 0.1) == pytest.approx(0.5, abs=0.06)
+    assert calibration.collision_restitution(k_n, 0.0, gamma, 0.5, 0.1) > 0.6
+
+
+@pytest.mark.parametrize("model", calibration.DAMPING_MODELS)
+def test_damping_model_of_a_system(model):
+    """Each `damping_model` gives its γ_n: linear_law the closed form whatever β, head_on e_n = 0.5 in a v0
+    collision of two mean particles; for the Hertz law the linear-law γ_n leaves that collision nearly elastic."""
+    import dataclasses
+
+    from conftest import load_config
+    from forcenet.systems import system_from_config
+
+    for name in ("2d_linear", "2d_hertz", "3d_hertz"):
+        system = dataclasses.replace(system_from_config(name, load_config()), damping_model=model)
+        gamma = calibration.normal_damping_for_system(system)
+        speed = system.wall_speed if system.beta else 1.0
+        e_n = calibration.collision_restitution(system.normal_stiffness, system.beta, gamma, 0.5, speed)
+        if model == "linear_law":
+            assert gamma == pytest.approx(2.0 * math.log(2.0))
+            assert e_n > (0.99 if system.beta else 0.6)
+        else:
+            assert e_n == pytest.approx(0.5, abs=1e-8)
+    with pytest.raises(ValueError, match="damping model"):
+        calibration.normal_damping_for_system(dataclasses.replace(system, damping_model="implicit"))
+
+
 def damped_oscillator_amplitude(omega_dt: float, damping_dt: float, steps: int = 3000) -> float:
     """Run ẍ = −ω² x − c ẋ (unit mass, Δt = 1; omega_dt = ω Δt, damping_dt = c Δt) through the engine's own
     Gear kernels, the damping seeing the velocity that `gear_predict` hands to the forces; returns the final

@@ -208,3 +208,34 @@ def test_escape_and_nan_stop_with_step_and_particle(speed, reason):
     assert reason in str(err.value)
     assert err.value.step == 1 and err.value.particle == 1
     assert sim.step == 1  # stopped at once
+
+
+def test_a_stage_survives_edits_the_run_does_not_depend_on(tmp_path):
+    """pipeline.prepare_stage: a staged checkpoint is kept when only analysis keys or other systems change (long
+    paper-size runs resume across such edits), and discarded when the system's own entry, the seed or the
+    material change (it would resume other physics)."""
+    import copy
+
+    from forcenet.pipeline import prepare_stage
+
+    config = load_config()
+    stage = tmp_path / ".partial"
+    prepare_stage(stage, config, "2d_hertz")
+    (stage / "checkpoint.npz").write_bytes(b"state")
+    edited = copy.deepcopy(config)
+    edited["analysis"]["thresholds"]["step"] = 0.1
+    edited["systems"]["2d_linear"]["time_step"] = 0.01
+    del edited["systems"]["3d_hertz"]
+    prepare_stage(stage, edited, "2d_hertz")
+    assert (stage / "checkpoint.npz").exists()
+    for path, value in ((["systems", "2d_hertz", "wall_speed"], 1e-3), (["seed"], 7),
+                        (["material", "young_modulus"], 1e5)):
+        changed = copy.deepcopy(config)
+        target = changed
+        for key in path[:-1]:
+            target = target[key]
+        target[path[-1]] = value
+        prepare_stage(stage, config, "2d_hertz")
+        (stage / "checkpoint.npz").write_bytes(b"state")
+        prepare_stage(stage, changed, "2d_hertz")
+        assert not (stage / "checkpoint.npz").exists(), path

@@ -3,13 +3,16 @@ its fastest rate against hand-countable contacts and a dense eigen-solve, and th
 snapshot whose contact damping is too fast for Δt."""
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pytest
 import xarray as xr
 
 from forcenet.dem import stability
 from forcenet.dem.protocol import SimulationBlowUp
-from forcenet.systems import Relaxation
+from conftest import load_config
+from forcenet.systems import Relaxation, system_from_config
 from test_dem_protocol import run, tiny
 
 
@@ -89,8 +92,8 @@ def test_operator_and_fastest_rate_match_a_dense_reference(dim):
 
 
 def hertz_packing(time_step: float):
-    """36 Hertzian disks (default-config damping, e_n = 0.5 at v0) compressed to ρ = 0.84 and 0.88."""
-    return tiny("2d_hertz", box_length=8.0, rho_grid=(0.84, 0.88), time_step=time_step,
+    """36 Hertzian disks with the head-on damping (e_n = 0.5 at v0, γ_n = 209) compressed to ρ = 0.84 and 0.88."""
+    return tiny("2d_hertz", box_length=8.0, rho_grid=(0.84, 0.88), time_step=time_step, damping_model="head_on",
                 relaxation=Relaxation(window_steps=2000, tolerance=0.1, max_steps=20000))
 
 
@@ -116,3 +119,26 @@ def test_a_time_step_too_long_for_the_damping_stops_before_the_snapshot(tmp_path
     assert 0 <= failure.value.particle < 36
     assert "rate · Δt" in str(failure.value) and "particle" in str(failure.value)
     assert not any(path.exists() for path in paths)
+
+
+@pytest.mark.parametrize("config_name", ["config.yaml", "smoke.yaml", "paper.yaml"])
+@pytest.mark.parametrize("name, box_length", [("2d_hertz", 9.0), ("3d_hertz", 7.0)])
+def test_each_hertz_system_passes_the_top_of_its_grid_with_its_config_settings(config_name, name, box_length,
+                                                                               tmp_path):
+    """The Hertz systems as configured (linear-law damping γ_n = −2 ln e_n, P1's Δt: 0.02 τ_c in 2D, 0.005 τ_c in
+    3D) in a small box, compressed to the last two ρ of their grid: the damping check passes (the run would stop
+    otherwise) and the packing comes to rest relative to the compression (rms speed < 0.3 v0, i.e. kinetic energy
+    < 10 % of N · ½ m̄ v0²; the rotational chatter of an unstable step had rms speeds above v0). Only the box and, for
+    paper.yaml, the relaxation window (1.5·10⁵ steps) are reduced. The same contacts with the head-on damping
+    (γ_n ≈ 200–280) stop at these steps: `test_a_time_step_too_long_for_the_damping_stops_before_the_snapshot`."""
+    system = system_from_config(name, load_config(config_name))
+    assert system.damping_model == "linear_law"
+    assert system.time_step == {2: 0.02, 3: 0.005}[system.dimension]  # P1 §2
+    relaxation = dataclasses.replace(system.relaxation, window_steps=min(system.relaxation.window_steps, 2000),
+                                     max_steps=min(system.relaxation.max_steps, 40000))
+    system = dataclasses.replace(system, box_length=box_length, rho_grid=system.rho_grid[-2:], relaxation=relaxation)
+    paths = run(system, tmp_path)
+    with xr.open_dataset(paths[-1]) as ds:
+        assert float(ds.rho) == pytest.approx(system.rho_grid[-1])
+        assert float(ds.Z) > system.dimension + 1  # jammed: above isostatic
+        assert float(ds.kinetic_energy) < 0.1 * ds.sizes["particle"] * 0.5 * system.wall_speed ** 2

@@ -6,6 +6,7 @@ that need them, keeping the per-job start-up of light rules small.
 """
 from __future__ import annotations
 
+import json
 import logging
 import os
 import shutil
@@ -13,7 +14,7 @@ from contextlib import contextmanager
 from pathlib import Path
 from typing import Any, Iterator, Mapping, Sequence
 
-from forcenet.systems import realization_seed, system_from_config
+from forcenet.systems import config_sha256, realization_seed, system_from_config
 
 
 @contextmanager
@@ -53,39 +54,69 @@ def run_attrs(config: Mapping[str, Any], system: str, realization: int, title: s
     return provenance_attrs(system=system, realization=realization, seed=seed, config=config, title=title)
 
 
+def simulation_params(config: Mapping[str, Any], system: str) -> dict[str, Any]:
+    """What a compression run depends on: its own system entry, the seed and (P1 units) the material — not the
+    analysis keys or other systems. Snakemake reruns a simulation when these change; a staged run resumes only
+    under the same ones."""
+    entry = config["systems"][system]
+    params = {"system": entry, "seed": config["seed"]}
+    if entry["stiffness"] == "material":
+        params["material"] = config["material"]
+    return params
+
+
 def staging_dir(output: str | os.PathLike) -> Path:
     """Where a run keeps its snapshots and checkpoint until it completes: {run dir}/.partial/."""
     return Path(output).parent / ".partial"
 
 
+def prepare_stage(stage: Path, config: Mapping[str, Any], system: str) -> Path:
+    """Create (or keep) the staging folder of a run. A stage written under other simulation settings is
+    discarded (its checkpoint must not be resumed); one whose config differs only in what the run does not depend
+    on (`simulation_params`: analysis keys, other systems, studies) is kept, so long runs survive such edits."""
+    marker, fingerprint = stage / "simulation_sha256", config_sha256(simulation_params(config, system))
+    if stage.exists() and (not marker.exists() or marker.read_text() != fingerprint):
+        shutil.rmtree(stage)
+    stage.mkdir(parents=True, exist_ok=True)
+    marker.write_text(fingerprint)
+    return stage
+
+
 def simulate(*, config: Mapping[str, Any], system: str, realization: str, outputs: Sequence[str],
-             log_path: str | None = None) -> None:
+             cost_path: str | None = None, log_path: str | None = None) -> None:
     """One compression run of `system`: snapshots at every ρ of its grid, published only when all exist.
 
     Snapshots and the checkpoint live in `.partial/` while the run is in progress (Snakemake deletes declared
     outputs of an interrupted job; the staged ones survive, so a rerun resumes from the checkpoint).
+    cost_path: a JSON record of what the run cost (CPU seconds over every session that resumed it, particles,
+    snapshots), written last; the validation report sums it into its provenance.
     """
     from forcenet.dem.protocol import run_compression
 
     spec = system_from_config(system, config)
     index = realization_index(realization)
     attrs = run_attrs(config, system, index, title=f"forcenet DEM snapshot, {system}")
-    stage = staging_dir(outputs[0])
-    marker = stage / "config_sha256"
-    if stage.exists() and (not marker.exists() or marker.read_text() != attrs["config_sha256"]):
-        shutil.rmtree(stage)  # a checkpoint from another config must not be resumed
-    stage.mkdir(parents=True, exist_ok=True)
-    marker.write_text(attrs["config_sha256"])
+    stage = prepare_stage(staging_dir(outputs[0]), config, system)
     staged = [stage / Path(path).name for path in outputs]
     with job_logger(log_path, f"simulate.{system}.{realization}") as log:
         log.info("system %s realization %s seed %d: %d snapshots, staging in %s", system, realization,
                  attrs["seed"], len(outputs), stage)
-        run_compression(spec, seed=attrs["seed"], snapshot_paths=staged, checkpoint_path=stage / "checkpoint.npz",
-                        attrs=attrs, log=log)
+        cpu_seconds = run_compression(spec, seed=attrs["seed"], snapshot_paths=staged,
+                                      checkpoint_path=stage / "checkpoint.npz", attrs=attrs, log=log)
         for source, target in zip(staged, outputs):
             os.replace(source, target)
         shutil.rmtree(stage, ignore_errors=True)
-        log.info("published %d snapshots", len(outputs))
+        log.info("published %d snapshots (%.2f CPU-hours over all sessions)", len(outputs), cpu_seconds / 3600)
+        if cost_path is not None:
+            from forcenet.datasets import read_snapshot
+
+            with read_snapshot(outputs[0]) as snapshot:
+                particles = int(snapshot.sizes["particle"])
+            record = {"system": system, "realization": index, "cpu_seconds": round(cpu_seconds, 1),
+                      "particles": particles, "snapshots": len(outputs)}
+            temporary = Path(f"{cost_path}.tmp{os.getpid()}")
+            temporary.write_text(json.dumps(record, indent=1) + "\n")
+            os.replace(temporary, cost_path)
 
 
 def force_unit_dyn(config: Mapping[str, Any], system: str) -> float:

@@ -60,7 +60,10 @@ class SystemSpec:
     small_to_large : number ratio of small to large particles (bidisperse) [-]
     polydispersity : r_p, diameters uniform in [1 − r_p/2, 1 + r_p/2] (polydisperse) [-]
     friction : Coulomb coefficient μ [-]
-    restitution : normal restitution e_n of a binary head-on collision [-]
+    restitution : normal restitution e_n [-]
+    damping_model : how γ_n follows from e_n (`forcenet.dem.calibration`): ``"linear_law"``, γ_n = −2 ln(e_n)/τ_c
+        in the system's own τ_c units (P1 ref. [47]), or ``"head_on"``, a head-on collision of two mean particles
+        (at `wall_speed` for Hertz) has restitution e_n
     walls : ``"flat"`` (P1) or ``"rough"`` (P2, monodisperse wall particles)
     time_step : Δt [τ_c]
     protocol : ``"quasistatic"`` (P1) or ``"continuous"`` (P2)
@@ -83,6 +86,7 @@ class SystemSpec:
     polydispersity: float
     friction: float
     restitution: float
+    damping_model: str
     walls: str
     time_step: float
     protocol: str
@@ -162,6 +166,7 @@ def system_from_config(name: str, config: Mapping[str, Any]) -> SystemSpec:
         polydispersity=float(entry.get("polydispersity", 0.0)),
         friction=float(entry["friction"]),
         restitution=float(entry["restitution"]),
+        damping_model=entry["damping_model"],
         walls=entry["walls"],
         time_step=float(entry["time_step"]),
         protocol=entry["protocol"],

@@ -89,6 +89,20 @@ def undamped_collision_time(k_n: float, beta: float, effective_mass: float, impa
             * impact_speed ** (-beta * exponent))
 
 
+def collision_time_damping(restitution: float, collision_time: float = 1.0) -> float:
+    """γ_n = −2 ln(e_n) / τ_c: the linear-law relation of P1's ref. [47], in units of 1/`collision_time`.
+
+    For F = k_n x − γ_n m̄ v_n and an effective mass m̄ the overlap decays as exp(−γ_n t/2), so a collision lasting
+    τ_c loses the factor e_n of its speed (weak damping; the exact root is `linear_damping_for_restitution`).
+    In reduced units (τ_c = 1) γ_n = −2 ln e_n: 1.386 for e_n = 0.5. Applied to a Hertz law (F_n ∝ x^½ v_n) it
+    damps a collision at speed v0 far less: the restitution then depends on the overlap reached
+    (`forcenet.dem.calibration.collision_restitution`).
+    """
+    if not 0.0 < restitution <= 1.0:
+        raise ValueError(f"restitution must lie in (0, 1], got {restitution}")
+    return -2.0 * math.log(restitution) / collision_time
+
+
 def linear_damping_for_restitution(k_n: float, restitution: float, effective_mass: float) -> float:
     """γ_n for F = k_n x − γ_n m_eff v_n giving restitution e_n (β = 0).
 

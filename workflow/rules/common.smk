@@ -9,7 +9,7 @@ from snakemake.utils import validate
 
 sys.path.insert(0, str(Path(workflow.basedir) / "src"))  # works before `pip install -e .` too
 
-from forcenet.pipeline import SNAPSHOT_ANALYSIS_KEYS, realization_index
+from forcenet.pipeline import SNAPSHOT_ANALYSIS_KEYS, realization_index, simulation_params
 from forcenet.systems import ConfigError, validate_config
 
 validate(config, str(Path(workflow.basedir) / "workflow/schemas/config.schema.yaml"))
@@ -18,7 +18,7 @@ try:
 except ConfigError as error:
     raise WorkflowError(f"Invalid config: {error}") from None
 
-RESULTS = "results"
+RESULTS = config.get("results_dir", "results").rstrip("/")
 LOGS = f"{RESULTS}/logs"
 P1_SYSTEMS = list(config["studies"].get("p1", {}).get("systems", []))
 P2_SYSTEMS = list(config["studies"].get("p2", {}).get("systems", []))
@@ -34,6 +34,11 @@ def snapshot_path(system, realization, rho_label):
     return f"{RESULTS}/sim/{system}/{realization}/rho{rho_label}.nc"
 
 
+def run_cost_path(system, realization):
+    """CPU time and size of one compression run (JSON, written when the run completes)."""
+    return f"{RESULTS}/sim/{system}/{realization}/run_cost.json"
+
+
 def analysis_path(system, realization, rho_label):
     return f"{RESULTS}/analysis/{system}/{realization}/rho{rho_label}.nc"
 
@@ -46,11 +51,7 @@ def system_analyses(wildcards):
 
 def system_params(system):
     """What a simulation depends on: its own entry, the material and the seed (not other systems)."""
-    entry = config["systems"][system]
-    params = {"system": entry, "seed": config["seed"]}
-    if entry["stiffness"] == "material":
-        params["material"] = config["material"]
-    return params
+    return simulation_params(config, system)
 
 
 def simulation_runtime_minutes(spec):

@@ -8,7 +8,8 @@ for _name, _spec in SYSTEMS.items():
         name:
             f"simulate_{_name}"
         output:
-            [snapshot_path(_name, "{realization}", rho) for rho in _spec.rho_labels],
+            snapshots=[snapshot_path(_name, "{realization}", rho) for rho in _spec.rho_labels],
+            cost=run_cost_path(_name, "{realization}"),
         log:
             f"{LOGS}/simulate/{_name}/{{realization}}.log",
         params:

@@ -1,8 +1,16 @@
-"""Calibration of the normal damping γ_n from the restitution coefficient e_n (DESIGN.md: P1 gives no e_n; use 0.5).
+"""The normal damping γ_n from the restitution coefficient e_n (P1 gives no e_n; we use 0.5).
 
-γ_n is chosen so that a binary head-on collision of two *mean* particles (mass m̄ each, reduced mass m̄/2)
-has restitution e_n under the engine's own normal law, F_n = max(0, k_n x^(1+β) − γ_n x^β m_eff v_n)
-(P1 Eq. 1, never attractive):
+Two damping models, chosen per system by `systems.<name>.damping_model` (docs/decisions.md, "Damping"):
+
+``linear_law`` (the Hertz systems' default)
+    γ_n = −2 ln(e_n)/τ_c (`forcenet.units.collision_time_damping`), the linear-law relation of P1's ref. [47],
+    applied in the system's own τ_c units whatever β. It is the damping that lets P1's own time steps (0.02 τ_c
+    in 2D, 0.005 τ_c in 3D) integrate compressed Hertz packings; a Hertz collision at v0 is then nearly
+    elastic (e ≈ 0.996 in P1 units).
+``head_on`` (the linear systems' default)
+    γ_n is chosen so that a binary head-on collision of two *mean* particles (mass m̄ each, reduced mass m̄/2)
+    has restitution e_n under the engine's own normal law, F_n = max(0, k_n x^(1+β) − γ_n x^β m_eff v_n)
+    (P1 Eq. 1, never attractive):
 
 * linear (β = 0): the closed form `forcenet.units.linear_damping_for_restitution` ignores the cut of the
   attractive tail, which raises e_n; the value used here is the root of the numerically integrated
@@ -74,8 +82,18 @@ def normal_damping_for_restitution(normal_stiffness: float, beta: float, restitu
     return 0.5 * (low + high)
 
 
+#: values of `systems.<name>.damping_model`
+DAMPING_MODELS = ("linear_law", "head_on")
+
+
 def normal_damping_for_system(system) -> float:
-    """γ_n of a `forcenet.systems.SystemSpec`: two mean particles, impact speed = the wall speed (Hertz)."""
+    """γ_n [d_ave^(−β) τ_c^(−1)] of a `forcenet.systems.SystemSpec` under its `damping_model`: the linear-law
+    relation −2 ln(e_n)/τ_c, or the head-on calibration (two mean particles, impact speed = the wall speed for
+    Hertz; the linear law's restitution does not depend on speed)."""
+    if system.damping_model == "linear_law":
+        return units.collision_time_damping(system.restitution)
+    if system.damping_model != "head_on":
+        raise ValueError(f"unknown damping model {system.damping_model!r} (known: {DAMPING_MODELS})")
     speed = 1.0 if system.beta == 0.0 else system.wall_speed
     return normal_damping_for_restitution(system.normal_stiffness, system.beta, system.restitution,
                                           MEAN_PAIR_EFFECTIVE_MASS, speed)
@@ -89,4 +107,4 @@ def minimum_collision_time(system, lightest_mass: float, reference_speed: float)
 
 
 __all__ = ["collision_restitution", "collision_duration", "normal_damping_for_restitution",
-           "normal_damping_for_system", "minimum_collision_time", "MEAN_PAIR_EFFECTIVE_MASS"]
+           "normal_damping_for_system", "minimum_collision_time", "MEAN_PAIR_EFFECTIVE_MASS", "DAMPING_MODELS"]

@@ -55,7 +55,8 @@ _LOG = logging.getLogger(__name__)
 # --- set-up ------------------------------------------------------------------------------------------------
 
 def contact_law_for_system(system: SystemSpec) -> ContactLaw:
-    """P1 Eq. 1–3 with γ_n calibrated for restitution e_n (`calibration.normal_damping_for_system`), γ_t = γ_n."""
+    """P1 Eq. 1–3 with γ_n from restitution e_n under the system's damping model
+    (`calibration.normal_damping_for_system`), γ_t = γ_n."""
     gamma_n = calibration.normal_damping_for_system(system)
     return ContactLaw(normal_stiffness=system.normal_stiffness, tangential_stiffness=system.tangential_stiffness,
                       normal_damping=gamma_n, tangential_damping=gamma_n, friction=system.friction,
@@ -152,21 +153,23 @@ def snapshot_arrays(sim: Simulation, relaxation_steps: int) -> dict:
 
 
 def save_checkpoint(path: Path, sim: Simulation, *, next_index: int, fingerprint: str,
-                    rng: np.random.Generator) -> None:
-    """Atomic np.savez of everything needed to continue (temp file + rename)."""
+                    rng: np.random.Generator, cpu_seconds: float = 0.0) -> None:
+    """Atomic np.savez of everything needed to continue (temp file + rename); cpu_seconds is the run's CPU time
+    so far (all sessions), so a resumed run still reports what the whole run cost."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_name(path.name + f".tmp{os.getpid()}")
     with open(tmp, "wb") as handle:
         np.savez(handle, **sim.state_dict(), next_index=next_index, fingerprint=fingerprint,
-                 rng_state=json.dumps(rng.bit_generator.state))
+                 rng_state=json.dumps(rng.bit_generator.state), cpu_seconds=float(cpu_seconds))
         handle.flush()
         os.fsync(handle.fileno())
     os.replace(tmp, path)
 
 
 def load_checkpoint(path: Path, fingerprint: str, snapshot_paths: Sequence[Path], log: logging.Logger):
-    """(Simulation, rng, next_index) from a checkpoint that matches, else None (and the reason is logged)."""
+    """(Simulation, rng, next_index, cpu_seconds so far) from a checkpoint that matches, else None (and the reason
+    is logged)."""
     path = Path(path)
     if not path.exists():
         return None
@@ -186,7 +189,7 @@ def load_checkpoint(path: Path, fingerprint: str, snapshot_paths: Sequence[Path]
         return None
     rng = np.random.default_rng()
     rng.bit_generator.state = json.loads(str(state["rng_state"]))
-    return Simulation.from_state_dict(state), rng, next_index
+    return Simulation.from_state_dict(state), rng, next_index, float(state.get("cpu_seconds", 0.0))
 
 
 # --- the driver ------------------------------------------------------------------------------------------------
@@ -279,13 +282,15 @@ def check_damping_is_integrable(sim: Simulation, system: SystemSpec) -> float:
 
 
 def run_compression(system: SystemSpec, *, seed: int, snapshot_paths: Sequence[str | os.PathLike],
-                    checkpoint_path: str | os.PathLike, attrs: dict, log: logging.Logger | None = None) -> None:
+                    checkpoint_path: str | os.PathLike, attrs: dict, log: logging.Logger | None = None) -> float:
     """Compress one realization of `system` through its ρ grid, writing one snapshot per grid value.
 
     snapshot_paths: one path per `system.rho_grid` value, same order. checkpoint_path: resumable state
     (written after each snapshot). attrs: provenance stored in every snapshot. Raises ConfigError for bad
     input (before any work) and SimulationBlowUp when the dynamics become unphysical (no snapshot is written
     for the failed grid value; earlier ones are complete and the checkpoint allows a rerun from the last one).
+    Each snapshot records λΔt (`dem_damping_rate_time_step`, the stability check's margin). Returns the CPU
+    seconds the whole run took, over every session that resumed it.
     """
     log = log or _LOG
     paths = [Path(p) for p in snapshot_paths]
@@ -294,8 +299,9 @@ def run_compression(system: SystemSpec, *, seed: int, snapshot_paths: Sequence[s
     validate_system(system)
     fingerprint = _fingerprint(system, seed)
     resumed = load_checkpoint(Path(checkpoint_path), fingerprint, paths, log)
+    cpu_before = 0.0
     if resumed is not None:
-        sim, rng, start = resumed
+        sim, rng, start, cpu_before = resumed
         log.info("%s: resuming from %s at step %d (snapshot %d of %d)", system.name, checkpoint_path, sim.step,
                  start + 1, len(paths))
     else:
@@ -306,6 +312,7 @@ def run_compression(system: SystemSpec, *, seed: int, snapshot_paths: Sequence[s
     file_attrs = dict(attrs)
     file_attrs.setdefault("dem_normal_damping", float(sim.law[2]))
     progress = _Progress(log, system, sim, start)
+    cpu_start = time.process_time()
     for index in range(start, len(paths)):
         rho = system.rho_grid[index]
         target = wall_shift_for(sim, rho)
@@ -317,9 +324,13 @@ def run_compression(system: SystemSpec, *, seed: int, snapshot_paths: Sequence[s
             _compress_to(sim, target, index, progress, system.wall_speed, stop_walls=False)
             relaxation_steps = -1
         damping_dt = check_damping_is_integrable(sim, system)
-        datasets.write_snapshot(paths[index], attrs=file_attrs, **snapshot_arrays(sim, relaxation_steps))
-        save_checkpoint(Path(checkpoint_path), sim, next_index=index + 1, fingerprint=fingerprint, rng=rng)
+        datasets.write_snapshot(paths[index], attrs={**file_attrs, "dem_damping_rate_time_step": damping_dt},
+                                **snapshot_arrays(sim, relaxation_steps))
+        cpu_seconds = cpu_before + time.process_time() - cpu_start
+        save_checkpoint(Path(checkpoint_path), sim, next_index=index + 1, fingerprint=fingerprint, rng=rng,
+                        cpu_seconds=cpu_seconds)
         sim.rebuild()  # the resumed run rebuilds here too (Simulation.from_state_dict): identical arrays
         log.info("%s: snapshot ρ = %.3f written (step %d, Z = %.3f, fastest damping rate × Δt = %.2f of %.2f)",
                  system.name, rho, sim.step, 2.0 * sim.contact_count() / sim.n_mobile, damping_dt,
                  stability.GEAR_DAMPING_BOUND)
+    return cpu_before + time.process_time() - cpu_start

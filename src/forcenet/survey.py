@@ -1,0 +1,115 @@
+"""Compression surveys: run one system under config overrides and tabulate each snapshot's state.
+
+The measurements behind `docs/decisions.md` (damping model and time step), `docs/fidelity.md` (which quick setting
+moves ρ_J most per CPU-second) and the 3D overlap report come from here, through `scripts/compression_survey.py`:
+a system of a config, with some of its keys replaced (``time_step=0.005``, ``relaxation.window_steps=4000``),
+compressed through its ρ grid in a temporary folder, and per snapshot
+
+* ρ, and ρ over the region the centres can reach (box side − d_ave per axis),
+* Z (2 × contacts / N, rattlers included), kinetic energy E_kin [m̄ d_ave² τ_c⁻²], pressure,
+* λΔt: the fastest damping rate times Δt (`forcenet.dem.stability`; the run stops above the Gear bound),
+* the largest and mean pair overlap, x / min(d_i, d_j) (the engine's blow-up measure) [-],
+* relaxation steps,
+
+with the CPU-seconds of the run and ρ_J from the logistic fit of Z(ρ) (`forcenet.measures.jamming`).
+"""
+from __future__ import annotations
+
+import copy
+import logging
+import tempfile
+import time
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Mapping, Sequence
+
+import numpy as np
+import yaml
+
+from forcenet.systems import realization_seed, system_from_config
+
+__all__ = ["apply_overrides", "pair_overlap_fractions", "SurveyRun", "run_survey"]
+
+
+def apply_overrides(config: Mapping[str, Any], system: str, overrides: Sequence[str]) -> dict[str, Any]:
+    """A deep copy of `config` with ``key=value`` items set in ``systems.<system>`` (dotted keys reach into
+    nested entries, values are parsed as YAML: ``rho={start: 0.7, stop: 0.9, step: 0.01}``)."""
+    result = copy.deepcopy(dict(config))
+    entry = result["systems"][system]
+    for item in overrides:
+        key, _, text = item.partition("=")
+        if not key or not _:
+            raise ValueError(f"override {item!r} is not key=value")
+        *parents, leaf = key.split(".")
+        target = entry
+        for parent in parents:
+            target = target.setdefault(parent, {})
+        target[leaf] = yaml.safe_load(text)
+    return result
+
+
+def pair_overlap_fractions(position: np.ndarray, radius: np.ndarray, contact_i: np.ndarray,
+                           contact_j: np.ndarray) -> np.ndarray:
+    """Overlap of each contact over the smaller diameter, x / (2 min(r_i, r_j)) [-].
+
+    position (N, d) [d_ave], radius (N,) [d_ave], contact_i/contact_j (C,) particle indices. Returns (C,)."""
+    separation = np.linalg.norm(position[contact_i] - position[contact_j], axis=1)
+    overlap = radius[contact_i] + radius[contact_j] - separation
+    return overlap / (2.0 * np.minimum(radius[contact_i], radius[contact_j]))
+
+
+@dataclass
+class SurveyRun:
+    """One compression run: per-snapshot rows, CPU time, ρ_J (also with ρ over the centres' domain), and the
+    blow-up message if it stopped."""
+
+    rows: list[dict[str, float]]
+    cpu_seconds: float
+    rho_j: float
+    rho_j_centres: float
+    failure: str | None
+
+
+def run_survey(config: Mapping[str, Any], system: str, realization: int = 0, log: logging.Logger | None = None
+               ) -> SurveyRun:
+    """Compress realization `realization` of `system` through its grid (snapshots in a temporary folder)."""
+    from forcenet.datasets import read_snapshot
+    from forcenet.dem.protocol import SimulationBlowUp, run_compression
+    from forcenet.measures.jamming import jamming_point
+    from forcenet.pipeline import run_attrs
+
+    spec = system_from_config(system, config)
+    seed = realization_seed(config["seed"], system, realization)
+    log = log or logging.getLogger(f"forcenet.survey.{system}")
+    failure = None
+    with tempfile.TemporaryDirectory(prefix="forcenet-survey-") as folder:
+        paths = [Path(folder) / f"rho{label}.nc" for label in spec.rho_labels]
+        start = time.process_time()
+        try:
+            cpu = run_compression(spec, seed=seed, snapshot_paths=paths, checkpoint_path=Path(folder) / "checkpoint.npz",
+                            attrs=run_attrs(config, system, realization, f"forcenet survey, {system}"), log=log)
+        except SimulationBlowUp as error:
+            failure = str(error)
+            cpu = time.process_time() - start
+        rows = []
+        for path in paths:
+            if not path.exists():
+                break
+            with read_snapshot(path) as snap:
+                fractions = pair_overlap_fractions(snap.position.values, snap.radius.values,
+                                                   snap.contact_i.values, snap.contact_j.values)
+                span = snap.box_hi.values - snap.box_lo.values
+                # ρ over the region the centres of mean particles can reach (one d_ave less per axis): a candidate
+                # reading of P1's "domain volume" (docs/validation/README.md)
+                rho_centres = float(snap.rho) * float(np.prod(span / (span - 1.0)))
+                rows.append(dict(rho=float(snap.rho), rho_centres=rho_centres, Z=float(snap.Z), kinetic_energy=float(snap.kinetic_energy),
+                                 pressure=float(snap.pressure), damping_dt=float(snap.attrs["dem_damping_rate_time_step"]),
+                                 overlap_max=float(fractions.max()) if fractions.size else 0.0,
+                                 overlap_mean=float(fractions.mean()) if fractions.size else 0.0,
+                                 relaxation_steps=int(snap.relaxation_steps)))
+    rho_j = rho_j_centres = np.nan
+    if len(rows) >= 4:
+        z = [r["Z"] for r in rows]
+        rho_j = float(jamming_point([r["rho"] for r in rows], z))
+        rho_j_centres = float(jamming_point([r["rho_centres"] for r in rows], z))
+    return SurveyRun(rows=rows, cpu_seconds=cpu, rho_j=rho_j, rho_j_centres=rho_j_centres, failure=failure)
