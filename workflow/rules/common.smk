@@ -82,6 +82,20 @@ def simulation_memory_mb(spec):
     return simulation_cost(spec).memory_mb
 
 
+def figure_outputs(name, category):
+    """The PDF and PNG of one figure, both in the HTML report (`snakemake --report`): the PNG is what the report shows
+    inline (every browser draws it; a PDF is blank without a PDF viewer), and its caption links the PDF."""
+    return dict(
+        pdf=report(f"{RESULTS}/figures/{name}.pdf", caption="../report/figure_pdf.rst", category=category,
+                   subcategory=REPORT_PDFS, labels={"figure": name, "format": "PDF"}),
+        png=report(f"{RESULTS}/figures/{name}.png", caption="../report/figure.rst", category=category,
+                   subcategory=REPORT_FIGURES, labels={"figure": name, "format": "PNG"}),
+    )
+
+
+REPORT_FIGURES, REPORT_PDFS, REPORT_TABLES = "Figures", "Figures as PDF (vector, for print)", "Tables"
+
+
 def all_targets():
     """Everything `snakemake` builds by default: figures and tables of the studies in the config."""
     targets = [f"{RESULTS}/config/resolved.yaml"]
