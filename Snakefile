@@ -1,12 +1,11 @@
 # forcenet: every figure and table of P1 and P2 from a config file.
 #   snakemake --cores 2                                 # quick default (config/config.yaml)
 #   snakemake --cores 2 --configfile config/paper.yaml  # the papers' sizes
+# A --configfile stands alone (it is not merged onto config/config.yaml): common.smk reads the default only when
+# no --configfile is given, and validates whichever config it is before any job.
 from snakemake.utils import min_version
 
 min_version("9.0")
-
-
-configfile: "config/config.yaml"
 
 
 include: "workflow/rules/common.smk"

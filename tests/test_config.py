@@ -2,6 +2,8 @@
 from __future__ import annotations
 
 import copy
+import re
+import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -112,3 +114,94 @@ def test_workflow_stops_before_any_job_naming_the_key(tmp_path: Path, case, key)
     output = result.stdout + result.stderr
     assert key in output, output[-3000:]
     assert not (tmp_path / "work" / "results").exists(), "a job ran despite the invalid config"
+
+
+# --- a --configfile stands alone; every bad input is one readable line before any job ------------------------------
+def _dry_run_jobs(result) -> dict[str, int]:
+    """{rule: count} from the job-stats table of a dry run."""
+    jobs, table = {}, False
+    for line in result.stdout.splitlines():
+        parts = line.split()
+        if parts[:2] == ["job", "count"]:
+            table = True
+        elif table and len(parts) == 2 and parts[1].isdigit() and parts[0] != "total":
+            jobs[parts[0]] = int(parts[1])
+        elif table and parts[:1] == ["total"]:
+            break
+    return jobs
+
+
+def test_a_configfile_stands_alone(tmp_path: Path):
+    """A complete config with one system, its ρ grid as {start, stop, count}, only P1: it validates (the default's
+    `step` is not merged in) and builds that system alone. Without --configfile the default builds all five."""
+    config = load_config("smoke.yaml")
+    config["systems"] = {"2d_linear": config["systems"]["2d_linear"]}
+    config["systems"]["2d_linear"]["rho"] = {"start": 0.8, "stop": 0.88, "count": 3}
+    config["studies"] = {"p1": {"systems": ["2d_linear"]}}
+    path = tmp_path / "one.yaml"
+    path.write_text(yaml.safe_dump(config))
+    result = _snakemake("-n", "--cores", "1", "--configfile", str(path), "--directory", str(tmp_path / "work"),
+                        "--snakefile", str(REPO / "Snakefile"))
+    assert result.returncode == 0, result.stdout[-3000:] + result.stderr[-3000:]
+    jobs = _dry_run_jobs(result)
+    assert jobs["simulate_2d_linear"] == 1 and jobs["analyze_2d_linear"] == 1
+    assert not [rule for rule in jobs if rule.startswith(("p2_", "simulate_2d_hertz", "simulate_3d", "simulate_2d_poly"))]
+    default = _dry_run_jobs(_snakemake("-n", "--cores", "1", "--directory", str(tmp_path / "work"),
+                                       "--snakefile", str(REPO / "Snakefile")))
+    assert {f"simulate_{name}" for name in load_config()["systems"]} <= set(default)
+
+
+def _one_line_failure(result, *needles: str) -> str:
+    """The run failed before any job with one readable message containing every needle: no traceback, no schema
+    or config dump."""
+    output = result.stdout + result.stderr
+    assert result.returncode != 0
+    assert "Traceback" not in output and len(output) < 1500, output[-3000:]
+    lines = [line for line in output.splitlines() if all(needle in line for needle in needles)]
+    assert len(lines) == 1, output
+    return lines[0]
+
+
+PHYSICAL_CASES = {
+    # (path, value, key named, words of the message)
+    "rho_2d_above_close_packing": (["systems", "2d_linear", "rho"], [0.8, 0.9, 0.95], "systems.2d_linear.rho",
+                                   "densest packing"),
+    "rho_3d_above_close_packing": (["systems", "3d_hertz", "rho"], {"start": 0.5, "stop": 0.78, "step": 0.02},
+                                   "systems.3d_hertz.rho", "densest packing"),
+    "rho_below_the_lattice": (["systems", "2d_hertz", "rho"], [0.3, 0.8], "systems.2d_hertz.rho", "initial lattice"),
+    "time_step_above_the_collision": (["systems", "2d_hertz", "time_step"], 0.05, "systems.2d_hertz.time_step",
+                                      "shortest collision"),
+    "unknown_key": (["systems", "2d_hertz", "frction"], 0.5, "systems.2d_hertz", "'frction' was unexpected"),
+}
+
+
+@pytest.mark.parametrize("case", sorted(PHYSICAL_CASES))
+def test_bad_config_is_one_line_naming_the_key_before_any_job(tmp_path: Path, case):
+    path, value, key, words = PHYSICAL_CASES[case]
+    bad = tmp_path / "bad.yaml"
+    bad.write_text(yaml.safe_dump(_mutate(path, value, load_config("smoke.yaml"))))
+    result = _snakemake("-n", "--cores", "1", "--configfile", str(bad), "--directory", str(tmp_path / "work"),
+                        "--snakefile", str(REPO / "Snakefile"))
+    _one_line_failure(result, key, words)
+    assert not (tmp_path / "work" / "results").exists()
+
+
+def test_yaml_error_in_the_default_config_names_file_and_line(tmp_path: Path):
+    """The default config is read by the workflow: a syntax error names the file and line. (A --configfile is read by
+    Snakemake before the workflow, which reports no line: forcenet-check-config does.)"""
+    for part in ("Snakefile", "workflow", "config"):
+        source = REPO / part
+        (shutil.copytree if source.is_dir() else shutil.copy)(source, tmp_path / part)
+    text = (tmp_path / "config/config.yaml").read_text().splitlines()
+    line = next(i for i, row in enumerate(text) if row.startswith("realizations:"))
+    text[line] = "realizations: 3: 4"  # a mapping value where none may be: YAML stops on this line
+    (tmp_path / "config/config.yaml").write_text("\n".join(text) + "\n")
+    result = _snakemake("-n", "--cores", "1", cwd=tmp_path)
+    message = _one_line_failure(result, "config/config.yaml")
+    assert re.search(rf"line {line + 1}, column \d+: not valid YAML", message), message
+    checked = subprocess.run([sys.executable, "-m", "forcenet.workflow_io", str(tmp_path / "config/config.yaml")],
+                             capture_output=True, text=True)
+    assert checked.returncode == 1 and f"line {line + 1}" in checked.stderr
+    good = subprocess.run([sys.executable, "-m", "forcenet.workflow_io", str(REPO / "config/smoke.yaml")],
+                          capture_output=True, text=True)
+    assert good.returncode == 0 and "valid (5 systems" in good.stdout

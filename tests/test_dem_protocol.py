@@ -176,16 +176,72 @@ def test_blow_up_stops_with_step_particle_and_rho(tmp_path):
         run(system, tmp_path)
     message = str(err.value)
     assert "step" in message and "particle" in message and "ρ" in message
+    assert "most likely systems.2d_linear.rho" in message  # soft particles crushed by the walls
     assert err.value.step > 0 and 0 <= err.value.particle
     assert not list(tmp_path.glob("*.nc")), "no snapshot may look complete"
 
 
 def test_progress_is_logged(tmp_path, caplog, monkeypatch):
+    """Snapshot k of n, time left to the snapshot and for the whole run; no rate before the first chunk (which pays
+    for loading the compiled kernels) has ended."""
     monkeypatch.setattr(protocol, "LOG_INTERVAL_S", 0.0)
+    calls = []
+    original = protocol._Progress.maybe_log
+    monkeypatch.setattr(protocol._Progress, "maybe_log",
+                        lambda self, sim, *args, **kwargs: calls.append(sim.step) or original(self, sim, *args, **kwargs))
     with caplog.at_level(logging.INFO):
-        run(tiny(rho_grid=(0.70,)), tmp_path, log=logging.getLogger("dem-test"))
+        run(tiny(rho_grid=(0.70, 0.72)), tmp_path, log=logging.getLogger("dem-test"))
     progress = [r.message for r in caplog.records if "steps/s" in r.message]
-    assert progress and all(k in progress[0] for k in ("ρ =", "Z =", "E_kin =", "left"))
+    assert len(progress) == len(calls) - 1, "the first chunk (compilation) is not rated"
+    assert all(k in progress[0] for k in ("snapshot 1 of 2 (ρ → 0.700)", "ρ =", "Z =", "E_kin =",
+                                          "to this snapshot", "left for the run", "compression", "relaxation"))
+    assert any("snapshot 2 of 2 (ρ → 0.720)" in line for line in progress)
+    assert any("snapshot 2 of 2 written" in r.message for r in caplog.records)
+
+
+def test_progress_counts_the_remaining_work_of_the_whole_run():
+    """Steps left at the start: compression from the lattice to each grid value at v Δt per step, plus one
+    relaxation window per grid point until some are measured, then their mean."""
+    system = tiny(rho_grid=(0.70, 0.75, 0.80))
+    sim, _ = protocol.build_simulation(system, 1)
+    progress = protocol._Progress(logging.getLogger("dem-test"), system, sim, 0)
+    step = system.wall_speed * system.time_step
+    shifts = [protocol.wall_shift_for(sim, rho) for rho in system.rho_grid]
+    window = system.relaxation.window_steps
+    to_snapshot, compression, relaxation = progress.remaining_steps(sim, 0, None)
+    assert to_snapshot == pytest.approx(shifts[0] / step + window)
+    assert compression == pytest.approx(shifts[-1] / step) and relaxation == 3 * window
+    progress.relaxation_steps_done += [300, 500]
+    to_snapshot, compression, relaxation = progress.remaining_steps(sim, 2, relaxed=100)
+    assert relaxation == 400 - 100 and to_snapshot == pytest.approx(shifts[-1] / step + 300)
+
+
+@pytest.mark.parametrize("changes, key", [
+    (dict(time_step=0.3), "time_step"),                         # the overlap grows within a couple of steps
+    (dict(time_step=0.8), "time_step"),                         # a particle jumps out of the box
+    (dict(rho_grid=(0.75, 0.90, 0.95, 0.99)), "rho"),           # the overlap grows with the compression
+])
+def test_a_blow_up_names_the_setting_that_most_likely_caused_it(tmp_path, monkeypatch, changes, key):
+    """With the pre-run checks bypassed (they refuse these settings), the engine's own blow-up names the key."""
+    monkeypatch.setattr(protocol, "validate_system", lambda system: None)
+    with pytest.raises(SimulationBlowUp) as err:
+        run(tiny(**changes), tmp_path)
+    assert f"most likely systems.2d_linear.{key}" in str(err.value)
+    assert "\n" not in str(err.value)
+
+
+def test_an_expected_error_is_one_log_line_without_traceback(tmp_path):
+    from forcenet.pipeline import job_logger
+
+    log = tmp_path / "job.log"
+    with pytest.raises(SystemExit) as stop, job_logger(log, "test"):
+        raise SimulationBlowUp("overlap above 20% of a diameter", step=3, particle=1, rho=0.9)
+    assert stop.value.code == 1
+    lines = log.read_text().splitlines()
+    assert len(lines) == 1 and " ERROR DEM blow-up at step 3, particle 1" in lines[0]
+    with pytest.raises(ZeroDivisionError), job_logger(log, "test"):  # a bug keeps its traceback
+        1 / 0
+    assert "Traceback" in log.read_text()
 
 
 def test_relaxation_cap_is_logged(tmp_path, caplog):

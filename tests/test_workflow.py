@@ -1,11 +1,21 @@
-"""The whole workflow on config/smoke.yaml in a scratch directory: every figure, table and valid netCDF."""
+"""The whole workflow on config/smoke.yaml in a scratch directory: every figure, table and valid netCDF, files
+readable as the umask allows, the HTML report drawn by a browser, a bad input stopping a job in one line, and the
+README's resume commands after a SIGKILL."""
 from __future__ import annotations
 
+import os
+import re
+import shutil
+import signal
+import stat
 import subprocess
 import sys
+import time
 from pathlib import Path
 
+import numpy as np
 import pytest
+import xarray as xr
 import yaml
 
 from conftest import REPO
@@ -14,10 +24,12 @@ from forcenet.datasets import open_dataset, validate_dataset
 pytestmark = pytest.mark.workflow
 
 
-def snakemake(workdir: Path, *args: str) -> subprocess.CompletedProcess:
-    command = [sys.executable, "-m", "snakemake", "--snakefile", str(REPO / "Snakefile"), "--directory",
-               str(workdir), "--configfile", str(REPO / "config/smoke.yaml"), "--cores", "2", *args]
-    return subprocess.run(command, capture_output=True, text=True, timeout=900)
+def snakemake(workdir: Path, *args: str, config: Path = REPO / "config/smoke.yaml") -> subprocess.CompletedProcess:
+    """Run Snakemake on `config` in `workdir` (targets go before --configfile, which takes several values), with the
+    umask 022 a shared machine typically has."""
+    command = [sys.executable, "-m", "snakemake", *args, "--snakefile", str(REPO / "Snakefile"), "--directory",
+               str(workdir), "--cores", "2", "--configfile", str(config)]
+    return subprocess.run(command, capture_output=True, text=True, timeout=900, preexec_fn=lambda: os.umask(0o022))
 
 
 @pytest.fixture(scope="module")
@@ -54,3 +66,115 @@ def test_every_figure_and_table_exists(smoke_run):
 def test_no_op_rerun_does_nothing(smoke_run):
     result = snakemake(smoke_run, "-n")
     assert "Nothing to be done" in result.stdout + result.stderr
+
+
+def test_every_output_is_readable_as_the_umask_allows(smoke_run):
+    """Under umask 022 every output, netCDF included, is rw-r--r-- like the figures and tables."""
+    modes = {path.relative_to(smoke_run): stat.S_IMODE(path.stat().st_mode)
+             for path in (smoke_run / "results").rglob("*") if path.is_file()}
+    assert any(str(path).endswith(".nc") for path in modes)
+    assert {path: mode for path, mode in modes.items() if mode != 0o644} == {}
+
+
+def test_the_html_report_shows_every_figure_inline(smoke_run):
+    """`snakemake --report`: each figure is a PNG result whose caption links its PDF, and headless Chromium draws
+    every PNG (scripts/check_report.py; the rendering is skipped with a message where no Chromium is installed)."""
+    sys.path.insert(0, str(REPO / "scripts"))
+    import check_report
+
+    report = smoke_run / "report.html"
+    result = snakemake(smoke_run, "--report", str(report))
+    assert result.returncode == 0, result.stderr[-3000:]
+    results = check_report.report_results(report.read_text())
+    figures = {entry["labels"]["figure"] for entry in results.values() if (entry.get("labels") or {}).get("figure")}
+    assert len(figures) >= 20 and check_report.data_problems(results) == []
+    chromium = check_report.find_chromium()
+    if chromium is None:
+        pytest.skip("no Chromium: the report's data were checked, its rendering was not (apt-get install chromium)")
+    drawn = check_report.render_in_chromium(report, chromium)
+    assert check_report.render_problems(drawn, results) == []
+    assert len([path for path in drawn if path.endswith(".png")]) == len(figures)
+    # the check can fail: a report whose PNG does not decode is caught
+    broken = smoke_run / "broken_report.html"
+    first = next(entry for entry in results.values() if entry["mime_type"] == "image/png")
+    broken.write_text(report.read_text().replace(first["data_uri"], "data:image/png;base64,iVBORw0KGgo="))
+    problems = check_report.render_problems(check_report.render_in_chromium(broken, chromium), results)
+    assert len(problems) == 1 and ("drew no picture" in problems[0] or "drawn empty" in problems[0]), problems
+
+
+def test_a_broken_input_stops_its_job_with_one_line(smoke_run, tmp_path):
+    """Through Snakemake: an analysis file without `betti` fed to the aggregation (it used to give rc 0 and NaN)."""
+    workdir = tmp_path / "copy"
+    shutil.copytree(smoke_run, workdir, symlinks=True)
+    target = next((workdir / "results/analysis/2d_linear/r00").glob("rho*.nc"))
+    ds = open_dataset(target).drop_vars("betti")
+    ds.to_netcdf(target)
+    result = snakemake(workdir, "results/2d_linear/network_measures.nc", "--forcerun", "aggregate_system")
+    output = result.stdout + result.stderr
+    assert result.returncode != 0 and "Traceback" not in output
+    relative = target.relative_to(workdir)
+    lines = [line for line in output.splitlines() if f"{relative}: not a valid analysis file" in line]
+    assert len(lines) == 1 and "variable 'betti' missing" in lines[0], output[-3000:]
+    assert not (workdir / "results/2d_linear/network_measures.nc").exists()
+
+
+def readme_resume_commands() -> list[list[str]]:
+    """The commands of the README's resume instructions (the bash block after "**Resuming.**"), each split into its
+    arguments without comments."""
+    text = (REPO / "README.md").read_text()
+    block = re.search(r"\*\*Resuming\.\*\*.*?```bash\n(.*?)```", text, re.S).group(1)
+    return [line.split("#")[0].split() for line in block.splitlines() if line.split("#")[0].strip()]
+
+
+@pytest.mark.slow
+def test_the_readme_resume_instructions_work_after_sigkill(tmp_path):
+    """Kill a whole `snakemake` (SIGKILL to its process group) after the first checkpoint of a run, then run what the
+    README says: the lock is released and the run resumes to snapshots bit-identical to an uninterrupted run's."""
+    commands = readme_resume_commands()
+    assert [command[:2] for command in commands] == [[".venv/bin/snakemake", "--unlock"],
+                                                     [".venv/bin/snakemake", "--cores"]]
+    config = yaml.safe_load((REPO / "config/config.yaml").read_text())
+    config["systems"] = {"2d_linear": config["systems"]["2d_linear"]}
+    config["studies"] = {"p1": {"systems": ["2d_linear"]}}
+    config["realizations"] = 1
+    path = tmp_path / "one.yaml"
+    path.write_text(yaml.safe_dump(config))
+    grid = {"start": 0.74, "stop": 0.88, "step": 0.02}
+    assert config["systems"]["2d_linear"]["rho"] == grid
+    target = "results/sim/2d_linear/r00/rho0.880.nc"
+
+    def run_readme_command(command, workdir, **kwargs):
+        """One README command, `.venv/bin/snakemake` being this interpreter's Snakemake, in `workdir` with `config`
+        (the config and target of the killed command, as the README asks)."""
+        args = [sys.executable, "-m", "snakemake", *command[1:]]
+        if "--unlock" not in command:
+            args.insert(3, target)
+        args += ["--snakefile", str(REPO / "Snakefile"), "--directory", str(workdir), "--configfile", str(path)]
+        return subprocess.run(args, capture_output=True, text=True, timeout=600, **kwargs)
+
+    reference = tmp_path / "reference"
+    assert run_readme_command(commands[1], reference).returncode == 0
+    killed = tmp_path / "killed"
+    proc = subprocess.Popen([sys.executable, "-m", "snakemake", target, "--cores", "2", "--snakefile",
+                             str(REPO / "Snakefile"), "--directory", str(killed), "--configfile", str(path)],
+                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
+    checkpoint = killed / "results/sim/2d_linear/r00/.partial/checkpoint.npz"
+    deadline = time.monotonic() + 300
+    while not checkpoint.exists() and time.monotonic() < deadline and proc.poll() is None:
+        time.sleep(0.01)
+    os.killpg(proc.pid, signal.SIGKILL)
+    proc.wait()
+    time.sleep(0.5)
+    assert not (killed / target).exists(), "the kill should interrupt the run"
+    locked = run_readme_command(commands[1], killed)  # what the README used to say: just run it again
+    assert locked.returncode != 0 and "LockException" in locked.stdout + locked.stderr
+    for command in commands:
+        done = run_readme_command(command, killed)
+        assert done.returncode == 0, done.stderr[-3000:]
+    log = (killed / "results/logs/simulate/2d_linear/r00.log").read_text()
+    assert "resuming from" in log
+    for reference_file in sorted((reference / "results/sim/2d_linear/r00").glob("rho*.nc")):
+        resumed = killed / reference_file.relative_to(reference)
+        with xr.open_dataset(reference_file) as a, xr.open_dataset(resumed) as b:
+            for name in a.data_vars:
+                np.testing.assert_array_equal(a[name].values, b[name].values, err_msg=f"{resumed.name}: {name}")

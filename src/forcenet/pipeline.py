@@ -14,12 +14,17 @@ from contextlib import contextmanager
 from pathlib import Path
 from typing import Any, Iterator, Mapping, Sequence
 
+from forcenet.errors import ForcenetError
 from forcenet.systems import config_sha256, realization_seed, system_from_config
 
 
 @contextmanager
 def job_logger(log_path: str | os.PathLike | None, name: str) -> Iterator[logging.Logger]:
-    """A logger writing to the job's log file (and stderr), closed afterwards."""
+    """A logger writing to the job's log file (and stderr), closed afterwards.
+
+    An expected error (`forcenet.errors.ForcenetError`: an invalid file or config, a simulation blow-up) is logged
+    as its one-line message and ends the process with exit status 1, no traceback: the message names the file or
+    the setting. Any other exception is a bug and is logged and re-raised with its traceback."""
     logger = logging.getLogger(f"forcenet.{name}")
     logger.setLevel(logging.INFO)
     logger.propagate = False
@@ -33,6 +38,9 @@ def job_logger(log_path: str | os.PathLike | None, name: str) -> Iterator[loggin
         logger.addHandler(handler)
     try:
         yield logger
+    except ForcenetError as error:
+        logger.error("%s", error)
+        raise SystemExit(1) from None
     except BaseException:
         logger.exception("job failed")  # the traceback belongs in the job's log, not only on the console
         raise
@@ -136,18 +144,19 @@ def force_unit_dyn(config: Mapping[str, Any], system: str) -> float:
 def aggregate(*, analyses: Sequence[str], realizations: Sequence[int], rhos: Sequence[float], measures_path: str,
               diagrams_path: str, config: Mapping[str, Any], system: str, log_path: str | None = None) -> None:
     """Stack one system's per-snapshot analyses over (realization, ρ) into network_measures.nc and diagrams.nc."""
-    from forcenet.datasets import open_dataset, provenance_attrs, write_netcdf
+    from forcenet.datasets import provenance_attrs, read_dataset, write_netcdf
     from forcenet.datasets.aggregate import stack_diagrams, stack_network_measures
 
     spec = system_from_config(system, config)
     with job_logger(log_path, f"aggregate.{system}") as log:
-        datasets = [open_dataset(path) for path in analyses]
+        datasets = [read_dataset(path, "analysis") for path in analyses]
         attrs = provenance_attrs(system=system, realization=-1, seed=config["seed"], config=config,
                                  title=f"forcenet network measures, {system}, stacked over realization and rho")
         attrs.update(dimension=spec.dimension, force_law=spec.force_law, force_unit_dyn=force_unit_dyn(config, system))
-        write_netcdf(stack_network_measures(datasets, realizations, rhos, attrs), measures_path)
+        write_netcdf(stack_network_measures(datasets, realizations, rhos, attrs), measures_path,
+                     kind="network_measures")
         attrs["title"] = f"forcenet persistence diagrams, {system}, all realizations and rho"
-        write_netcdf(stack_diagrams(datasets, realizations, rhos, attrs), diagrams_path)
+        write_netcdf(stack_diagrams(datasets, realizations, rhos, attrs), diagrams_path, kind="diagrams")
         log.info("stacked %d analyses of %s", len(datasets), system)
 
 
@@ -158,24 +167,30 @@ SNAPSHOT_ANALYSIS_KEYS = ("thresholds", "remove_rattlers", "force_pdf")
 
 def analyze_run(*, snapshots: Sequence[str], outputs: Sequence[str], analysis: Mapping[str, Any],
                 log_path: str | None = None) -> None:
-    """Analyse every snapshot of one compression run (one process: imports and JIT paid once)."""
+    """Analyse every snapshot of one compression run (one process: imports and JIT paid once). Every snapshot is
+    read and checked before the first analysis is written, so a bad one stops the job with nothing written."""
+    from forcenet.datasets import read_snapshot
+
     with job_logger(log_path, "analyze") as log:
-        for snapshot, output in zip(snapshots, outputs, strict=True):
-            analyze_snapshot(snapshot, output, analysis, log)
+        snaps = [read_snapshot(snapshot) for snapshot in snapshots]
+        for snapshot, snap, output in zip(snapshots, snaps, outputs, strict=True):
+            analyze_snapshot(snapshot, output, analysis, log, snap=snap)
 
 
-def analyze_snapshot(snapshot: str, output: str, analysis: Mapping[str, Any], log: logging.Logger) -> None:
-    """Analyse one snapshot file and write its analysis file (see `snapshot_measures`)."""
+def analyze_snapshot(snapshot: str, output: str, analysis: Mapping[str, Any], log: logging.Logger,
+                     snap=None) -> None:
+    """Analyse one snapshot file (`snap`: its dataset, if already read) and write its analysis file (see
+    `snapshot_measures`)."""
     import time
 
     from forcenet.datasets import read_snapshot, write_netcdf
     from forcenet.datasets.analysis import analysis_dataset
 
     start = time.perf_counter()
-    snap = read_snapshot(snapshot)
+    snap = read_snapshot(snapshot) if snap is None else snap
     ds = analysis_dataset(snapshot_measures(snap, analysis), rho=float(snap.rho),
                           attrs=analysis_attrs(snap, snapshot, analysis))
-    write_netcdf(ds, output)
+    write_netcdf(ds, output, kind="analysis")
     log.info("%s: rho %.3f, Z %.3f, %d diagram points, %.2f s", snapshot, float(snap.rho), float(snap.Z),
              ds.sizes["point"], time.perf_counter() - start)
 
@@ -212,10 +227,11 @@ def analysis_attrs(snap, source: str, analysis: Mapping[str, Any]) -> dict[str, 
     return attrs
 
 
-def _open_by_system(paths: Sequence[str]) -> dict[str, Any]:
-    from forcenet.datasets import open_dataset
+def _open_by_system(paths: Sequence[str], kind: str) -> dict[str, Any]:
+    """{system: dataset} of files of one kind (`forcenet.datasets.schema.FILE_KINDS`), each checked on reading."""
+    from forcenet.datasets import read_dataset
 
-    datasets = [open_dataset(path) for path in paths]
+    datasets = [read_dataset(path, kind) for path in paths]
     return {ds.attrs["system"]: ds for ds in datasets}
 
 
@@ -227,9 +243,9 @@ def figure(*, name: str, systems: Sequence[str], inputs: Mapping[str, Sequence[s
 
     with job_logger(log_path, f"figure.{name}") as log:
         apply_style()
-        figure_ = make_p1_figure(name, measures=_open_by_system(inputs.get("measures", [])),
-                                 diagrams=_open_by_system(inputs.get("diagrams", [])),
-                                 snapshots=_open_by_system(inputs.get("snapshots", [])))
+        figure_ = make_p1_figure(name, measures=_open_by_system(inputs.get("measures", []), "network_measures"),
+                                 diagrams=_open_by_system(inputs.get("diagrams", []), "diagrams"),
+                                 snapshots=_open_by_system(inputs.get("snapshots", []), "snapshot"))
         save_figure(figure_, pdf, png)
         log.info("%s drawn for %s", name, ", ".join(systems))
 
@@ -240,31 +256,35 @@ def p1_validation_table(*, measures: Sequence[str], systems: Sequence[str], csv:
     from forcenet.report.p1 import p1_validation, write_p1_validation
 
     with job_logger(log_path, "p1_validation") as log:
-        table = p1_validation(_open_by_system(measures))
+        table = p1_validation(_open_by_system(measures, "network_measures"))
         write_p1_validation(table, csv, md)
         log.info("P1 validation: %d rows, verdicts %s", len(table), table["verdict"].value_counts().to_dict())
 
 
 def p2_distances(*, analyses: Sequence[str], realizations: Sequence[int], output: str, essential_convention: str,
                  config: Mapping[str, Any], system: str, log_path: str | None = None) -> None:
-    """P2 §III D: d_B, d_W1, d_W2 between consecutive snapshots of every realization → distances.nc."""
-    from forcenet.datasets import open_dataset, provenance_attrs, write_netcdf
+    """P2 §III D: d_B, d_W1, d_W2 between consecutive snapshots of every realization → distances.nc, with the
+    config's ρ grid as the `rho` coordinate (`forcenet.datasets.aggregate.distances_on_grid`)."""
+    from forcenet.datasets import provenance_attrs, read_dataset, write_netcdf
+    from forcenet.datasets.aggregate import distances_on_grid
     from forcenet.report.p2 import consecutive_distances, stack_distances
 
     with job_logger(log_path, f"p2_distances.{system}") as log:
         per_realization_count, left = divmod(len(analyses), len(realizations))
         if left or not per_realization_count:
             raise ValueError(f"{len(analyses)} analyses cannot be split evenly over realizations {list(realizations)}")
+        datasets = [read_dataset(path, "analysis") for path in analyses]  # every file checked before any work
         results = []
         for index, realization in enumerate(realizations):
-            paths = analyses[index * per_realization_count:(index + 1) * per_realization_count]
-            results.append(consecutive_distances([open_dataset(p) for p in paths], essential_convention))
-            log.info("%s realization %d: %d consecutive pairs", system, realization, len(paths) - 1)
+            run = datasets[index * per_realization_count:(index + 1) * per_realization_count]
+            results.append(consecutive_distances(run, essential_convention))
+            log.info("%s realization %d: %d consecutive pairs", system, realization, len(run) - 1)
         spec = system_from_config(system, config)
         attrs = provenance_attrs(system=system, realization=-1, seed=config["seed"], config=config,
                                  title=f"forcenet distances between consecutive persistence diagrams, {system}")
         attrs["dimension"] = spec.dimension
-        write_netcdf(stack_distances(results, realizations, attrs), output)
+        stacked = distances_on_grid(stack_distances(results, realizations, attrs), spec.rho_grid[1:])
+        write_netcdf(stacked, output, kind="distances")
 
 
 def p2_tables(*, snapshots: Sequence[str], csv: Sequence[str], md: Sequence[str], analysis: Mapping[str, Any],
@@ -287,7 +307,7 @@ def p2_tables(*, snapshots: Sequence[str], csv: Sequence[str], md: Sequence[str]
 def p2_figure(*, name: str, system: str, inputs: Mapping[str, Sequence[str]], pdf: str, png: str,
               log_path: str | None = None) -> None:
     """Draw one P2 figure (snapshots, one analysis, or one system's distances)."""
-    from forcenet.datasets import open_dataset
+    from forcenet.datasets import read_dataset, read_snapshot
     from forcenet.plotting.p2 import P2_FIGURES
     from forcenet.plotting.style import apply_style, save_figure
 
@@ -295,11 +315,11 @@ def p2_figure(*, name: str, system: str, inputs: Mapping[str, Sequence[str]], pd
         apply_style()
         function = P2_FIGURES[name]
         if inputs.get("snapshots"):
-            figure_ = function([open_dataset(p) for p in inputs["snapshots"]], system=system)
+            figure_ = function([read_snapshot(p) for p in inputs["snapshots"]], system=system)
         elif inputs.get("analysis"):
-            figure_ = function(open_dataset(inputs["analysis"][0]), system=system)
+            figure_ = function(read_dataset(inputs["analysis"][0], "analysis"), system=system)
         else:
-            figure_ = function(open_dataset(inputs["distances"][0]), system=system)
+            figure_ = function(read_dataset(inputs["distances"][0], "distances"), system=system)
         save_figure(figure_, pdf, png)
         log.info("%s drawn for %s", name, system)
 
@@ -310,7 +330,7 @@ def p2_validation_table(*, distances: Sequence[str], tables: Sequence[str], fric
     from forcenet.report.p2 import p2_validation, read_table, write_p2_validation
 
     with job_logger(log_path, "p2_validation") as log:
-        table = p2_validation(_open_by_system(distances),
+        table = p2_validation(_open_by_system(distances, "distances"),
                               {f"table{i + 1}": read_table(path) for i, path in enumerate(sorted(tables))},
                               frictional=frictional, frictionless=frictionless or "")
         write_p2_validation(table, md, csv)

@@ -1,9 +1,10 @@
 """Systems and configuration: frozen dataclasses built from the validated workflow config.
 
 The JSON schema (`workflow/schemas/config.schema.yaml`) checks types and shapes; this module checks what a
-schema cannot (a study naming an unknown system, ρ grids that are empty or out of order, a time step too
-large for the collision time) and turns each `systems.<name>` entry into a `SystemSpec` in reduced units
-(length d_ave, mass m̄, time τ_c; see `forcenet.units`).
+schema cannot (a study naming an unknown system, ρ grids that are empty or out of order, and the physical checks
+of `forcenet.checks`: ρ against the initial and densest packing, Δt against the shortest collision and the
+damping) and turns each `systems.<name>` entry into a `SystemSpec` in reduced units (length d_ave, mass m̄,
+time τ_c; see `forcenet.units`).
 """
 from __future__ import annotations
 
@@ -17,9 +18,10 @@ from typing import Any, Mapping
 import numpy as np
 
 from forcenet import units
+from forcenet.errors import ForcenetError
 
 
-class ConfigError(ValueError):
+class ConfigError(ForcenetError, ValueError):
     """An invalid configuration; the message starts with the offending key (e.g. `systems.2d_hertz.rho`)."""
 
     def __init__(self, key: str, message: str):
@@ -29,9 +31,6 @@ class ConfigError(ValueError):
 
 #: ρ values are written into file names with this many decimals (results/sim/…/rho0.842.nc)
 RHO_DECIMALS = 3
-
-#: largest time step allowed, in units of the collision time: Δt ≤ τ_c / MIN_STEPS_PER_COLLISION
-MIN_STEPS_PER_COLLISION = 10
 
 
 @dataclass(frozen=True)
@@ -181,17 +180,14 @@ def system_from_config(name: str, config: Mapping[str, Any]) -> SystemSpec:
 
 
 def check_system(system: SystemSpec, key: str) -> None:
-    """Physical sanity checks a schema cannot express; raise `ConfigError` naming the key."""
-    if system.time_step > 1.0 / MIN_STEPS_PER_COLLISION:
-        raise ConfigError(f"{key}.time_step", f"Δt = {system.time_step} τ_c is too large: a collision must span "
-                                              f"at least {MIN_STEPS_PER_COLLISION} steps (Δt ≤ {1 / MIN_STEPS_PER_COLLISION} τ_c)")
-    if system.box_length < 3.0:
-        raise ConfigError(f"{key}.box_length", f"{system.box_length} d_ave is too small (need ≥ 3 d_ave)")
-    if system.size_distribution == "polydisperse" and system.polydispersity >= 1.0:
-        raise ConfigError(f"{key}.polydispersity", "r_p must be < 1 so that every diameter 1 ± r_p/2 is positive")
-    max_rho = 0.9069 if system.dimension == 2 else 0.7405  # densest packing of equal disks / spheres
-    if system.rho_grid[-1] >= max_rho + 0.05:
-        raise ConfigError(f"{key}.rho", f"ρ = {system.rho_grid[-1]} is beyond what a {system.dimension}D box allows")
+    """Every check that needs only the config (`forcenet.checks`: positivity, the ρ grid against the initial and the
+    densest packing, Δt against the shortest collision and the contact damping); raise `ConfigError` naming the
+    key (``{key}.<setting>``) of the first that fails."""
+    from forcenet.checks import system_problems
+
+    problems = system_problems(system)
+    if problems:
+        raise ConfigError(f"{key}.{problems[0].key}", problems[0].message)
 
 
 def validate_config(config: Mapping[str, Any]) -> dict[str, SystemSpec]:

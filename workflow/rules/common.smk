@@ -1,21 +1,31 @@
-# Config validation, paths and input functions. Runs at parse time, before any job: a bad config stops here
-# with a message naming the key (JSON schema first, then forcenet.systems for what a schema cannot say).
-# Kept light (no numba/xarray imports) so a dry-run of thousands of jobs stays fast.
+# Config loading and validation, paths and input functions. Runs at parse time, before any job: a bad config stops
+# here with one line naming the file and line (YAML) or the key (JSON schema first, then forcenet.systems and the
+# physical checks of forcenet.checks). Kept light (no numba/xarray imports) so a dry-run of thousands of jobs stays
+# fast.
 import sys
 from pathlib import Path
 
 from snakemake.exceptions import WorkflowError
-from snakemake.utils import validate
 
 sys.path.insert(0, str(Path(workflow.basedir) / "src"))  # works before `pip install -e .` too
 
+from forcenet.errors import ForcenetError
 from forcenet.pipeline import SNAPSHOT_ANALYSIS_KEYS, realization_index, simulation_params
-from forcenet.systems import ConfigError, validate_config
+from forcenet.workflow_io import CONFIG_SCHEMA, DEFAULT_CONFIG, checked_config, read_config_file
 
-validate(config, str(Path(workflow.basedir) / "workflow/schemas/config.schema.yaml"))
+# A config given with --configfile stands alone: the default is read only when none is given (Snakemake's
+# `configfile:` directive would merge the given file onto the default, so a config could never drop a system, and a
+# ρ grid given as {start, stop, count} would inherit the default's `step`).
+if not workflow.overwrite_configfiles:
+    _default_config = Path(workflow.basedir) / DEFAULT_CONFIG
+    try:
+        read_config_file(_default_config)  # names the file and line of a YAML error
+    except ForcenetError as error:
+        raise WorkflowError(str(error)) from None
+    workflow.configfile(str(_default_config))
 try:
-    SYSTEMS = validate_config(config)
-except ConfigError as error:
+    SYSTEMS = checked_config(config, Path(workflow.basedir) / CONFIG_SCHEMA)
+except ForcenetError as error:
     raise WorkflowError(f"Invalid config: {error}") from None
 
 RESULTS = config.get("results_dir", "results").rstrip("/")
@@ -70,6 +80,20 @@ def simulation_memory_mb(spec):
     from forcenet.cost import simulation_cost
 
     return simulation_cost(spec).memory_mb
+
+
+def figure_outputs(name, category):
+    """The PDF and PNG of one figure, both in the HTML report (`snakemake --report`): the PNG is what the report shows
+    inline (every browser draws it; a PDF is blank without a PDF viewer), and its caption links the PDF."""
+    return dict(
+        pdf=report(f"{RESULTS}/figures/{name}.pdf", caption="../report/figure_pdf.rst", category=category,
+                   subcategory=REPORT_PDFS, labels={"figure": name, "format": "PDF"}),
+        png=report(f"{RESULTS}/figures/{name}.png", caption="../report/figure.rst", category=category,
+                   subcategory=REPORT_FIGURES, labels={"figure": name, "format": "PNG"}),
+    )
+
+
+REPORT_FIGURES, REPORT_PDFS, REPORT_TABLES = "Figures", "Figures as PDF (vector, for print)", "Tables"
 
 
 def all_targets():

@@ -40,9 +40,7 @@ for _figure, _caption in P1_FIGURES.items():
             diagrams=p1_diagrams(),
             snapshots=p1_example_snapshots() if _figure == "p1_fig01_networks" else [],
         output:
-            pdf=report(f"{RESULTS}/figures/{_figure}.pdf", caption="../report/figure.rst", category="P1",
-                       labels={"figure": _figure}),
-            png=f"{RESULTS}/figures/{_figure}.png",
+            **figure_outputs(_figure, "P1"),
         log:
             f"{LOGS}/figures/{_figure}.log",
         params:
@@ -59,7 +57,8 @@ rule p1_validation_table:
         measures=p1_measures(),
     output:
         csv=f"{RESULTS}/tables/p1_validation.csv",
-        md=report(f"{RESULTS}/tables/p1_validation.md", caption="../report/table.rst", category="P1"),
+        md=report(f"{RESULTS}/tables/p1_validation.md", caption="../report/table.rst", category="P1",
+                  subcategory=REPORT_TABLES),
     log:
         f"{LOGS}/tables/p1_validation.log",
     params:

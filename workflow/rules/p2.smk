@@ -64,7 +64,8 @@ rule p2_tables:
         p2_table_snapshots,
     output:
         csv=[f"{RESULTS}/tables/p2_table{i}.csv" for i in (1, 2, 3)],
-        md=[report(f"{RESULTS}/tables/p2_table{i}.md", caption="../report/p2_tables.rst", category="P2") for i in (1, 2, 3)],
+        md=[report(f"{RESULTS}/tables/p2_table{i}.md", caption="../report/p2_tables.rst", category="P2",
+                   subcategory=REPORT_TABLES) for i in (1, 2, 3)],
     log:
         f"{LOGS}/tables/p2_tables.log",
     params:
@@ -84,9 +85,7 @@ for _figure, (_kind, _system) in P2_FIGURES.items():
             analysis=[analysis_path(P2_FRICTIONAL, REALIZATIONS[0], p2_table_labels()[0])] if _kind == "analysis" else [],
             distances=[f"{RESULTS}/{_system}/distances.nc"] if _kind == "distances" else [],
         output:
-            pdf=report(f"{RESULTS}/figures/{_figure}.pdf", caption="../report/figure.rst", category="P2",
-                       labels={"figure": _figure}),
-            png=f"{RESULTS}/figures/{_figure}.png",
+            **figure_outputs(_figure, "P2"),
         log:
             f"{LOGS}/figures/{_figure}.log",
         params:
@@ -103,7 +102,8 @@ rule p2_validation:
         distances=[f"{RESULTS}/{s}/distances.nc" for s in P2_SYSTEMS],
         tables=rules.p2_tables.output.csv,
     output:
-        md=report(f"{RESULTS}/tables/p2_validation.md", caption="../report/table.rst", category="P2"),
+        md=report(f"{RESULTS}/tables/p2_validation.md", caption="../report/table.rst", category="P2",
+                  subcategory=REPORT_TABLES),
         csv=f"{RESULTS}/tables/p2_validation.csv",
     log:
         f"{LOGS}/tables/p2_validation.log",

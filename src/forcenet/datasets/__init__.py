@@ -1,7 +1,7 @@
-"""netCDF data model of forcenet: schema, provenance, atomic writing, validation."""
-from forcenet.datasets.io import (SchemaError, git_commit, open_dataset, provenance_attrs, validate_dataset,
-                                  write_netcdf)
+"""netCDF data model of forcenet: schema, provenance, atomic writing, validation at write and read time."""
+from forcenet.datasets.io import (DatasetError, SchemaError, git_commit, open_dataset, provenance_attrs, read_dataset,
+                                  validate_dataset, write_netcdf)
 from forcenet.datasets.snapshot import read_snapshot, snapshot_dataset, write_snapshot
 
-__all__ = ["SchemaError", "git_commit", "open_dataset", "provenance_attrs", "read_snapshot", "snapshot_dataset",
-           "validate_dataset", "write_netcdf", "write_snapshot"]
+__all__ = ["DatasetError", "SchemaError", "git_commit", "open_dataset", "provenance_attrs", "read_dataset",
+           "read_snapshot", "snapshot_dataset", "validate_dataset", "write_netcdf", "write_snapshot"]

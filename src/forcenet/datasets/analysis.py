@@ -48,4 +48,8 @@ def analysis_dataset(measures: Mapping[str, Any], *, rho: float, attrs: Mapping[
         "persistence_bin": xr.Variable(("persistence_bin",), list(PERSISTENCE_BINS), attrs={
             "units": "1", "long_name": "PD0 bin: rough lifespan<=0.1, weak 0.1<=b<1, medium 1<=b<2.5, strong b>=2.5"}),
     }
-    return dataset_from_specs(ANALYSIS_VARIABLES, values, attrs, coords=coords)
+    ds = dataset_from_specs(ANALYSIS_VARIABLES, values, attrs, coords=coords)
+    # CF flags: `ncdump -h` shows what each index of diagram_force_kind means without the force_kind values
+    ds["diagram_force_kind"].attrs.update(flag_values=np.arange(len(kinds), dtype=np.int8),
+                                          flag_meanings=" ".join(kinds))
+    return ds

@@ -3,8 +3,8 @@ from __future__ import annotations
 
 import json
 import os
+import secrets
 import subprocess
-import tempfile
 from functools import lru_cache
 from pathlib import Path
 from typing import Any, Mapping
@@ -12,13 +12,22 @@ from typing import Any, Mapping
 import numpy as np
 import xarray as xr
 
-from forcenet.datasets.schema import REQUIRED_GLOBAL_ATTRS, VariableSpec
+from forcenet.datasets.schema import DTYPE_KINDS, FILE_KINDS, REQUIRED_GLOBAL_ATTRS, VariableSpec
+from forcenet.errors import ForcenetError
 
 CONVENTIONS = "CF-1.10"
 
 
-class SchemaError(ValueError):
+class SchemaError(ForcenetError, ValueError):
     """A dataset does not follow the forcenet data model (missing units, long_name or attrs)."""
+
+
+class DatasetError(SchemaError):
+    """A file the pipeline reads is unreadable or not of its kind; the message names the file and what is wrong."""
+
+    def __init__(self, path: str | os.PathLike, problem: str):
+        super().__init__(f"{path}: {problem}")
+        self.path = str(path)
 
 
 @lru_cache(maxsize=1)
@@ -75,25 +84,58 @@ def dataset_from_specs(specs: Mapping[str, VariableSpec], values: Mapping[str, A
     return xr.Dataset(data_vars, coords=coords, attrs=dict(attrs))
 
 
-def validate_dataset(ds: xr.Dataset) -> None:
-    """Raise `SchemaError` unless every variable has units and long_name and the global attrs are present."""
-    problems = [f"variable '{name}' lacks '{key}'" for name, var in ds.variables.items()
-                for key in ("units", "long_name") if key not in var.attrs]
+def schema_problems(ds: xr.Dataset, kind: str | None = None) -> list[str]:
+    """What keeps `ds` from being a forcenet file (of `kind`, a key of `schema.FILE_KINDS`, when given): every
+    variable needs units and long_name and every file the provenance attributes; a file of a kind needs each of
+    its variables with the declared dims and value type, and the coordinates a reader selects on."""
+    problems = []
+    if kind is not None:
+        variables, coordinates = FILE_KINDS[kind]
+        for name, spec in variables.items():
+            if name not in ds.variables:
+                problems.append(f"variable '{name}' missing")
+                continue
+            var = ds.variables[name]
+            if tuple(var.dims) != spec.dims:
+                problems.append(f"variable '{name}' has dims {tuple(var.dims)}, expected {spec.dims}")
+            if var.dtype.kind not in DTYPE_KINDS[spec.dtype]:
+                problems.append(f"variable '{name}' is {var.dtype}, expected {spec.dtype}")
+        problems += [f"coordinate '{name}' missing" for name in coordinates if name not in ds.coords]
+    problems += [f"variable '{name}' lacks '{key}'" for name, var in ds.variables.items()
+                 for key in ("units", "long_name") if key not in var.attrs]
     problems += [f"global attribute '{key}' missing" for key in REQUIRED_GLOBAL_ATTRS if key not in ds.attrs]
+    return problems
+
+
+def validate_dataset(ds: xr.Dataset, kind: str | None = None) -> None:
+    """Raise `SchemaError` listing every problem `schema_problems` finds."""
+    problems = schema_problems(ds, kind)
     if problems:
         raise SchemaError("; ".join(problems))
 
 
-def write_netcdf(ds: xr.Dataset, path: str | os.PathLike) -> Path:
-    """Validate and write `ds` with zlib compression, atomically: a temporary file in the same directory
-    is renamed over `path` only once complete, so a killed job never leaves a file that looks complete."""
-    validate_dataset(ds)
+def _new_private_name(path: Path) -> Path:
+    """A fresh file next to `path`, created with mode 0666 masked by the umask (as open() would), never
+    mkstemp's 0600: outputs must be readable by whoever the user's umask lets read them."""
+    while True:
+        candidate = path.with_name(f".{path.name}.{secrets.token_hex(4)}.tmp")
+        try:
+            os.close(os.open(candidate, os.O_CREAT | os.O_EXCL | os.O_WRONLY, 0o666))
+            return candidate
+        except FileExistsError:
+            continue
+
+
+def write_netcdf(ds: xr.Dataset, path: str | os.PathLike, kind: str | None = None) -> Path:
+    """Validate (against `kind`'s schema when given) and write `ds` with zlib compression, atomically: a temporary
+    file in the same directory is renamed over `path` only once complete, so a killed job never leaves a file that
+    looks complete. The file's mode follows the umask like any other output's."""
+    validate_dataset(ds, kind)
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     encoding = {name: {"zlib": True, "complevel": 4} for name, var in ds.variables.items()
                 if var.dtype.kind in "fiub" and var.ndim > 0}
-    fd, tmp_name = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
-    os.close(fd)
+    tmp_name = _new_private_name(path)
     try:
         ds.to_netcdf(tmp_name, engine="netcdf4", encoding=encoding)
         os.replace(tmp_name, path)
@@ -104,6 +146,22 @@ def write_netcdf(ds: xr.Dataset, path: str | os.PathLike) -> Path:
 
 
 def open_dataset(path: str | os.PathLike) -> xr.Dataset:
-    """Open a forcenet file fully into memory (files are small) and close it."""
+    """Open a forcenet file fully into memory (files are small) and close it; no schema check (`read_dataset`)."""
     with xr.open_dataset(path, engine="netcdf4") as ds:
         return ds.load()
+
+
+def read_dataset(path: str | os.PathLike, kind: str) -> xr.Dataset:
+    """Open a file the pipeline reads and check it against the schema of its `kind` (`schema.FILE_KINDS`).
+
+    Raises `DatasetError` with one line naming the file and every problem: unreadable (missing, truncated, not
+    netCDF), a missing variable or coordinate, wrong dims or value type, missing units or provenance."""
+    try:
+        ds = open_dataset(path)
+    except Exception as error:  # netCDF4/HDF5 raise OSError, RuntimeError, ValueError or KeyError for bad files
+        reason = str(error).strip().splitlines()[0] if str(error).strip() else type(error).__name__
+        raise DatasetError(path, f"cannot be read as netCDF ({reason})") from None
+    problems = schema_problems(ds, kind)
+    if problems:
+        raise DatasetError(path, f"not a valid {kind} file: " + "; ".join(problems))
+    return ds

@@ -12,11 +12,18 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 
+#: the numpy dtype kinds a reader accepts for a variable declared "int" or "float" (width is free: int8 … int64)
+DTYPE_KINDS = {"int": "iu", "float": "f"}
+
+
 @dataclass(frozen=True)
 class VariableSpec:
+    """One variable on disk: its dimensions, `units`, `long_name` and value type ("int" or "float")."""
+
     dims: tuple[str, ...]
     units: str
     long_name: str
+    dtype: str = "float"
 
 
 FORCE_UNITS = "m_mean d_ave tau_c-2"
@@ -28,14 +35,15 @@ SNAPSHOT_VARIABLES: dict[str, VariableSpec] = {
     "radius": VariableSpec(("particle",), "d_ave", "particle radius"),
     "velocity": VariableSpec(("particle", "spatial"), "d_ave tau_c-1", "particle velocity"),
     "angular_velocity": VariableSpec(("particle", "rotation_axis"), "tau_c-1", "particle angular velocity"),
-    "contact_i": VariableSpec(("contact",), DIMENSIONLESS, "index of the first particle of a contact (i < j)"),
-    "contact_j": VariableSpec(("contact",), DIMENSIONLESS, "index of the second particle of a contact"),
+    "contact_i": VariableSpec(("contact",), DIMENSIONLESS, "index of the first particle of a contact (i < j)",
+                              dtype="int"),
+    "contact_j": VariableSpec(("contact",), DIMENSIONLESS, "index of the second particle of a contact", dtype="int"),
     "force_normal": VariableSpec(("contact", "spatial"), FORCE_UNITS, "normal contact force on particle i from j"),
     "force_tangential": VariableSpec(("contact", "spatial"), FORCE_UNITS,
                                      "tangential contact force on particle i from j"),
-    "wall_contact_particle": VariableSpec(("wall_contact",), DIMENSIONLESS, "particle touching a wall"),
+    "wall_contact_particle": VariableSpec(("wall_contact",), DIMENSIONLESS, "particle touching a wall", dtype="int"),
     "wall_contact_wall": VariableSpec(("wall_contact",), DIMENSIONLESS,
-                                      "wall id: 0 x_lo, 1 x_hi, 2 y_lo, 3 y_hi, 4 z_lo, 5 z_hi"),
+                                      "wall id: 0 x_lo, 1 x_hi, 2 y_lo, 3 y_hi, 4 z_lo, 5 z_hi", dtype="int"),
     "wall_contact_force": VariableSpec(("wall_contact", "spatial"), FORCE_UNITS, "force of the wall on the particle"),
     "box_lo": VariableSpec(("spatial",), "d_ave", "lower wall positions"),
     "box_hi": VariableSpec(("spatial",), "d_ave", "upper wall positions"),
@@ -44,8 +52,9 @@ SNAPSHOT_VARIABLES: dict[str, VariableSpec] = {
     "kinetic_energy": VariableSpec((), "m_mean d_ave2 tau_c-2", "total kinetic energy (translation + rotation)"),
     "pressure": VariableSpec((), "m_mean d_ave-1 tau_c-2 (2D: per unit length)", "mean normal wall stress"),
     "time": VariableSpec((), "tau_c", "simulated time since the start of compression"),
-    "step": VariableSpec((), DIMENSIONLESS, "time step index"),
-    "relaxation_steps": VariableSpec((), DIMENSIONLESS, "relaxation steps before this snapshot (-1: continuous)"),
+    "step": VariableSpec((), DIMENSIONLESS, "time step index", dtype="int"),
+    "relaxation_steps": VariableSpec((), DIMENSIONLESS, "relaxation steps before this snapshot (-1: continuous)",
+                                     dtype="int"),
 }
 
 REQUIRED_GLOBAL_ATTRS = (
@@ -72,39 +81,87 @@ PERSISTENCE_BINS = ("rough", "weak", "medium", "strong", "essential")  # P1 §5.
 
 ANALYSIS_VARIABLES: dict[str, VariableSpec] = {
     "betti": VariableSpec(("force_kind", "homology_dim", "threshold"), DIMENSIONLESS,
-                          "Betti number B_k of the super-level network F > F_th"),
+                          "Betti number B_k of the super-level network F > F_th", dtype="int"),
     "cluster_count": VariableSpec(("force_kind", "threshold"), DIMENSIONLESS,
-                                  "number of clusters (connected components with at least one edge)"),
+                                  "number of clusters (connected components with at least one edge)", dtype="int"),
     "cluster_mean_size": VariableSpec(("force_kind", "threshold"), "particles",
                                       "mean cluster size <S> excluding the percolating cluster"),
     "percolating_size": VariableSpec(("force_kind", "threshold"), "particles",
-                                     "size N_per of the percolating cluster (0 if none)"),
+                                     "size N_per of the percolating cluster (0 if none)", dtype="int"),
     "percolates": VariableSpec(("force_kind", "threshold"), DIMENSIONLESS,
-                               "1 if a cluster touches two opposite walls"),
+                               "1 if a cluster touches two opposite walls", dtype="int"),
     "percolating_count": VariableSpec(("force_kind", "threshold"), DIMENSIONLESS,
-                                      "number of percolating clusters"),
-    "largest_cluster_size": VariableSpec(("force_kind", "threshold"), "particles", "size of the largest cluster"),
+                                      "number of percolating clusters", dtype="int"),
+    "largest_cluster_size": VariableSpec(("force_kind", "threshold"), "particles", "size of the largest cluster",
+                                         dtype="int"),
     "shape_parameter_cluster_mean": VariableSpec(("force_kind", "threshold"), DIMENSIONLESS,
                                                  "shape parameter averaged cluster by cluster"),
-    "edge_count": VariableSpec(("force_kind", "threshold"), DIMENSIONLESS, "edges in clusters (for S_p)"),
+    "edge_count": VariableSpec(("force_kind", "threshold"), DIMENSIONLESS, "edges in clusters (for S_p)", dtype="int"),
     "cluster_particle_count": VariableSpec(("force_kind", "threshold"), "particles",
-                                           "particles in clusters (for S_p)"),
+                                           "particles in clusters (for S_p)", dtype="int"),
     "shape_parameter": VariableSpec(("force_kind", "threshold"), DIMENSIONLESS,
                                     "shape parameter S_p: edges / particles in clusters (P1 §5.2)"),
     "force_pdf": VariableSpec(("force_kind", "force_bin"), "<F>-1", "probability density of F/<F>"),
     "mean_force": VariableSpec(("force_kind",), FORCE_UNITS, "mean contact force <F> of the network"),
     "persistence_bin_count": VariableSpec(("force_kind", "persistence_bin"), DIMENSIONLESS,
-                                          "PD0 points per persistence bin (P1 §5.3)"),
+                                          "PD0 points per persistence bin (P1 §5.3)", dtype="int"),
     "total_persistence": VariableSpec(("force_kind", "homology_dim"), NETWORK_FORCE_UNITS,
                                       "total persistence TP_k: sum of birth - death over finite points"),
-    "essential_count": VariableSpec(("force_kind", "homology_dim"), DIMENSIONLESS, "never-dying classes"),
+    "essential_count": VariableSpec(("force_kind", "homology_dim"), DIMENSIONLESS, "never-dying classes",
+                                    dtype="int"),
     "Z": VariableSpec((), DIMENSIONLESS, "mean contacts per particle, all particles"),
     "Z_no_rattlers": VariableSpec((), DIMENSIONLESS, "mean contacts per particle, rattlers excluded"),
-    "n_particles": VariableSpec((), "particles", "number of particles N"),
+    "n_particles": VariableSpec((), "particles", "number of particles N", dtype="int"),
     "rho": VariableSpec((), DIMENSIONLESS, "packing fraction"),
-    "diagram_force_kind": VariableSpec(("point",), DIMENSIONLESS, "force kind of the point (index into force_kind)"),
-    "diagram_homology_dim": VariableSpec(("point",), DIMENSIONLESS, "homology dimension of the point"),
+    "diagram_force_kind": VariableSpec(("point",), DIMENSIONLESS, "force kind of the point (index into force_kind)",
+                                       dtype="int"),
+    "diagram_homology_dim": VariableSpec(("point",), DIMENSIONLESS, "homology dimension of the point", dtype="int"),
     "birth": VariableSpec(("point",), NETWORK_FORCE_UNITS, "birth of the class (super-level: birth >= death)"),
     "death": VariableSpec(("point",), NETWORK_FORCE_UNITS, "death of the class (-inf: never dies)"),
-    "essential": VariableSpec(("point",), DIMENSIONLESS, "1 if the class never dies"),
+    "essential": VariableSpec(("point",), DIMENSIONLESS, "1 if the class never dies", dtype="int"),
+}
+
+#: per-point variables of the persistence diagrams (analysis files and diagrams.nc)
+DIAGRAM_VARIABLES = ("diagram_force_kind", "diagram_homology_dim", "birth", "death", "essential")
+
+# --- one system stacked over (realization, ρ): results/{system}/network_measures.nc and diagrams.nc -----------
+#
+# `rho` is the grid packing fraction of the config (systems.<name>.rho), the coordinate to select on; the
+# measured packing fraction of each snapshot is the variable `rho_measured` (quasi-static runs stop the walls on
+# the grid, continuous runs take the first step past it).
+RHO_MEASURED = VariableSpec(("realization", "rho"), DIMENSIONLESS, "measured packing fraction of the snapshot")
+
+NETWORK_MEASURES_VARIABLES: dict[str, VariableSpec] = {
+    **{name: VariableSpec(("realization", "rho", *spec.dims), spec.units, spec.long_name, spec.dtype)
+       for name, spec in ANALYSIS_VARIABLES.items() if name not in DIAGRAM_VARIABLES and name != "rho"},
+    "rho_measured": RHO_MEASURED,
+}
+
+DIAGRAMS_VARIABLES: dict[str, VariableSpec] = {
+    **{name: ANALYSIS_VARIABLES[name] for name in DIAGRAM_VARIABLES},
+    "point_realization": VariableSpec(("point",), DIMENSIONLESS, "realization of the point", dtype="int"),
+    "point_rho": VariableSpec(("point",), DIMENSIONLESS, "grid packing fraction of the point's snapshot"),
+    "point_rho_measured": VariableSpec(("point",), DIMENSIONLESS, "measured packing fraction of the point's snapshot"),
+}
+
+# --- P2 distances between consecutive snapshots: results/{system}/distances.nc ----------------------------------
+#
+# `rho` is the grid packing fraction of the later snapshot of each pair; `rho_measured` its measured value and
+# `rho_previous` the measured value of the earlier snapshot, per realization (forcenet.report.p2 computes them).
+DISTANCES_VARIABLES: dict[str, VariableSpec] = {
+    "distance": VariableSpec(("realization", "rho", "force_kind", "homology_dim", "metric"), NETWORK_FORCE_UNITS,
+                             "distance between the persistence diagrams of consecutive snapshots"),
+    "Z": VariableSpec(("realization", "rho"), DIMENSIONLESS, "mean contacts per particle Z of the later snapshot"),
+    "rho_previous": VariableSpec(("realization", "rho"), DIMENSIONLESS, "packing fraction of the earlier snapshot"),
+    "rho_measured": VariableSpec(("realization", "rho"), DIMENSIONLESS, "packing fraction of the later snapshot"),
+}
+
+#: every file kind the pipeline reads: its variables and the coordinates a reader selects on
+FILE_KINDS: dict[str, tuple[dict[str, VariableSpec], tuple[str, ...]]] = {
+    "snapshot": (SNAPSHOT_VARIABLES, ("spatial",)),
+    "analysis": (ANALYSIS_VARIABLES, ("force_kind", "homology_dim", "threshold", "force_bin", "persistence_bin")),
+    "network_measures": (NETWORK_MEASURES_VARIABLES, ("realization", "rho", "force_kind", "homology_dim",
+                                                      "threshold", "force_bin", "persistence_bin")),
+    "diagrams": (DIAGRAMS_VARIABLES, ("force_kind",)),
+    "distances": (DISTANCES_VARIABLES, ("realization", "rho", "force_kind", "homology_dim", "metric")),
 }

@@ -8,7 +8,7 @@ from typing import Any, Mapping
 import numpy as np
 import xarray as xr
 
-from forcenet.datasets.io import dataset_from_specs, open_dataset, write_netcdf
+from forcenet.datasets.io import dataset_from_specs, read_dataset, write_netcdf
 from forcenet.datasets.schema import SNAPSHOT_VARIABLES
 
 SPATIAL_LABELS = ("x", "y", "z")
@@ -46,8 +46,9 @@ def snapshot_dataset(*, attrs: Mapping[str, Any], **arrays: Any) -> xr.Dataset:
 
 def write_snapshot(path: str | os.PathLike, *, attrs: Mapping[str, Any], **arrays: Any) -> Path:
     """Write one snapshot atomically (see `snapshot_dataset` for the arrays)."""
-    return write_netcdf(snapshot_dataset(attrs=attrs, **arrays), path)
+    return write_netcdf(snapshot_dataset(attrs=attrs, **arrays), path, kind="snapshot")
 
 
 def read_snapshot(path: str | os.PathLike) -> xr.Dataset:
-    return open_dataset(path)
+    """A snapshot file, checked against `SNAPSHOT_VARIABLES` (`DatasetError` naming the file otherwise)."""
+    return read_dataset(path, "snapshot")

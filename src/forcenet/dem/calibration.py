@@ -99,12 +99,5 @@ def normal_damping_for_system(system) -> float:
                                           MEAN_PAIR_EFFECTIVE_MASS, speed)
 
 
-def minimum_collision_time(system, lightest_mass: float, reference_speed: float) -> float:
-    """Undamped duration of the shortest collision the time step must resolve: two of the lightest particles
-    at `reference_speed` (P1 Eq. 4 generalised, `units.undamped_collision_time`) [τ_c]."""
-    return units.undamped_collision_time(system.normal_stiffness, system.beta, 0.5 * lightest_mass,
-                                         max(reference_speed, 1e-12))
-
-
 __all__ = ["collision_restitution", "collision_duration", "normal_damping_for_restitution",
-           "normal_damping_for_system", "minimum_collision_time", "MEAN_PAIR_EFFECTIVE_MASS", "DAMPING_MODELS"]
+           "normal_damping_for_system", "MEAN_PAIR_EFFECTIVE_MASS", "DAMPING_MODELS"]

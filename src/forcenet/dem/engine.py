@@ -18,6 +18,7 @@ import numpy as np
 
 from forcenet.dem import _kernels
 from forcenet.dem.packing import WallParticles, packing_fraction
+from forcenet.errors import ForcenetError
 
 #: default Verlet skin [d_ave]
 DEFAULT_SKIN = 0.1
@@ -28,14 +29,16 @@ MAX_CELLS_PER_AXIS = {2: 2048, 3: 160}
 WALL_REACH_IN_SKINS = 2.5
 
 
-class SimulationBlowUp(RuntimeError):
+class SimulationBlowUp(ForcenetError, RuntimeError):
     """The simulation became unphysical: a NaN, an overlap above 20 % of a diameter, or an escaped particle."""
 
-    def __init__(self, message: str, *, step: int, particle: int, rho: float):
+    def __init__(self, message: str, *, step: int, particle: int, rho: float, cause: str = ""):
         super().__init__(f"DEM blow-up at step {step}, particle {particle}, ρ = {rho:.5f}: {message}")
+        self.reason = message
         self.step = step
         self.particle = particle
         self.rho = rho
+        self.cause = cause  # "overlap", "not_finite", "escaped" (the step loop's checks), "damping" (the driver's)
 
 
 @dataclass(frozen=True)
@@ -356,9 +359,11 @@ class Simulation:
         reason = {_kernels.STATUS_NOT_FINITE: "non-finite position or velocity",
                   _kernels.STATUS_OVERLAP: f"overlap above {_kernels.MAX_OVERLAP_FRACTION:.0%} of a diameter",
                   _kernels.STATUS_ESCAPED: "particle centre outside the walls"}.get(code, f"status {code}")
+        cause = {_kernels.STATUS_NOT_FINITE: "not_finite", _kernels.STATUS_OVERLAP: "overlap",
+                 _kernels.STATUS_ESCAPED: "escaped"}.get(code, "")
         if 0 <= slot < self.n_mobile:
             reason += f" (position {self.gear_position[0, slot].tolist()})"
-        raise SimulationBlowUp(reason, step=self.step, particle=particle, rho=self.packing_fraction)
+        raise SimulationBlowUp(reason, step=self.step, particle=particle, rho=self.packing_fraction, cause=cause)
 
     # --- forces at one instant -----------------------------------------------------------------------------
     def _record(self):

@@ -37,10 +37,10 @@ import numpy as np
 from forcenet import datasets
 from forcenet.dem import calibration, packing, stability
 from forcenet.dem.engine import ContactLaw, Simulation, SimulationBlowUp
-from forcenet.systems import MIN_STEPS_PER_COLLISION, ConfigError, SystemSpec, check_system
+from forcenet.systems import SystemSpec, check_system
 
 __all__ = ["run_compression", "SimulationBlowUp", "validate_system", "build_simulation", "contact_law_for_system",
-           "CHECKPOINT_FORMAT"]
+           "blow_up_cause", "CHECKPOINT_FORMAT"]
 
 #: bump when the checkpoint layout or the engine's arithmetic changes (old checkpoints are then ignored)
 CHECKPOINT_FORMAT = 3
@@ -63,49 +63,10 @@ def contact_law_for_system(system: SystemSpec) -> ContactLaw:
                       beta=system.beta)
 
 
-def validate_system(system: SystemSpec) -> packing.InitialPacking:
-    """Check what can be checked before running; raise ConfigError naming the parameter. Returns a trial
-    initial packing (seed 0) for the geometric checks."""
-    key = f"systems.{system.name}"
-    positive = {"box_length": system.box_length, "time_step": system.time_step, "wall_speed": system.wall_speed,
-                "normal_stiffness": system.normal_stiffness}
-    if system.size_distribution == "bidisperse":
-        positive.update(diameter_ratio=system.diameter_ratio, small_to_large=system.small_to_large)
-    for name, value in positive.items():
-        if not (math.isfinite(value) and value > 0):
-            raise ConfigError(f"{key}.{name}", f"must be positive, got {value}")
-    for name, value in {"initial_speed": system.initial_speed, "friction": system.friction,
-                        "tangential_stiffness": system.tangential_stiffness,
-                        "polydispersity": system.polydispersity}.items():
-        if not (math.isfinite(value) and value >= 0):
-            raise ConfigError(f"{key}.{name}", f"must be non-negative, got {value}")
-    if not 0.0 < system.restitution <= 1.0:
-        raise ConfigError(f"{key}.restitution", f"must lie in (0, 1], got {system.restitution}")
-    if system.protocol == "quasistatic" and system.relaxation is None:
-        raise ConfigError(f"{key}.relaxation", "the quasi-static protocol needs a relaxation rule")
-    check_system(system, key)
-    trial = packing.initial_packing(system, np.random.default_rng(0))
-    n = len(trial.radius)
-    if n < 2:
-        raise ConfigError(f"{key}.box_length", f"a box of {system.box_length} d_ave holds {n} particle(s); need ≥ 2")
-    # the time step must resolve the shortest collision: two of the lightest particles at the fastest speed
-    lightest = float(trial.mass.min())
-    speed = 2.0 * max(system.initial_speed, system.wall_speed)
-    shortest = calibration.minimum_collision_time(system, lightest, speed)
-    if system.time_step > shortest / MIN_STEPS_PER_COLLISION:
-        raise ConfigError(f"{key}.time_step",
-                          f"Δt = {system.time_step} τ_c is too large: the shortest collision (two particles of mass "
-                          f"{lightest:.3f} m̄ at relative speed {speed:g}) lasts {shortest:.4g} τ_c, which needs "
-                          f"Δt ≤ {shortest / MIN_STEPS_PER_COLLISION:.4g} τ_c")
-    rho0 = trial.packing_fraction
-    if system.rho_grid[0] <= rho0:
-        raise ConfigError(f"{key}.rho", f"the first ρ = {system.rho_grid[0]} is not above the initial (lattice) "
-                                        f"packing fraction {rho0:.4f}")
-    final_length = system.box_length * (rho0 / system.rho_grid[-1]) ** (1.0 / system.dimension)
-    if system.rho_grid[-1] >= 1.0 or final_length < 2.0 * packing.largest_diameter(system):
-        raise ConfigError(f"{key}.rho", f"ρ = {system.rho_grid[-1]} needs a box of {final_length:.3f} d_ave, "
-                                        f"which the walls cannot reach")
-    return trial
+def validate_system(system: SystemSpec) -> None:
+    """Every check that needs only the system (`forcenet.checks`, the same the workflow runs on the config before
+    any job); raise ConfigError naming the key of the first that fails."""
+    check_system(system, f"systems.{system.name}")
 
 
 def build_simulation(system: SystemSpec, seed: int) -> tuple[Simulation, np.random.Generator]:
@@ -195,32 +156,57 @@ def load_checkpoint(path: Path, fingerprint: str, snapshot_paths: Sequence[Path]
 # --- the driver ------------------------------------------------------------------------------------------------
 
 class _Progress:
-    """Logs ρ, Z, E_kin, steps/s and the estimated time left at most every LOG_INTERVAL_S seconds."""
+    """Progress lines, at most every LOG_INTERVAL_S seconds: snapshot k of n, step, ρ, Z, E_kin, steps/s and the
+    time left until the snapshot in work and for the whole run, with the protocol's remaining work in steps
+    (compression to the last grid value; relaxation estimated from the grid points relaxed so far, one window
+    before the first).
+
+    The rate is measured from the end of the first chunk of steps, which pays for loading or compiling the numba
+    kernels; no line is logged before it. Nothing here touches the simulation's state."""
 
     def __init__(self, log: logging.Logger, system: SystemSpec, sim: Simulation, start_index: int):
         self.log, self.system = log, system
-        self.start_clock = self.last_clock = time.monotonic()
+        self.last_clock: float | None = None  # set at the end of the first chunk
         self.last_step = sim.step
         self.start_index = start_index
         self.relaxation_steps_done: list[int] = []
 
-    def maybe_log(self, sim: Simulation, index: int, kinetic_energy: float, remaining_steps: float) -> None:
+    def remaining_steps(self, sim: Simulation, index: int, relaxed: int | None) -> tuple[float, float, float]:
+        """(steps to the snapshot at grid point `index`, compression steps left in the run, relaxation steps left in
+        the run); `relaxed`: relaxation steps already done at this grid point, None while compressing."""
+        grid, step_length = self.system.rho_grid, self.system.wall_speed * sim.time_step
+        shifts = [sim.wall_shift] + [wall_shift_for(sim, rho) for rho in grid[index:]]
+        compression = [max(0.0, later - earlier) / step_length for earlier, later in zip(shifts, shifts[1:])]
+        relax_now = relax_later = 0.0
+        if self.system.protocol == "quasistatic":
+            per_point = (float(np.mean(self.relaxation_steps_done)) if self.relaxation_steps_done
+                         else float(self.system.relaxation.window_steps))
+            relax_now = max(per_point - relaxed, 0.0) if relaxed is not None else per_point
+            relax_later = per_point * (len(grid) - index - 1)
+        return compression[0] + relax_now, sum(compression), relax_now + relax_later
+
+    def maybe_log(self, sim: Simulation, index: int, kinetic_energy: float, relaxed: int | None = None) -> None:
+        """Called after every chunk of steps; `relaxed` as in `remaining_steps`."""
         now = time.monotonic()
+        if self.last_clock is None:  # end of the first chunk: start the clock after compilation
+            self.last_clock, self.last_step = now, sim.step
+            return
         if now - self.last_clock < LOG_INTERVAL_S:
             return
         rate = (sim.step - self.last_step) / max(now - self.last_clock, 1e-9)
-        if self.system.protocol == "quasistatic":
-            per_point = (np.mean(self.relaxation_steps_done) if self.relaxation_steps_done
-                         else self.system.relaxation.window_steps)
-            remaining_steps += per_point * (len(self.system.rho_grid) - index)
-        eta = remaining_steps / rate if rate > 0 else float("inf")
-        self.log.info("%s: step %d, ρ = %.4f (next %.3f), Z = %.3f, E_kin = %.3e, %.0f steps/s, ~%s left",
-                      self.system.name, sim.step, sim.packing_fraction, self.system.rho_grid[min(index, len(self.system.rho_grid) - 1)],
-                      2.0 * sim.contact_count() / sim.n_mobile, kinetic_energy, rate, _duration(eta))
+        to_snapshot, compression, relaxation = self.remaining_steps(sim, index, relaxed)
+        grid = self.system.rho_grid
+        self.log.info("%s: snapshot %d of %d (ρ → %.3f), step %d, ρ = %.4f, Z = %.3f, E_kin = %.3e, %.0f steps/s; "
+                      "~%s to this snapshot, ~%s left for the run (%.3g compression + %.3g relaxation steps)",
+                      self.system.name, index + 1, len(grid), grid[index], sim.step, sim.packing_fraction,
+                      2.0 * sim.contact_count() / sim.n_mobile, kinetic_energy, rate, _duration(to_snapshot, rate),
+                      _duration(compression + relaxation, rate), compression, relaxation)
         self.last_clock, self.last_step = now, sim.step
 
 
-def _duration(seconds: float) -> str:
+def _duration(steps: float, rate: float) -> str:
+    """`steps` at `rate` steps/s as h:mm:ss ("?" without a rate)."""
+    seconds = steps / rate if rate > 0 else math.inf
     if not math.isfinite(seconds):
         return "?"
     seconds = int(seconds)
@@ -235,8 +221,7 @@ def _compress_to(sim: Simulation, target_shift: float, index: int, progress: _Pr
         steps = math.ceil((target_shift - sim.wall_shift) / (speed * sim.time_step) - 1e-9)
         steps = max(1, min(steps, CHUNK_STEPS))
         energy = sim.advance(steps)
-        remaining = max(0.0, (target_shift - sim.wall_shift) / (speed * sim.time_step))
-        progress.maybe_log(sim, index, float(energy[-1]), remaining)
+        progress.maybe_log(sim, index, float(energy[-1]))
 
 
 def _relax(sim: Simulation, system: SystemSpec, index: int, progress: _Progress, log: logging.Logger) -> int:
@@ -252,7 +237,7 @@ def _relax(sim: Simulation, system: SystemSpec, index: int, progress: _Progress,
             sim.advance(steps, window[filled:filled + steps])
             filled += steps
             done += steps
-            progress.maybe_log(sim, index, float(window[filled - 1]), 0.0)
+            progress.maybe_log(sim, index, float(window[filled - 1]), relaxed=done)
         if filled == rule.window_steps:
             mean = float(np.mean(window))
             fluctuation = float(np.std(window)) / mean if mean > 0 else 0.0
@@ -277,8 +262,38 @@ def check_damping_is_integrable(sim: Simulation, system: SystemSpec) -> float:
             f"{stability.GEAR_DAMPING_BOUND}, so each step amplifies that mode instead of damping it; set "
             f"systems.{system.name}.time_step ≤ {stability.stable_time_step(fastest.rate):.3g} "
             f"(or weaker damping)", step=sim.step, particle=int(sim.particle_id[fastest.particle]),
-            rho=sim.packing_fraction)
+            rho=sim.packing_fraction, cause="damping")
     return product
+
+
+#: an overlap blow-up is blamed on the time step when the failing particle, at its speed when it failed, closes a
+#: fifth of its diameter (the blow-up limit) within this many steps and moves this many times faster than the walls;
+#: otherwise the overlap grew with the compression and the ρ grid is blamed
+FEW_STEPS = 100
+FAST_SPEED_FACTOR = 10.0
+
+
+def blow_up_cause(sim: Simulation, system: SystemSpec, error: SimulationBlowUp) -> str:
+    """Which setting most likely caused a blow-up of the step loop, as a sentence naming its config key:
+    `time_step` for a NaN, an escape, or an overlap that grows within a few steps (FEW_STEPS), the ρ grid for an
+    overlap that grows with the compression. Reads the failed state; changes nothing."""
+    key = f"systems.{system.name}"
+    if error.cause in ("not_finite", "escaped"):
+        return (f"most likely {key}.time_step: a particle moved too far in one step of Δt = {system.time_step} τ_c "
+                "for the contacts to stop it; lower time_step")
+    if error.cause != "overlap" or not 0 <= error.particle < sim.n_mobile:
+        return ""
+    speed = float(np.linalg.norm(sim.velocities()[error.particle]))
+    diameter = 2.0 * float(sim.radii()[error.particle])
+    steps = 0.2 * diameter / max(speed * system.time_step, 1e-300)
+    if steps <= FEW_STEPS and speed > FAST_SPEED_FACTOR * system.wall_speed:
+        return (f"most likely {key}.time_step: at its speed when it failed ({speed:.3g} d_ave/τ_c, "
+                f"{speed / system.wall_speed:.0f}× the wall speed) the particle closes a fifth of its diameter in "
+                f"~{steps:.0f} steps, a collision that Δt = {system.time_step} τ_c does not resolve; lower time_step")
+    return (f"most likely {key}.rho: the overlap grew with the compression (the particle moved at {speed:.3g} "
+            f"d_ave/τ_c, ~{steps:.0f} steps per fifth of a diameter, walls at {system.wall_speed:g} d_ave/τ_c): "
+            f"ρ = {sim.packing_fraction:.4f} is more than this packing bears; lower the grid's stop "
+            f"({system.rho_grid[-1]}) or the wall_speed")
 
 
 def run_compression(system: SystemSpec, *, seed: int, snapshot_paths: Sequence[str | os.PathLike],
@@ -316,13 +331,20 @@ def run_compression(system: SystemSpec, *, seed: int, snapshot_paths: Sequence[s
     for index in range(start, len(paths)):
         rho = system.rho_grid[index]
         target = wall_shift_for(sim, rho)
-        if system.protocol == "quasistatic":
-            _compress_to(sim, target, index, progress, system.wall_speed, stop_walls=True)
-            relaxation_steps = _relax(sim, system, index, progress, log)
-            progress.relaxation_steps_done.append(relaxation_steps)
-        else:
-            _compress_to(sim, target, index, progress, system.wall_speed, stop_walls=False)
-            relaxation_steps = -1
+        try:
+            if system.protocol == "quasistatic":
+                _compress_to(sim, target, index, progress, system.wall_speed, stop_walls=True)
+                relaxation_steps = _relax(sim, system, index, progress, log)
+                progress.relaxation_steps_done.append(relaxation_steps)
+            else:
+                _compress_to(sim, target, index, progress, system.wall_speed, stop_walls=False)
+                relaxation_steps = -1
+        except SimulationBlowUp as error:
+            cause = blow_up_cause(sim, system, error)
+            if not cause:
+                raise
+            raise SimulationBlowUp(f"{error.reason}; {cause}", step=error.step, particle=error.particle,
+                                   rho=error.rho, cause=error.cause) from None
         damping_dt = check_damping_is_integrable(sim, system)
         datasets.write_snapshot(paths[index], attrs={**file_attrs, "dem_damping_rate_time_step": damping_dt},
                                 **snapshot_arrays(sim, relaxation_steps))
@@ -330,7 +352,7 @@ def run_compression(system: SystemSpec, *, seed: int, snapshot_paths: Sequence[s
         save_checkpoint(Path(checkpoint_path), sim, next_index=index + 1, fingerprint=fingerprint, rng=rng,
                         cpu_seconds=cpu_seconds)
         sim.rebuild()  # the resumed run rebuilds here too (Simulation.from_state_dict): identical arrays
-        log.info("%s: snapshot ρ = %.3f written (step %d, Z = %.3f, fastest damping rate × Δt = %.2f of %.2f)",
-                 system.name, rho, sim.step, 2.0 * sim.contact_count() / sim.n_mobile, damping_dt,
-                 stability.GEAR_DAMPING_BOUND)
+        log.info("%s: snapshot %d of %d written, ρ = %.3f (step %d, Z = %.3f, fastest damping rate × Δt = %.2f of "
+                 "%.2f)", system.name, index + 1, len(paths), rho, sim.step, 2.0 * sim.contact_count() / sim.n_mobile,
+                 damping_dt, stability.GEAR_DAMPING_BOUND)
     return cpu_before + time.process_time() - cpu_start

@@ -1,0 +1,205 @@
+"""Physical checks of one system that need nothing but its config: run before any job, each naming its key.
+
+`forcenet.systems.check_system` calls `system_problems` for every system when the workflow reads its config
+(before any job, a dry run included) and again when a run starts. The margins:
+
+* **ρ grid against the initial packing.** The first grid value must lie above the packing fraction of the initial
+  lattice (`forcenet.dem.packing`): exact for bidisperse sizes (the counts are fixed); for polydisperse sizes,
+  whose lattice ρ varies with the seed, the expectation plus `INITIAL_RHO_SIGMAS` standard deviations.
+* **ρ grid against the densest packing.** The last grid value must stay at or below the densest packing of equal
+  disks, π/(2√3) = 0.9069, or spheres, π/(3√2) = 0.7405, compressed to a uniform overlap of `RHO_OVERLAP_MARGIN`
+  of a diameter: ρ_max = ρ_densest / (1 − margin)^d = 0.9253 (2D), 0.7631 (3D). Beyond it the overlaps of a
+  soft packing pass several per cent on average and reach the engine's 20 % blow-up limit locally. The walls
+  must also be able to reach it: the final box must stay wider than two of the largest particles.
+* **Δt against the collision time of the lightest pair.** The undamped head-on collision of two of the lightest
+  particles at twice the fastest imposed speed (initial or wall speed; P1 Eq. 4 generalised,
+  `forcenet.units.undamped_collision_time`) must span at least `MIN_STEPS_PER_COLLISION` steps.
+* **Damping against the Gear corrector's bound** (`forcenet.dem.stability.GEAR_DAMPING_BOUND`), where it can
+  be estimated from the config: for the linear force law the damping rate of a contact does not depend on its
+  overlap, and a single contact between two of the lightest particles damps its slip at 3 γ (disks) or 3.5 γ
+  (spheres) (P1 Eq. 1–2; the exact mode of `stability.fastest_damping_rate`). A packing, with several contacts
+  per particle, damps faster still, so rate · Δt above the bound for one contact means the run cannot be stable.
+  γ_n is the damping model's value, for ``head_on`` its closed form, which lies below the calibrated root (the
+  check errs towards passing). For the Hertz law the rate grows with overlap^½, which the config does not give:
+  every snapshot is checked instead (`forcenet.dem.protocol.check_damping_is_integrable`).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from forcenet import units
+from forcenet.dem import packing, stability
+
+#: Δt ≤ (shortest collision) / MIN_STEPS_PER_COLLISION
+MIN_STEPS_PER_COLLISION = 10
+#: densest packing of equal disks (hexagonal) and spheres (fcc/hcp)
+DENSEST_PACKING = {2: math.pi / (2.0 * math.sqrt(3.0)), 3: math.pi / (3.0 * math.sqrt(2.0))}
+#: the grid may exceed the densest packing by a uniform overlap of this fraction of a diameter
+RHO_OVERLAP_MARGIN = 0.01
+#: polydisperse initial lattices: the first ρ must exceed the expected lattice ρ by this many standard deviations
+INITIAL_RHO_SIGMAS = 5.0
+#: the walls cannot close the box below this many of the largest diameters
+SMALLEST_BOX_IN_DIAMETERS = 2.0
+
+
+@dataclass(frozen=True)
+class Problem:
+    """A check that failed: `key` below ``systems.<name>`` (e.g. ``"time_step"``) and a one-line message."""
+
+    key: str
+    message: str
+
+
+def max_packing_fraction(dimension: int) -> float:
+    """ρ_max = ρ_densest / (1 − RHO_OVERLAP_MARGIN)^d: the highest grid value a system may ask for."""
+    return DENSEST_PACKING[dimension] / (1.0 - RHO_OVERLAP_MARGIN) ** dimension
+
+
+def _uniform_moment(low: float, high: float, power: int) -> float:
+    """E[d^power] for d uniform on [low, high]."""
+    if high - low < 1e-12:
+        return low ** power
+    return (high ** (power + 1) - low ** (power + 1)) / ((power + 1) * (high - low))
+
+
+def initial_packing_fraction_bound(system) -> float:
+    """The largest packing fraction the initial lattice can have [-]: exact (bidisperse) or expectation +
+    INITIAL_RHO_SIGMAS standard deviations over the random diameters (polydisperse)."""
+    dim = system.dimension
+    n = packing.sites_per_axis(system) ** dim
+    box = system.box_length ** dim
+    shape = float(packing.particle_volume(1.0, dim))  # volume = shape · d^dim
+    if system.size_distribution == "bidisperse":
+        s, ratio = system.small_to_large, system.diameter_ratio
+        small = packing.smallest_diameter(system)
+        n_small = int(round(n * s / (1.0 + s)))
+        return shape * (n_small * small ** dim + (n - n_small) * (ratio * small) ** dim) / box
+    low, high = packing.smallest_diameter(system), packing.largest_diameter(system)
+    mean = _uniform_moment(low, high, dim)
+    std = math.sqrt(max(_uniform_moment(low, high, 2 * dim) - mean ** 2, 0.0))
+    return shape * (n * mean + INITIAL_RHO_SIGMAS * math.sqrt(n) * std) / box
+
+
+def lightest_mass(system) -> float:
+    """Mass of the lightest particle the size distribution gives [m̄] (masses ∝ d^dim, mean 1)."""
+    dim = system.dimension
+    small = packing.smallest_diameter(system)
+    if system.size_distribution == "bidisperse":
+        s, ratio = system.small_to_large, system.diameter_ratio
+        mean = (s * small ** dim + (ratio * small) ** dim) / (s + 1.0)
+    else:
+        mean = _uniform_moment(small, packing.largest_diameter(system), dim)
+    return small ** dim / mean
+
+
+def shortest_collision_time(system) -> tuple[float, float, float]:
+    """(duration [τ_c], mass [m̄], relative speed [d_ave/τ_c]) of the undamped head-on collision of two of the lightest
+    particles at twice the fastest imposed speed (P1 Eq. 4 generalised)."""
+    mass = lightest_mass(system)
+    speed = 2.0 * max(system.initial_speed, system.wall_speed)
+    duration = units.undamped_collision_time(system.normal_stiffness, system.beta, 0.5 * mass, max(speed, 1e-12))
+    return duration, mass, speed
+
+
+def normal_damping_estimate(system) -> float | None:
+    """γ_n of a linear-law system from its damping model [τ_c⁻¹] (``head_on``: the closed form, a lower bound of the
+    calibrated value); None for the Hertz law, whose damping rate depends on the overlap."""
+    if system.beta != 0.0:
+        return None
+    if system.damping_model == "linear_law":
+        return units.collision_time_damping(system.restitution)
+    return units.linear_damping_for_restitution(system.normal_stiffness, system.restitution,
+                                                0.5)  # two mean particles, as the calibration
+
+
+def single_contact_damping_rate(system, gamma: float) -> float:
+    """Fastest damping rate [τ_c⁻¹] of one contact between two of the lightest particles (zero overlap, γ_t = γ_n =
+    `gamma`), from the engine's damping operator (`forcenet.dem.stability`)."""
+    dim = system.dimension
+    diameter = packing.smallest_diameter(system)
+    mass = np.full(2, lightest_mass(system))
+    inertia = mass * (0.5 if dim == 2 else 0.4) * (0.5 * diameter) ** 2  # disk m r²/2, sphere 2 m r²/5
+    coefficient = gamma * 0.5 * mass[0]  # g = γ x^0 m_eff
+    contact = stability.DampingContacts(
+        i=np.array([0]), j=np.array([1]), normal=np.eye(dim)[:1], normal_coefficient=np.array([coefficient]),
+        tangential_coefficient=np.array([coefficient]), lever_i=np.array([0.5 * diameter]),
+        lever_j=np.array([0.5 * diameter]))
+    return stability.fastest_damping_rate(contact, mass, inertia).rate
+
+
+def system_problems(system) -> list[Problem]:
+    """Every check above (and positivity of what the engine divides by) on a `forcenet.systems.SystemSpec`."""
+    problems = []
+    positive = {"box_length": system.box_length, "time_step": system.time_step, "wall_speed": system.wall_speed,
+                "normal_stiffness": system.normal_stiffness}
+    if system.size_distribution == "bidisperse":
+        positive.update(diameter_ratio=system.diameter_ratio, small_to_large=system.small_to_large)
+    problems += [Problem(name, f"must be positive, got {value}") for name, value in positive.items()
+                 if not (math.isfinite(value) and value > 0)]
+    problems += [Problem(name, f"must be non-negative, got {value}") for name, value in
+                 {"initial_speed": system.initial_speed, "friction": system.friction,
+                  "tangential_stiffness": system.tangential_stiffness,
+                  "polydispersity": system.polydispersity}.items() if not (math.isfinite(value) and value >= 0)]
+    if not 0.0 < system.restitution <= 1.0:
+        problems.append(Problem("restitution", f"must lie in (0, 1], got {system.restitution}"))
+    if system.protocol == "quasistatic" and system.relaxation is None:
+        problems.append(Problem("relaxation", "the quasi-static protocol needs a relaxation rule"))
+    if system.size_distribution == "polydisperse" and system.polydispersity >= 1.0:
+        problems.append(Problem("polydispersity", "r_p must be < 1 so that every diameter 1 ± r_p/2 is positive"))
+    if problems:  # the physics below needs sane numbers
+        return problems
+    n_axis = packing.sites_per_axis(system)
+    if n_axis ** system.dimension < 2:
+        return [Problem("box_length", f"a box of {system.box_length} d_ave holds {n_axis ** system.dimension} "
+                                      "particle(s) on the initial lattice; need ≥ 2")]
+    problems += _rho_problems(system)
+    problems += _time_step_problems(system)
+    return problems
+
+
+def _rho_problems(system) -> list[Problem]:
+    dim = system.dimension
+    rho0 = initial_packing_fraction_bound(system)
+    first, last = system.rho_grid[0], system.rho_grid[-1]
+    if first <= rho0:
+        exact = "" if system.size_distribution == "bidisperse" else f" + {INITIAL_RHO_SIGMAS:g} σ over seeds"
+        return [Problem("rho", f"the first ρ = {first} is not above the packing fraction of the initial lattice, "
+                               f"{rho0:.4f}{exact} (box {system.box_length} d_ave, {packing.sites_per_axis(system)}"
+                               f"^{dim} sites): start the grid higher")]
+    highest = max_packing_fraction(dim)
+    if last > highest:
+        return [Problem("rho", f"the last ρ = {last} is above {highest:.4f}, the densest packing of equal "
+                               f"{'disks' if dim == 2 else 'spheres'} ({DENSEST_PACKING[dim]:.4f}) compressed to a "
+                               f"uniform overlap of {RHO_OVERLAP_MARGIN:.0%} of a diameter: lower the grid's stop")]
+    final_length = system.box_length * (rho0 / last) ** (1.0 / dim)
+    smallest_box = SMALLEST_BOX_IN_DIAMETERS * packing.largest_diameter(system)
+    if final_length < smallest_box:
+        return [Problem("rho", f"ρ = {last} needs a box of {final_length:.3f} d_ave, narrower than "
+                               f"{SMALLEST_BOX_IN_DIAMETERS:g} of the largest particles ({smallest_box:.3f} d_ave): "
+                               "enlarge box_length or lower the grid's stop")]
+    return []
+
+
+def _time_step_problems(system) -> list[Problem]:
+    dt = system.time_step
+    shortest, mass, speed = shortest_collision_time(system)
+    limit = shortest / MIN_STEPS_PER_COLLISION
+    if dt > limit:
+        return [Problem("time_step", f"Δt = {dt} τ_c is too large: the shortest collision (two particles of mass "
+                                     f"{mass:.3f} m̄ at relative speed {speed:g} d_ave/τ_c) lasts {shortest:.4g} τ_c "
+                                     f"and must span {MIN_STEPS_PER_COLLISION} steps: Δt ≤ {limit:.4g} τ_c")]
+    gamma = normal_damping_estimate(system)
+    if gamma is None:
+        return []
+    rate = single_contact_damping_rate(system, gamma)
+    if rate * dt > stability.GEAR_DAMPING_BOUND:
+        return [Problem("time_step", f"Δt = {dt} τ_c is too large for the contact damping: one contact alone damps "
+                                     f"its slip at {rate:.4g} τ_c⁻¹ (γ_n ≥ {gamma:.4g} τ_c⁻¹ from restitution "
+                                     f"{system.restitution}, damping_model {system.damping_model}), and rate · Δt = "
+                                     f"{rate * dt:.3g} exceeds the Gear corrector's bound "
+                                     f"{stability.GEAR_DAMPING_BOUND}: Δt ≤ {stability.stable_time_step(rate):.4g} τ_c "
+                                     "(a packing needs less still) or a larger restitution")]
+    return []
