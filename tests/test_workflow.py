@@ -1,31 +1,14 @@
 """The whole workflow on config/smoke.yaml in a scratch directory: every figure, table and valid netCDF."""
 from __future__ import annotations
 
-import subprocess
-import sys
-from pathlib import Path
-
+import pandas as pd
 import pytest
 import yaml
 
-from conftest import REPO
+from conftest import REPO, snakemake
 from forcenet.datasets import open_dataset, validate_dataset
 
 pytestmark = pytest.mark.workflow
-
-
-def snakemake(workdir: Path, *args: str) -> subprocess.CompletedProcess:
-    command = [sys.executable, "-m", "snakemake", "--snakefile", str(REPO / "Snakefile"), "--directory",
-               str(workdir), "--configfile", str(REPO / "config/smoke.yaml"), "--cores", "2", *args]
-    return subprocess.run(command, capture_output=True, text=True, timeout=900)
-
-
-@pytest.fixture(scope="module")
-def smoke_run(tmp_path_factory) -> Path:
-    workdir = tmp_path_factory.mktemp("smoke")
-    result = snakemake(workdir)
-    assert result.returncode == 0, result.stderr[-6000:]
-    return workdir
 
 
 def test_every_netcdf_output_validates(smoke_run):
@@ -47,6 +30,8 @@ def test_every_figure_and_table_exists(smoke_run):
         for suffix in (".pdf", ".png"):
             path = smoke_run / "results/figures" / f"{name}{suffix}"
             assert path.stat().st_size > 1000, path
+        table = pd.read_csv(smoke_run / "results/figures" / f"{name}.csv")  # the figure's source data
+        assert len(table) and {"panel", "system"} <= set(table.columns), name
     tables = sorted(p.name for p in (smoke_run / "results/tables").iterdir())
     assert "p1_validation.csv" in tables and "p1_validation.md" in tables
 

@@ -188,19 +188,22 @@ def _open_by_system(paths: Sequence[str]) -> dict[str, Any]:
     return {ds.attrs["system"]: ds for ds in datasets}
 
 
-def figure(*, name: str, systems: Sequence[str], inputs: Mapping[str, Sequence[str]], pdf: str, png: str,
+def figure(*, name: str, systems: Sequence[str], inputs: Mapping[str, Sequence[str]], pdf: str, png: str, csv: str,
            log_path: str | None = None) -> None:
-    """Draw one P1 figure from the aggregated datasets (and example snapshots for figure 1)."""
-    from forcenet.plotting.p1 import make_p1_figure
+    """Draw one P1 figure from the aggregated datasets (and example snapshots for figure 1), and write the
+    values it draws to `csv` (one preparation feeds both)."""
+    from forcenet.plotting.figure_data import write_csv
+    from forcenet.plotting.p1 import draw_p1_figure, p1_figure_data
     from forcenet.plotting.style import apply_style, save_figure
 
     with job_logger(log_path, f"figure.{name}") as log:
         apply_style()
-        figure_ = make_p1_figure(name, measures=_open_by_system(inputs.get("measures", [])),
-                                 diagrams=_open_by_system(inputs.get("diagrams", [])),
-                                 snapshots=_open_by_system(inputs.get("snapshots", [])))
-        save_figure(figure_, pdf, png)
-        log.info("%s drawn for %s", name, ", ".join(systems))
+        data = p1_figure_data(name, measures=_open_by_system(inputs.get("measures", [])),
+                              diagrams=_open_by_system(inputs.get("diagrams", [])),
+                              snapshots=_open_by_system(inputs.get("snapshots", [])))
+        save_figure(draw_p1_figure(name, data), pdf, png)
+        write_csv(data, csv)
+        log.info("%s drawn for %s (%d rows of source data)", name, ", ".join(systems), len(data.table))
 
 
 def p1_validation_table(*, measures: Sequence[str], systems: Sequence[str], csv: str, md: str,
@@ -253,24 +256,27 @@ def p2_tables(*, snapshots: Sequence[str], csv: Sequence[str], md: Sequence[str]
         log.info("P2 tables from %s", ", ".join(snapshots))
 
 
-def p2_figure(*, name: str, system: str, inputs: Mapping[str, Sequence[str]], pdf: str, png: str,
+def p2_figure(*, name: str, system: str, inputs: Mapping[str, Sequence[str]], pdf: str, png: str, csv: str,
               log_path: str | None = None) -> None:
-    """Draw one P2 figure (snapshots, one analysis, or one system's distances)."""
+    """Draw one P2 figure (snapshots, one analysis, or one system's distances) and write the values it draws to
+    `csv` (one preparation feeds both)."""
     from forcenet.datasets import open_dataset
-    from forcenet.plotting.p2 import P2_FIGURES
+    from forcenet.plotting.figure_data import write_csv
+    from forcenet.plotting.p2 import draw_p2_figure, p2_figure_data
     from forcenet.plotting.style import apply_style, save_figure
 
     with job_logger(log_path, f"figure.{name}") as log:
         apply_style()
-        function = P2_FIGURES[name]
         if inputs.get("snapshots"):
-            figure_ = function([open_dataset(p) for p in inputs["snapshots"]], system=system)
+            source = [open_dataset(p) for p in inputs["snapshots"]]
         elif inputs.get("analysis"):
-            figure_ = function(open_dataset(inputs["analysis"][0]), system=system)
+            source = open_dataset(inputs["analysis"][0])
         else:
-            figure_ = function(open_dataset(inputs["distances"][0]), system=system)
-        save_figure(figure_, pdf, png)
-        log.info("%s drawn for %s", name, system)
+            source = open_dataset(inputs["distances"][0])
+        data = p2_figure_data(name, source, system=system)
+        save_figure(draw_p2_figure(name, data), pdf, png)
+        write_csv(data, csv)
+        log.info("%s drawn for %s (%d rows of source data)", name, system, len(data.table))
 
 
 def p2_validation_table(*, distances: Sequence[str], tables: Sequence[str], frictional: str, frictionless: str | None,

@@ -43,6 +43,7 @@ for _figure, _caption in P1_FIGURES.items():
             pdf=report(f"{RESULTS}/figures/{_figure}.pdf", caption="../report/figure.rst", category="P1",
                        labels={"figure": _figure}),
             png=f"{RESULTS}/figures/{_figure}.png",
+            csv=f"{RESULTS}/figures/{_figure}.csv",
         log:
             f"{LOGS}/figures/{_figure}.log",
         params:

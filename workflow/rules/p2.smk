@@ -87,6 +87,7 @@ for _figure, (_kind, _system) in P2_FIGURES.items():
             pdf=report(f"{RESULTS}/figures/{_figure}.pdf", caption="../report/figure.rst", category="P2",
                        labels={"figure": _figure}),
             png=f"{RESULTS}/figures/{_figure}.png",
+            csv=f"{RESULTS}/figures/{_figure}.csv",
         log:
             f"{LOGS}/figures/{_figure}.log",
         params:
