@@ -206,6 +206,22 @@ def figure(*, name: str, systems: Sequence[str], inputs: Mapping[str, Sequence[s
         log.info("%s drawn for %s (%d rows of source data)", name, ", ".join(systems), len(data.table))
 
 
+def movie(*, kind: str, system: str, inputs: Sequence[str], output: str, log_path: str | None = None) -> None:
+    """One compression movie of `system` (`forcenet.plotting.movies`): kind "network" from the snapshots of one
+    run in ρ order (`inputs`), kind "b0_surface" from the network_measures.nc of every P1 system."""
+    from forcenet.datasets import open_dataset
+    from forcenet.plotting import movies
+
+    with job_logger(log_path, f"movie.{kind}.{system}") as log:
+        if kind == "network":
+            frames = movies.network_movie([open_dataset(p) for p in inputs], output)
+        elif kind == "b0_surface":
+            frames = movies.b0_surface_movie(_open_by_system(inputs), system, output)
+        else:
+            raise ValueError(f"unknown movie kind {kind!r}; known: network, b0_surface")
+        log.info("%s movie of %s: %d frames", kind, system, frames)
+
+
 def p1_validation_table(*, measures: Sequence[str], systems: Sequence[str], csv: str, md: str,
                         log_path: str | None = None) -> None:
     """P1's numbers and claims next to ours (results/tables/p1_validation.{csv,md})."""

@@ -78,6 +78,7 @@ def all_targets():
     if P1_SYSTEMS:
         targets += [f"{RESULTS}/figures/{name}.pdf" for name in P1_FIGURES]
         targets += [f"{RESULTS}/tables/p1_validation.md"]
+        targets += [f"{RESULTS}/movies/{name}.mp4" for name in P1_MOVIES]
     if P2_SYSTEMS:
         targets += [f"{RESULTS}/{s}/distances.nc" for s in P2_SYSTEMS]
         targets += [f"{RESULTS}/figures/{name}.pdf" for name in P2_FIGURES]

@@ -62,9 +62,12 @@ def curve_rows(x_name: str, x, mean, spread_low, spread_high, **columns) -> pd.D
 
 
 def concat(frames) -> pd.DataFrame:
-    """Stack row blocks (an empty table when there are none)."""
-    frames = [f for f in frames if len(f)]
-    return pd.concat(frames, ignore_index=True) if frames else pd.DataFrame()
+    """Stack row blocks; when every block is empty, an empty table with the first block's columns."""
+    frames = list(frames)
+    filled = [f for f in frames if len(f)]
+    if filled:
+        return pd.concat(filled, ignore_index=True)
+    return frames[0].iloc[0:0] if frames else pd.DataFrame()
 
 
 def write_csv(data: FigureData, path: str | os.PathLike) -> None:

@@ -256,45 +256,52 @@ def prepare_fig01_networks(snapshots: Mapping[str, xr.Dataset]) -> FigureData:
 def draw_fig01_networks(data: FigureData) -> Figure:
     """Edges coloured (and thickened) by F/⟨F⟩; 2D as lines over the disks, 3D as lines in a 3D box; one colour
     scale for all panels, up to the 99 % quantile of F/⟨F⟩."""
-    table = data.table
-    panels = sorted(table[cols.PANEL].unique())
+    panels = sorted(data.table[cols.PANEL].unique())
     dims = [int(data.panel(p)["dimension"].iloc[0]) for p in panels]
     fig, axes = _figure(len(panels), size=(4.6, 4.2), projections=["3d" if d == 3 else None for d in dims])
-    everything = table.loc[table["element"] == "contact", cols.FORCE].to_numpy()
-    norm = Normalize(0.0, float(np.quantile(everything, 0.99)) if everything.size else 1.0)
-    for ax, panel, dim in zip(axes, panels, dims):
-        rows = data.panel(panel)
-        contacts, particles = rows[rows["element"] == "contact"], rows[rows["element"] == "particle"]
-        relative = contacts[cols.FORCE].to_numpy()
-        segments = np.stack([contacts[list(END_I[:dim])].to_numpy(), contacts[list(END_J[:dim])].to_numpy()], axis=1)
-        widths = 0.3 + NETWORK_MAX_LINE_WIDTH * np.clip(relative / max(norm.vmax, 1e-12), 0, 1)
-        lo, hi = data.layout["box"][panel]
-        if dim == 3:
-            from mpl_toolkits.mplot3d.art3d import Line3DCollection
-
-            lines = Line3DCollection(segments, cmap=FORCE_CMAP, norm=norm, linewidths=widths)
-            lines.set_array(relative)
-            ax.add_collection3d(lines)
-            ax.set_zlim(lo[2], hi[2])
-            ax.set_zlabel(POSITION_LABELS[2])
-        else:
-            diameter = 2 * particles[RADIUS].to_numpy()
-            disks = EllipseCollection(diameter, diameter, 0, units="xy", offsets=particles[list(CENTRE[:2])].to_numpy(),
-                                      offset_transform=ax.transData, facecolors="none", edgecolors="0.75",
-                                      linewidths=0.4)
-            ax.add_collection(disks)
-            lines = LineCollection(segments, cmap=FORCE_CMAP, norm=norm, linewidths=widths)
-            lines.set_array(relative)
-            ax.add_collection(lines)
-            ax.set_aspect("equal")
-        ax.set_xlim(lo[0], hi[0])
-        ax.set_ylim(lo[1], hi[1])
-        ax.set_xlabel(POSITION_LABELS[0])
-        ax.set_ylabel(POSITION_LABELS[1])
-        _title(ax, rows[cols.SYSTEM].iloc[0], rf", $\rho$ = {float(rows[cols.RHO].iloc[0]):.3f}")
-    mappable = plt.cm.ScalarMappable(norm=norm, cmap=FORCE_CMAP)
-    fig.colorbar(mappable, ax=axes, label=LABELS["force"], shrink=0.8)
+    norm = network_color_scale(data.table)
+    for ax, panel in zip(axes, panels):
+        draw_network_panel(ax, data.panel(panel), data.layout["box"][panel], norm)
+    fig.colorbar(plt.cm.ScalarMappable(norm=norm, cmap=FORCE_CMAP), ax=axes, label=LABELS["force"], shrink=0.8)
     return fig
+
+
+def network_color_scale(table: pd.DataFrame) -> Normalize:
+    """F/⟨F⟩ colour scale of network drawings: 0 to the 99 % quantile of the table's contacts."""
+    everything = table.loc[table["element"] == "contact", cols.FORCE].to_numpy()
+    return Normalize(0.0, float(np.quantile(everything, 0.99)) if everything.size else 1.0)
+
+
+def draw_network_panel(ax, rows: pd.DataFrame, box, norm: Normalize) -> None:
+    """One snapshot's network (rows of `prepare_fig01_networks`) in `ax` (a 3D axes for a 3D snapshot)."""
+    dim = int(rows["dimension"].iloc[0])
+    contacts, particles = rows[rows["element"] == "contact"], rows[rows["element"] == "particle"]
+    relative = contacts[cols.FORCE].to_numpy()
+    segments = np.stack([contacts[list(END_I[:dim])].to_numpy(), contacts[list(END_J[:dim])].to_numpy()], axis=1)
+    widths = 0.3 + NETWORK_MAX_LINE_WIDTH * np.clip(relative / max(norm.vmax, 1e-12), 0, 1)
+    lo, hi = box
+    if dim == 3:
+        from mpl_toolkits.mplot3d.art3d import Line3DCollection
+
+        lines = Line3DCollection(segments, cmap=FORCE_CMAP, norm=norm, linewidths=widths)
+        lines.set_array(relative)
+        ax.add_collection3d(lines)
+        ax.set_zlim(lo[2], hi[2])
+        ax.set_zlabel(POSITION_LABELS[2])
+    else:
+        diameter = 2 * particles[RADIUS].to_numpy()
+        disks = EllipseCollection(diameter, diameter, 0, units="xy", offsets=particles[list(CENTRE[:2])].to_numpy(),
+                                  offset_transform=ax.transData, facecolors="none", edgecolors="0.75", linewidths=0.4)
+        ax.add_collection(disks)
+        lines = LineCollection(segments, cmap=FORCE_CMAP, norm=norm, linewidths=widths)
+        lines.set_array(relative)
+        ax.add_collection(lines)
+        ax.set_aspect("equal")
+    ax.set_xlim(lo[0], hi[0])
+    ax.set_ylim(lo[1], hi[1])
+    ax.set_xlabel(POSITION_LABELS[0])
+    ax.set_ylabel(POSITION_LABELS[1])
+    _title(ax, rows[cols.SYSTEM].iloc[0], rf", $\rho$ = {float(rows[cols.RHO].iloc[0]):.3f}")
 
 
 def prepare_fig02_betti0_surface(measures: Mapping[str, xr.Dataset]) -> FigureData:

@@ -149,10 +149,9 @@ def draw_p2_fig03(data: FigureData) -> Figure:
     fig, axes = plt.subplots(1, 2, figsize=(10, 4.6), constrained_layout=True)
     color = system_color(system)
     for ax, h in zip(axes, report.P2_HOMOLOGY_DIMS):
-        rows = data.panel(h) if len(data.table) else data.table
-        birth = rows[cols.BIRTH].to_numpy(float) if len(rows) else np.empty(0)
-        drawn = rows["death drawn [<F>]"].to_numpy(float) if len(rows) else np.empty(0)
-        essential = rows["essential"].to_numpy(bool) if len(rows) else np.empty(0, bool)
+        rows = data.panel(h)
+        birth, drawn = rows[cols.BIRTH].to_numpy(float), rows["death drawn [<F>]"].to_numpy(float)
+        essential = rows["essential"].to_numpy(bool)
         ax.scatter(birth[~essential], drawn[~essential], s=10, color=color, alpha=0.6, lw=0, label="finite classes")
         ax.scatter(birth[essential], drawn[essential], s=40, marker="x", color="k",
                    label=f"never dies (death := {essential_death:g})")
