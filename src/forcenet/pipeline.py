@@ -235,19 +235,38 @@ def _open_by_system(paths: Sequence[str], kind: str) -> dict[str, Any]:
     return {ds.attrs["system"]: ds for ds in datasets}
 
 
-def figure(*, name: str, systems: Sequence[str], inputs: Mapping[str, Sequence[str]], pdf: str, png: str,
+def figure(*, name: str, systems: Sequence[str], inputs: Mapping[str, Sequence[str]], pdf: str, png: str, csv: str,
            log_path: str | None = None) -> None:
-    """Draw one P1 figure from the aggregated datasets (and example snapshots for figure 1)."""
-    from forcenet.plotting.p1 import make_p1_figure
+    """Draw one P1 figure from the aggregated datasets (and example snapshots for figure 1), and write the
+    values it draws to `csv` (one preparation feeds both)."""
+    from forcenet.plotting.figure_data import write_csv
+    from forcenet.plotting.p1 import draw_p1_figure, p1_figure_data
     from forcenet.plotting.style import apply_style, save_figure
 
     with job_logger(log_path, f"figure.{name}") as log:
         apply_style()
-        figure_ = make_p1_figure(name, measures=_open_by_system(inputs.get("measures", []), "network_measures"),
-                                 diagrams=_open_by_system(inputs.get("diagrams", []), "diagrams"),
-                                 snapshots=_open_by_system(inputs.get("snapshots", []), "snapshot"))
-        save_figure(figure_, pdf, png)
-        log.info("%s drawn for %s", name, ", ".join(systems))
+        data = p1_figure_data(name, measures=_open_by_system(inputs.get("measures", []), "network_measures"),
+                              diagrams=_open_by_system(inputs.get("diagrams", []), "diagrams"),
+                              snapshots=_open_by_system(inputs.get("snapshots", []), "snapshot"))
+        save_figure(draw_p1_figure(name, data), pdf, png)
+        write_csv(data, csv)
+        log.info("%s drawn for %s (%d rows of source data)", name, ", ".join(systems), len(data.table))
+
+
+def movie(*, kind: str, system: str, inputs: Sequence[str], output: str, log_path: str | None = None) -> None:
+    """One compression movie of `system` (`forcenet.plotting.movies`): kind "network" from the snapshots of one
+    run in ρ order (`inputs`), kind "b0_surface" from the network_measures.nc of every P1 system."""
+    from forcenet.datasets import read_snapshot
+    from forcenet.plotting import movies
+
+    with job_logger(log_path, f"movie.{kind}.{system}") as log:
+        if kind == "network":
+            frames = movies.network_movie([read_snapshot(p) for p in inputs], output)
+        elif kind == "b0_surface":
+            frames = movies.b0_surface_movie(_open_by_system(inputs, "network_measures"), system, output)
+        else:
+            raise ValueError(f"unknown movie kind {kind!r}; known: network, b0_surface")
+        log.info("%s movie of %s: %d frames", kind, system, frames)
 
 
 def p1_validation_table(*, measures: Sequence[str], systems: Sequence[str], csv: str, md: str,
@@ -304,24 +323,27 @@ def p2_tables(*, snapshots: Sequence[str], csv: Sequence[str], md: Sequence[str]
         log.info("P2 tables from %s", ", ".join(snapshots))
 
 
-def p2_figure(*, name: str, system: str, inputs: Mapping[str, Sequence[str]], pdf: str, png: str,
+def p2_figure(*, name: str, system: str, inputs: Mapping[str, Sequence[str]], pdf: str, png: str, csv: str,
               log_path: str | None = None) -> None:
-    """Draw one P2 figure (snapshots, one analysis, or one system's distances)."""
+    """Draw one P2 figure (snapshots, one analysis, or one system's distances) and write the values it draws to
+    `csv` (one preparation feeds both)."""
     from forcenet.datasets import read_dataset, read_snapshot
-    from forcenet.plotting.p2 import P2_FIGURES
+    from forcenet.plotting.figure_data import write_csv
+    from forcenet.plotting.p2 import draw_p2_figure, p2_figure_data
     from forcenet.plotting.style import apply_style, save_figure
 
     with job_logger(log_path, f"figure.{name}") as log:
         apply_style()
-        function = P2_FIGURES[name]
         if inputs.get("snapshots"):
-            figure_ = function([read_snapshot(p) for p in inputs["snapshots"]], system=system)
+            source = [read_snapshot(p) for p in inputs["snapshots"]]
         elif inputs.get("analysis"):
-            figure_ = function(read_dataset(inputs["analysis"][0], "analysis"), system=system)
+            source = read_dataset(inputs["analysis"][0], "analysis")
         else:
-            figure_ = function(read_dataset(inputs["distances"][0], "distances"), system=system)
-        save_figure(figure_, pdf, png)
-        log.info("%s drawn for %s", name, system)
+            source = read_dataset(inputs["distances"][0], "distances")
+        data = p2_figure_data(name, source, system=system)
+        save_figure(draw_p2_figure(name, data), pdf, png)
+        write_csv(data, csv)
+        log.info("%s drawn for %s (%d rows of source data)", name, system, len(data.table))
 
 
 def p2_validation_table(*, distances: Sequence[str], tables: Sequence[str], frictional: str, frictionless: str | None,

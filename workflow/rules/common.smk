@@ -83,13 +83,14 @@ def simulation_memory_mb(spec):
 
 
 def figure_outputs(name, category):
-    """The PDF and PNG of one figure, both in the HTML report (`snakemake --report`): the PNG is what the report shows
+    """The PDF, PNG and source-data CSV of one figure, both in the HTML report (`snakemake --report`): the PNG is what the report shows
     inline (every browser draws it; a PDF is blank without a PDF viewer), and its caption links the PDF."""
     return dict(
         pdf=report(f"{RESULTS}/figures/{name}.pdf", caption="../report/figure_pdf.rst", category=category,
                    subcategory=REPORT_PDFS, labels={"figure": name, "format": "PDF"}),
         png=report(f"{RESULTS}/figures/{name}.png", caption="../report/figure.rst", category=category,
                    subcategory=REPORT_FIGURES, labels={"figure": name, "format": "PNG"}),
+        csv=f"{RESULTS}/figures/{name}.csv",  # the values the figure draws (forcenet.plotting.figure_data)
     )
 
 
@@ -103,6 +104,7 @@ def all_targets():
     if P1_SYSTEMS:
         targets += [f"{RESULTS}/figures/{name}.pdf" for name in P1_FIGURES]
         targets += [f"{RESULTS}/tables/p1_validation.md"]
+        targets += [f"{RESULTS}/movies/{name}.mp4" for name in P1_MOVIES]
     if P2_SYSTEMS:
         targets += [f"{RESULTS}/{s}/distances.nc" for s in P2_SYSTEMS]
         targets += [f"{RESULTS}/figures/{name}.pdf" for name in P2_FIGURES]

@@ -65,3 +65,41 @@ rule p1_validation_table:
         systems=P1_SYSTEMS,
     script:
         "../scripts/p1_validation.py"
+
+
+# Compression movies (MP4, ffmpeg from the imageio-ffmpeg wheel): per P1 system, its force network through the ρ
+# grid (realization 0) and one turn around its B0/N surface (the data of Fig. 2). Part of the default build;
+# `snakemake --cores 2 movies` builds only them.
+P1_MOVIES = {f"{kind}_{system}": (kind, system) for system in P1_SYSTEMS for kind in ("network", "b0_surface")}
+
+
+def movie_inputs(kind, system):
+    if kind == "network":
+        return [snapshot_path(system, REALIZATIONS[0], rho) for rho in SYSTEMS[system].rho_labels]
+    return p1_measures()
+
+
+for _movie, (_kind, _system) in P1_MOVIES.items():
+
+    rule:
+        name:
+            f"movie_{_movie}"
+        localrule: True
+        input:
+            movie_inputs(_kind, _system),
+        output:
+            f"{RESULTS}/movies/{_movie}.mp4",
+        log:
+            f"{LOGS}/movies/{_movie}.log",
+        params:
+            kind=_kind,
+            system=_system,
+        script:
+            "../scripts/movie.py"
+
+
+rule movies:
+    """Every compression movie (and what they need)."""
+    localrule: True
+    input:
+        [f"{RESULTS}/movies/{name}.mp4" for name in P1_MOVIES],

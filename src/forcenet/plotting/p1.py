@@ -1,14 +1,17 @@
-"""The figures of P1 (compressed 2D/3D interaction networks), one function per figure.
+"""The figures of P1 (compressed 2D/3D interaction networks): per figure, one function that prepares its data
+and one that draws it.
 
-Every function takes the aggregated datasets keyed by system name — ``measures`` (network_measures.nc),
-``diagrams`` (diagrams.nc), ``snapshots`` (one snapshot file per system) — and returns a matplotlib Figure. They
-only select and average: the reductions P1 defines (F_max cut at ρ_max, S_p averaging rule, ≥ 50 % percolation
+The preparation (`prepare_*`) takes the aggregated datasets keyed by system name — ``measures``
+(network_measures.nc), ``diagrams`` (diagrams.nc), ``snapshots`` (one snapshot file per system) — and returns a
+`FigureData` whose table holds every plotted value (the figure's CSV); the drawing (`draw_*`) turns that into a
+matplotlib Figure and reads nothing else. The preparations only select and average: the reductions P1 defines (F_max cut at ρ_max, S_p averaging rule, ≥ 50 % percolation
 rule, jamming point) live in `forcenet.report.p1` and are shared with the validation table. Curves are
 realization means with ± one standard deviation over the realizations as a band; each system keeps its colour
 (`forcenet.plotting.style.system_color`), a family of curves within a panel (F_th, ρ) uses shades of it.
 
-The workflow calls one figure by name: ``make_p1_figure(name, measures, diagrams, snapshots)``; `P1_FIGURES`
-lists the names, which inputs each figure needs and its caption.
+The workflow prepares one figure by name, ``p1_figure_data(name, measures, diagrams, snapshots)``, then draws it
+(`draw_p1_figure`) and writes its table; ``make_p1_figure`` does both steps for one Figure. `P1_FIGURES` lists the
+names, which inputs each figure needs and its caption.
 """
 from __future__ import annotations
 
@@ -16,9 +19,12 @@ from dataclasses import dataclass
 from typing import Callable, Mapping, Sequence
 
 import numpy as np
+import pandas as pd
 import xarray as xr
 
 from forcenet.measures.persistence_stats import MEDIUM_BIRTH, ROUGH_LIFESPAN, STRONG_BIRTH, WEAK_BIRTH
+from forcenet.plotting import figure_data as cols
+from forcenet.plotting.figure_data import FigureData, concat, curve_rows
 from forcenet.plotting.style import LABELS, apply_style, system_color, system_label
 from forcenet.report.p1 import (P1_SMALL_THRESHOLD, cut_at_rho_max, f_max_cut, jamming_point, mean_and_spread,
                                 per_particle, percolating_size_mean, rho_values, select_total,
@@ -47,6 +53,21 @@ LABEL_SP = r"shape parameter $S_p$"
 LABEL_N0 = r"$N_0/N$"
 LABEL_TP = r"$TP_k/N$ [$\langle F\rangle$]"
 POSITION_LABELS = (r"$x$ [$d_{ave}$]", r"$y$ [$d_{ave}$]", r"$z$ [$d_{ave}$]")
+
+
+#: plain-text symbol [unit] of each drawn quantity (the CSV's `quantity` column) → its axis label
+QUANTITY_LABELS = {
+    "B0/N": LABEL_B0, "B1/N": LABEL_B1, "B2/N": LABEL_B2, "<S>/N": LABEL_S, "N_per/N": LABEL_NPER,
+    "S_p": LABEL_SP, "N0/N": LABEL_N0, "TP_k/N [<F>]": LABEL_TP, "Z": LABELS["Z"],
+    "PDF [<F>^-1]": LABELS["pdf"] + r" [$\langle F\rangle^{-1}$]",
+}
+HOMOLOGY_K = "k"  # family column of Fig. 12: TP_k, k = 0 (solid), 1 (dashed)
+NETWORK_MAX_LINE_WIDTH = 3.0  # Fig. 1: line width of the strongest contacts (0.3 + this at the colour-scale top)
+#: Fig. 1 columns: contact end points and particle centres [d_ave]
+END_I = tuple(f"{a}_i [d_ave]" for a in "xyz")
+END_J = tuple(f"{a}_j [d_ave]" for a in "xyz")
+CENTRE = tuple(f"{a} [d_ave]" for a in "xyz")
+RADIUS = "radius [d_ave]"
 
 
 # =============================================================================================================
@@ -94,10 +115,49 @@ def _nearest(values: np.ndarray, wanted: Sequence[float]) -> list[float]:
     return sorted(picked)
 
 
-def _curve(ax, x, mean, spread, color, label=None, **line):
-    x, mean, spread = (np.asarray(v, dtype=float) for v in (x, mean, spread))
+def _mean_rows(values: xr.DataArray | tuple, system: _System, family: str, family_values: Sequence[float],
+               quantity: str, panel: int) -> pd.DataFrame:
+    """Rows of curves versus ρ, one per value of `family` (a dimension of `values`, here F_th): `values` is
+    (realization, rho, family) or a (mean, spread) pair; the band is mean ± spread."""
+    mean, spread = values if isinstance(values, tuple) else mean_and_spread(values)
+    rho = rho_values(system.data)
+    blocks = []
+    for value in family_values:
+        blocks.append(_spread_rows(cols.RHO, rho, mean.sel(threshold=value).transpose("rho"),
+                                   spread.sel(threshold=value).transpose("rho"), **{
+            cols.PANEL: panel, cols.SYSTEM: system.name, cols.QUANTITY: quantity, family: value,
+            cols.RHO_J: system.rho_j}))
+    return concat(blocks)
+
+
+def _spread_rows(x_name: str, x, mean, spread, **columns) -> pd.DataFrame:
+    """Rows of one curve whose band is mean ± spread."""
+    mean, spread = np.asarray(mean, dtype=float), np.asarray(spread, dtype=float)
+    return curve_rows(x_name, x, mean, mean - spread, mean + spread, **columns)
+
+
+def _panels(data: FigureData, **figure_options):
+    """A figure with one panel per `panel` value of the table: (figure, [(axes, rows of that panel), …])."""
+    panels = sorted(data.table[cols.PANEL].unique())
+    fig, axes = _figure(len(panels), **figure_options)
+    return fig, [(ax, data.panel(panel)) for ax, panel in zip(axes, panels)]
+
+
+def _threshold_rows(system: _System, values, thresholds: Sequence[float], quantity: str, panel: int) -> pd.DataFrame:
+    """Curves versus ρ at the grid's F_th nearest to `thresholds`."""
+    grid = (values[0] if isinstance(values, tuple) else values)["threshold"].values
+    return _mean_rows(values, system, cols.THRESHOLD, _nearest(grid, thresholds), quantity, panel)
+
+
+def _curve(ax, x, mean, low, high, color, label=None, **line):
+    x, mean, low, high = (np.asarray(v, dtype=float) for v in (x, mean, low, high))
     ax.plot(x, mean, color=color, label=label, gid=MEAN_GID, **line)
-    ax.fill_between(x, mean - spread, mean + spread, color=color, alpha=0.2, linewidth=0)
+    ax.fill_between(x, low, high, color=color, alpha=0.2, linewidth=0)
+
+
+def _draw_rows(ax, rows: pd.DataFrame, x: str, color, label=None, **line) -> None:
+    """One curve and its band from table rows."""
+    _curve(ax, rows[x], rows[cols.MEAN], rows[cols.LOW], rows[cols.HIGH], color, label, **line)
 
 
 def _mark_jamming(ax, rho_j: float, name: str) -> None:
@@ -110,34 +170,53 @@ def _title(ax, name: str, extra: str = "") -> None:
     ax.set_title(system_label(name) + extra, color=system_color(name))
 
 
-def _threshold_family(ax, system: _System, values: xr.DataArray | tuple, thresholds: Sequence[float],
-                      ylabel: str) -> None:
-    """Curves versus ρ, one per F_th: `values` is (realization, rho, threshold) or a (mean, spread) pair."""
-    if isinstance(values, tuple):
-        mean, spread = values
-    else:
-        mean, spread = mean_and_spread(values)
-    rho = rho_values(system.data)
-    chosen = _nearest(mean["threshold"].values, thresholds)
-    for color, threshold in zip(_shades(system.name, len(chosen)), chosen):
-        _curve(ax, rho, mean.sel(threshold=threshold).transpose("rho").values,
-               spread.sel(threshold=threshold).transpose("rho").values, color, label=rf"$F_{{th}}$ = {threshold:g}")
-    _mark_jamming(ax, system.rho_j, system.name)
+def _draw_family(ax, rows: pd.DataFrame, family: str, label: Callable[[float], str]) -> None:
+    """A panel of curves versus ρ, one per value of `family`, in shades of the system's colour; ρ_J marked."""
+    name = rows[cols.SYSTEM].iloc[0]
+    values = sorted(rows[family].unique())
+    for color, value in zip(_shades(name, len(values)), values):
+        _draw_rows(ax, rows[rows[family] == value], cols.RHO, color, label=label(value))
+    _mark_jamming(ax, float(rows[cols.RHO_J].iloc[0]), name)
     ax.set_xlabel(LABELS["rho"])
-    ax.set_ylabel(ylabel)
-    _title(ax, system.name)
+    ax.set_ylabel(QUANTITY_LABELS[rows[cols.QUANTITY].iloc[0]])
+    _title(ax, name)
 
 
-def _heat_map(fig, ax, system: _System, values: xr.DataArray, label: str) -> None:
-    """A (ρ, F_th) map of a realization-averaged quantity, ρ on x."""
-    values = values.transpose("threshold", "rho")
-    mesh = ax.pcolormesh(rho_values(system.data), values["threshold"].values, values.values, shading="nearest",
-                         cmap="magma")
-    fig.colorbar(mesh, ax=ax, label=label)
-    _mark_jamming(ax, system.rho_j, system.name)
-    ax.set_xlabel(LABELS["rho"])
-    ax.set_ylabel(LABELS["threshold"])
-    _title(ax, system.name)
+def _threshold_label(threshold: float) -> str:
+    return rf"$F_{{th}}$ = {threshold:g}"
+
+
+def _draw_family_panels(data: FigureData, ncols: int = 3) -> Figure:
+    """One panel per `panel` value, each a family of F_th curves (Figs. 4, 5, 7, 9)."""
+    fig, panels = _panels(data, ncols=ncols)
+    for ax, rows in panels:
+        _draw_family(ax, rows, cols.THRESHOLD, _threshold_label)
+    _first_legend([ax for ax, _ in panels])
+    return fig
+
+
+def _heat_rows(system: _System, values: xr.DataArray, quantity: str, panel: int) -> pd.DataFrame:
+    """A realization-averaged (threshold, rho) map as rows (ρ, F_th, value)."""
+    values = values.transpose("rho", "threshold")
+    rho = np.repeat(rho_values(system.data), values.sizes["threshold"])
+    threshold = np.tile(values["threshold"].values, values.sizes["rho"])
+    return pd.DataFrame({cols.PANEL: panel, cols.SYSTEM: system.name, cols.QUANTITY: quantity, cols.RHO_J: system.rho_j,
+                         cols.RHO: rho, cols.THRESHOLD: threshold, cols.MEAN: values.values.ravel()})
+
+
+def _draw_heat_maps(data: FigureData) -> Figure:
+    """One (ρ, F_th) map per panel, ρ on x."""
+    fig, panels = _panels(data)
+    for ax, rows in panels:
+        grid = rows.pivot(index=cols.THRESHOLD, columns=cols.RHO, values=cols.MEAN)
+        mesh = ax.pcolormesh(grid.columns.values, grid.index.values, grid.values, shading="nearest", cmap="magma")
+        name = rows[cols.SYSTEM].iloc[0]
+        fig.colorbar(mesh, ax=ax, label=QUANTITY_LABELS[rows[cols.QUANTITY].iloc[0]])
+        _mark_jamming(ax, float(rows[cols.RHO_J].iloc[0]), name)
+        ax.set_xlabel(LABELS["rho"])
+        ax.set_ylabel(LABELS["threshold"])
+        _title(ax, name)
+    return fig
 
 
 def _first_legend(axes, **kwargs) -> None:
@@ -146,176 +225,209 @@ def _first_legend(axes, **kwargs) -> None:
 
 
 # =============================================================================================================
-# the figures
+# the figures: prepare (datasets → FigureData) and draw (FigureData → Figure)
 # =============================================================================================================
-def fig01_networks(snapshots: Mapping[str, xr.Dataset], *, max_line_width: float = 3.0) -> Figure:
-    """F1: force networks of one snapshot per system, edges coloured (and thickened) by F/⟨F⟩, with F the
-    total contact force |F_n + F_t|; 2D as lines over the disks, 3D as lines in a 3D box."""
-    names = system_order(snapshots)
-    dims = [int(snapshots[name].sizes["spatial"]) for name in names]
-    fig, axes = _figure(len(names), size=(4.6, 4.2), projections=["3d" if d == 3 else None for d in dims])
-    networks = {}
-    for name in names:
+def prepare_fig01_networks(snapshots: Mapping[str, xr.Dataset]) -> FigureData:
+    """F1: contacts of one snapshot per system with F/⟨F⟩ (F the total contact force |F_n + F_t|, contacts that
+    carry no force left out) and their end points, and the particles (drawn as disks in 2D)."""
+    blocks, boxes = [], {}
+    for panel, name in enumerate(system_order(snapshots)):
         ds = snapshots[name]
+        dim = int(ds.sizes["spatial"])
         force = np.linalg.norm(ds["force_normal"].values + ds["force_tangential"].values, axis=-1)
         keep = force > 0
         relative = force[keep] / force[keep].mean() if keep.any() else force[keep]
-        networks[name] = (ds["contact_i"].values[keep], ds["contact_j"].values[keep], relative)
-    everything = np.concatenate([n[2] for n in networks.values()]) if networks else np.zeros(0)
-    norm = Normalize(0.0, float(np.quantile(everything, 0.99)) if everything.size else 1.0)
-    for ax, name, dim in zip(axes, names, dims):
-        ds = snapshots[name]
-        i, j, relative = networks[name]
+        i, j = ds["contact_i"].values[keep], ds["contact_j"].values[keep]
         position = ds["position"].values
-        segments = np.stack([position[i], position[j]], axis=1)
-        widths = 0.3 + max_line_width * np.clip(relative / max(norm.vmax, 1e-12), 0, 1)
-        lo, hi = ds["box_lo"].values, ds["box_hi"].values
-        if dim == 3:
-            from mpl_toolkits.mplot3d.art3d import Line3DCollection
-
-            lines = Line3DCollection(segments, cmap=FORCE_CMAP, norm=norm, linewidths=widths)
-            lines.set_array(relative)
-            ax.add_collection3d(lines)
-            ax.set_zlim(lo[2], hi[2])
-            ax.set_zlabel(POSITION_LABELS[2])
-        else:
-            disks = EllipseCollection(2 * ds["radius"].values, 2 * ds["radius"].values, 0, units="xy",
-                                      offsets=position, offset_transform=ax.transData, facecolors="none",
-                                      edgecolors="0.75", linewidths=0.4)
-            ax.add_collection(disks)
-            lines = LineCollection(segments, cmap=FORCE_CMAP, norm=norm, linewidths=widths)
-            lines.set_array(relative)
-            ax.add_collection(lines)
-            ax.set_aspect("equal")
-        ax.set_xlim(lo[0], hi[0])
-        ax.set_ylim(lo[1], hi[1])
-        ax.set_xlabel(POSITION_LABELS[0])
-        ax.set_ylabel(POSITION_LABELS[1])
         rho = float(ds["rho"]) if "rho" in ds else float("nan")
-        _title(ax, name, rf", $\rho$ = {rho:.3f}")
-    mappable = plt.cm.ScalarMappable(norm=norm, cmap=FORCE_CMAP)
-    fig.colorbar(mappable, ax=axes, label=LABELS["force"], shrink=0.8)
+        common = {cols.PANEL: panel, cols.SYSTEM: name, "dimension": dim, cols.RHO: rho}
+        contacts = pd.DataFrame({**common, "element": "contact", "i": i, "j": j, cols.FORCE: relative})
+        particles = pd.DataFrame({**common, "element": "particle", "i": np.arange(len(position)),
+                                  RADIUS: ds["radius"].values})
+        for k in range(dim):
+            contacts[END_I[k]] = position[i, k]
+            contacts[END_J[k]] = position[j, k]
+            particles[CENTRE[k]] = position[:, k]
+        blocks += [contacts, particles]
+        boxes[panel] = (ds["box_lo"].values, ds["box_hi"].values)
+    return FigureData(concat(blocks), {"box": boxes})
+
+
+def draw_fig01_networks(data: FigureData) -> Figure:
+    """Edges coloured (and thickened) by F/⟨F⟩; 2D as lines over the disks, 3D as lines in a 3D box; one colour
+    scale for all panels, up to the 99 % quantile of F/⟨F⟩."""
+    panels = sorted(data.table[cols.PANEL].unique())
+    dims = [int(data.panel(p)["dimension"].iloc[0]) for p in panels]
+    fig, axes = _figure(len(panels), size=(4.6, 4.2), projections=["3d" if d == 3 else None for d in dims])
+    norm = network_color_scale(data.table)
+    for ax, panel in zip(axes, panels):
+        draw_network_panel(ax, data.panel(panel), data.layout["box"][panel], norm)
+    fig.colorbar(plt.cm.ScalarMappable(norm=norm, cmap=FORCE_CMAP), ax=axes, label=LABELS["force"], shrink=0.8)
     return fig
 
 
-def fig02_betti0_surface(measures: Mapping[str, xr.Dataset]) -> Figure:
+def network_color_scale(table: pd.DataFrame) -> Normalize:
+    """F/⟨F⟩ colour scale of network drawings: 0 to the 99 % quantile of the table's contacts."""
+    everything = table.loc[table["element"] == "contact", cols.FORCE].to_numpy()
+    return Normalize(0.0, float(np.quantile(everything, 0.99)) if everything.size else 1.0)
+
+
+def draw_network_panel(ax, rows: pd.DataFrame, box, norm: Normalize) -> None:
+    """One snapshot's network (rows of `prepare_fig01_networks`) in `ax` (a 3D axes for a 3D snapshot)."""
+    dim = int(rows["dimension"].iloc[0])
+    contacts, particles = rows[rows["element"] == "contact"], rows[rows["element"] == "particle"]
+    relative = contacts[cols.FORCE].to_numpy()
+    segments = np.stack([contacts[list(END_I[:dim])].to_numpy(), contacts[list(END_J[:dim])].to_numpy()], axis=1)
+    widths = 0.3 + NETWORK_MAX_LINE_WIDTH * np.clip(relative / max(norm.vmax, 1e-12), 0, 1)
+    lo, hi = box
+    if dim == 3:
+        from mpl_toolkits.mplot3d.art3d import Line3DCollection
+
+        lines = Line3DCollection(segments, cmap=FORCE_CMAP, norm=norm, linewidths=widths)
+        lines.set_array(relative)
+        ax.add_collection3d(lines)
+        ax.set_zlim(lo[2], hi[2])
+        ax.set_zlabel(POSITION_LABELS[2])
+    else:
+        diameter = 2 * particles[RADIUS].to_numpy()
+        disks = EllipseCollection(diameter, diameter, 0, units="xy", offsets=particles[list(CENTRE[:2])].to_numpy(),
+                                  offset_transform=ax.transData, facecolors="none", edgecolors="0.75", linewidths=0.4)
+        ax.add_collection(disks)
+        lines = LineCollection(segments, cmap=FORCE_CMAP, norm=norm, linewidths=widths)
+        lines.set_array(relative)
+        ax.add_collection(lines)
+        ax.set_aspect("equal")
+    ax.set_xlim(lo[0], hi[0])
+    ax.set_ylim(lo[1], hi[1])
+    ax.set_xlabel(POSITION_LABELS[0])
+    ax.set_ylabel(POSITION_LABELS[1])
+    _title(ax, rows[cols.SYSTEM].iloc[0], rf", $\rho$ = {float(rows[cols.RHO].iloc[0]):.3f}")
+
+
+def prepare_fig02_betti0_surface(measures: Mapping[str, xr.Dataset]) -> FigureData:
     """F2: B0/N over (ρ, F_th), realization mean, one map per system."""
-    systems = _systems(measures)
-    fig, axes = _figure(len(systems))
-    for ax, system in zip(axes, systems):
-        b0 = per_particle(system.data, "betti").sel(homology_dim=0).mean("realization", skipna=True)
-        _heat_map(fig, ax, system, b0, LABEL_B0)
-    return fig
+    return FigureData(concat(
+        _heat_rows(system, per_particle(system.data, "betti").sel(homology_dim=0).mean("realization", skipna=True),
+                   "B0/N", panel)
+        for panel, system in enumerate(_systems(measures))))
 
 
-def fig03_force_pdf(measures: Mapping[str, xr.Dataset], *, n_rho: int = 6) -> Figure:
-    """F3: PDF of F/⟨F⟩ (total force) at `n_rho` packing fractions up to ρ_max, darker for larger ρ."""
-    systems = _systems(measures)
-    fig, axes = _figure(len(systems))
-    for ax, system in zip(axes, systems):
+def prepare_fig03_force_pdf(measures: Mapping[str, xr.Dataset], *, n_rho: int = 6) -> FigureData:
+    """F3: PDF of F/⟨F⟩ (total force) at `n_rho` packing fractions up to ρ_max."""
+    blocks = []
+    for panel, system in enumerate(_systems(measures)):
         pdf = system.data["force_pdf"]
         mean, spread = mean_and_spread(pdf)
         rho = rho_values(system.data)
         picks = np.unique(np.round(np.linspace(0, rho.size - 1, min(n_rho, rho.size))).astype(int))
-        centres = pdf["force_bin"].values
-        for color, index in zip(_shades(system.name, picks.size), picks):
-            _curve(ax, centres, mean.isel(rho=index).values, spread.isel(rho=index).values, color,
-                   label=rf"$\rho$ = {rho[index]:.3f}")
+        for index in picks:
+            blocks.append(_spread_rows(cols.FORCE, pdf["force_bin"].values, mean.isel(rho=index),
+                                       spread.isel(rho=index), **{
+                cols.PANEL: panel, cols.SYSTEM: system.name, cols.QUANTITY: "PDF [<F>^-1]", cols.RHO: rho[index]}))
+    return FigureData(concat(blocks))
+
+
+def draw_fig03_force_pdf(data: FigureData) -> Figure:
+    """One panel per system, one curve per ρ, darker for larger ρ."""
+    fig, panels = _panels(data)
+    for ax, rows in panels:
+        name = rows[cols.SYSTEM].iloc[0]
+        values = sorted(rows[cols.RHO].unique())
+        for color, rho in zip(_shades(name, len(values)), values):
+            _draw_rows(ax, rows[rows[cols.RHO] == rho], cols.FORCE, color, label=rf"$\rho$ = {rho:.3f}")
         ax.set_xlabel(LABELS["force"])
-        ax.set_ylabel(LABELS["pdf"] + r" [$\langle F\rangle^{-1}$]")
-        _title(ax, system.name)
+        ax.set_ylabel(QUANTITY_LABELS["PDF [<F>^-1]"])
+        _title(ax, name)
         ax.legend(fontsize="x-small", frameon=False)
     return fig
 
 
-def fig04_cluster_size(measures: Mapping[str, xr.Dataset], *,
-                       thresholds: Sequence[float] = DEFAULT_THRESHOLDS) -> Figure:
+def prepare_fig04_cluster_size(measures: Mapping[str, xr.Dataset], *,
+                               thresholds: Sequence[float] = DEFAULT_THRESHOLDS) -> FigureData:
     """F4: mean size ⟨S⟩/N of the non-percolating clusters versus ρ, one curve per F_th."""
-    systems = _systems(measures)
-    fig, axes = _figure(len(systems))
-    for ax, system in zip(axes, systems):
-        _threshold_family(ax, system, per_particle(system.data, "cluster_mean_size"), thresholds, LABEL_S)
-    _first_legend(axes)
-    return fig
+    return FigureData(concat(_threshold_rows(system, per_particle(system.data, "cluster_mean_size"), thresholds,
+                                             "<S>/N", panel)
+                             for panel, system in enumerate(_systems(measures))))
 
 
-def fig05_percolating_size(measures: Mapping[str, xr.Dataset], *,
-                           thresholds: Sequence[float] = DEFAULT_THRESHOLDS) -> Figure:
+def prepare_fig05_percolating_size(measures: Mapping[str, xr.Dataset], *,
+                                   thresholds: Sequence[float] = DEFAULT_THRESHOLDS) -> FigureData:
     """F5: N_per/N versus ρ per F_th, averaged over the percolating realizations and shown only where at
     least 50 % of the realizations percolate (P1 §4.3)."""
-    systems = _systems(measures)
-    fig, axes = _figure(len(systems))
-    for ax, system in zip(axes, systems):
-        _threshold_family(ax, system, percolating_size_mean(system.data), thresholds, LABEL_NPER)
-    _first_legend(axes)
-    return fig
+    return FigureData(concat(_threshold_rows(system, percolating_size_mean(system.data), thresholds, "N_per/N", panel)
+                             for panel, system in enumerate(_systems(measures))))
 
 
-def fig06_betti0(measures: Mapping[str, xr.Dataset], *, thresholds: Sequence[float] = DEFAULT_THRESHOLDS,
-                 zoom_curves: int = 4) -> Figure:
+def prepare_fig06_betti0(measures: Mapping[str, xr.Dataset], *, thresholds: Sequence[float] = DEFAULT_THRESHOLDS,
+                         zoom_curves: int = 4) -> FigureData:
     """F6: B0/N versus ρ per F_th; for each 3D system an extra close-up of the F_th < 0.5 curves around ρ_J
-    (P1 Fig. 6d)."""
+    (P1 Fig. 6d). layout["close_up"] maps each close-up panel to its ρ range (None: the whole range)."""
     systems = _systems(measures)
-    zooms = [s for s in systems if s.dimension == 3]
-    fig, axes = _figure(len(systems) + len(zooms), ncols=4 if zooms else 3)
-    for ax, system in zip(axes, systems):
-        _threshold_family(ax, system, per_particle(system.data, "betti").sel(homology_dim=0), thresholds, LABEL_B0)
-    for ax, system in zip(axes[len(systems):], zooms):
+    blocks = [_threshold_rows(system, per_particle(system.data, "betti").sel(homology_dim=0), thresholds, "B0/N", panel)
+              for panel, system in enumerate(systems)]
+    close_up = {}
+    for panel, system in enumerate((s for s in systems if s.dimension == 3), start=len(systems)):
         grid = system.data["threshold"].values
         small = grid[grid < P1_SMALL_THRESHOLD]
         chosen = small[np.unique(np.round(np.linspace(0, small.size - 1, min(zoom_curves, small.size))).astype(int))] \
             if small.size else grid[:1]
-        _threshold_family(ax, system, per_particle(system.data, "betti").sel(homology_dim=0), chosen, LABEL_B0)
+        blocks.append(_mean_rows(per_particle(system.data, "betti").sel(homology_dim=0), system, cols.THRESHOLD,
+                                 [float(t) for t in chosen], "B0/N", panel))
         rho = rho_values(system.data)
+        close_up[panel] = None  # the whole ρ range
         if np.isfinite(system.rho_j) and rho.size > 1:
             half_width = 4 * float(np.median(np.diff(rho)))
-            ax.set_xlim(max(rho[0], system.rho_j - half_width), min(rho[-1], system.rho_j + half_width))
-        _title(ax, system.name, rf", $F_{{th}}$ < {P1_SMALL_THRESHOLD:g} (close-up)")
-        ax.legend(fontsize="x-small", frameon=False)
+            close_up[panel] = (max(rho[0], system.rho_j - half_width), min(rho[-1], system.rho_j + half_width))
+    return FigureData(concat(blocks), {"close_up": close_up})
+
+
+def draw_fig06_betti0(data: FigureData) -> Figure:
+    close_up = data.layout.get("close_up", {})
+    panels = sorted(data.table[cols.PANEL].unique())
+    fig, axes = _figure(len(panels), ncols=4 if close_up else 3)
+    for ax, panel in zip(axes, panels):
+        rows = data.panel(panel)
+        _draw_family(ax, rows, cols.THRESHOLD, _threshold_label)
+        if panel in close_up:
+            if close_up[panel] is not None:
+                ax.set_xlim(*close_up[panel])
+            _title(ax, rows[cols.SYSTEM].iloc[0], rf", $F_{{th}}$ < {P1_SMALL_THRESHOLD:g} (close-up)")
+            ax.legend(fontsize="x-small", frameon=False)
     _first_legend(axes)
     return fig
 
 
-def fig07_loops(measures: Mapping[str, xr.Dataset], *, thresholds: Sequence[float] = DEFAULT_THRESHOLDS) -> Figure:
+def prepare_fig07_loops(measures: Mapping[str, xr.Dataset], *,
+                        thresholds: Sequence[float] = DEFAULT_THRESHOLDS) -> FigureData:
     """F7: B1/N versus ρ per F_th for every system, and B2/N for the 3D ones."""
     systems = _systems(measures)
     panels = [(s, 1) for s in systems] + [(s, 2) for s in systems if s.dimension == 3]
-    fig, axes = _figure(len(panels))
-    for ax, (system, k) in zip(axes, panels):
-        _threshold_family(ax, system, per_particle(system.data, "betti").sel(homology_dim=k), thresholds,
-                          LABEL_B1 if k == 1 else LABEL_B2)
-    _first_legend(axes)
-    return fig
+    return FigureData(concat(_threshold_rows(system, per_particle(system.data, "betti").sel(homology_dim=k),
+                                             thresholds, f"B{k}/N", panel)
+                             for panel, (system, k) in enumerate(panels)))
 
 
-def fig08_shape_surface(measures: Mapping[str, xr.Dataset]) -> Figure:
+def prepare_fig08_shape_surface(measures: Mapping[str, xr.Dataset]) -> FigureData:
     """F8: shape parameter S_p over (ρ, F_th) with P1's averaging rule (§5.2)."""
-    systems = _systems(measures)
-    fig, axes = _figure(len(systems))
-    for ax, system in zip(axes, systems):
-        shape, _ = shape_parameter_average(system.data["shape_parameter"])
-        _heat_map(fig, ax, system, shape, LABEL_SP)
-    return fig
+    return FigureData(concat(_heat_rows(system, shape_parameter_average(system.data["shape_parameter"])[0], "S_p", panel)
+                             for panel, system in enumerate(_systems(measures))))
 
 
-def fig09_shape_sections(measures: Mapping[str, xr.Dataset], *,
-                         thresholds: Sequence[float] = DEFAULT_THRESHOLDS) -> Figure:
+def prepare_fig09_shape_sections(measures: Mapping[str, xr.Dataset], *,
+                                 thresholds: Sequence[float] = DEFAULT_THRESHOLDS) -> FigureData:
     """F9: S_p versus ρ for chosen F_th (P1's averaging rule; band: spread over the nonzero realizations)."""
-    systems = _systems(measures)
-    fig, axes = _figure(len(systems))
-    for ax, system in zip(axes, systems):
-        _threshold_family(ax, system, shape_parameter_average(system.data["shape_parameter"]), thresholds,
-                          LABEL_SP)
-    _first_legend(axes)
-    return fig
+    return FigureData(concat(_threshold_rows(system, shape_parameter_average(system.data["shape_parameter"]),
+                                             thresholds, "S_p", panel)
+                             for panel, system in enumerate(_systems(measures))))
 
 
-def fig10_persistence_diagram(measures: Mapping[str, xr.Dataset], diagrams: Mapping[str, xr.Dataset], *,
-                              system: str | None = None, rho: float | None = None,
-                              realization: int | None = None) -> Figure:
-    """F10: one PD0 (total force) with P1's bins shaded: rough (lifespan ≤ 0.1), weak (0.1 ≤ birth < 1),
-    medium (1 ≤ birth < 2.5), strong (birth ≥ 2.5). Defaults: the 2D Hertzian system (as P1), the first
-    realization, the packing fraction nearest to its ρ_J."""
+def prepare_fig10_persistence_diagram(measures: Mapping[str, xr.Dataset], diagrams: Mapping[str, xr.Dataset], *,
+                                      system: str | None = None, rho: float | None = None,
+                                      realization: int | None = None) -> FigureData:
+    """F10: the points of one PD0 (total force). Defaults: the 2D Hertzian system (as P1), the first
+    realization, the packing fraction nearest to its ρ_J. Never-dying points have death −inf (drawn at 0)."""
+    from forcenet.datasets.schema import FORCE_KINDS
+
     names = system_order(diagrams)
     system = system or next((n for n in names if n == "2d_hertz"), names[0])
     points = diagrams[system]
@@ -324,14 +436,23 @@ def fig10_persistence_diagram(measures: Mapping[str, xr.Dataset], diagrams: Mapp
         grid = np.unique(points["point_rho"].values)
         rho_j = jamming_point(measures[system]) if system in measures else float("nan")
         rho = float(grid[np.argmin(np.abs(grid - rho_j))]) if np.isfinite(rho_j) else float(grid[len(grid) // 2])
-    from forcenet.datasets.schema import FORCE_KINDS
-
     mask = ((points["diagram_force_kind"].values == FORCE_KINDS.index("total"))
             & (points["diagram_homology_dim"].values == 0)
             & (points["point_realization"].values == realization)
             & np.isclose(points["point_rho"].values, rho))
-    birth, death = points["birth"].values[mask], points["death"].values[mask]
-    essential = ~np.isfinite(death)
+    death = points["death"].values[mask]
+    chosen = {cols.SYSTEM: system, "realization": realization, cols.RHO: rho}
+    return FigureData(pd.DataFrame({cols.PANEL: 0, **chosen, "homology_dim": 0, cols.BIRTH: points["birth"].values[mask],
+                                    cols.DEATH: death, "essential": ~np.isfinite(death)}), chosen)
+
+
+def draw_fig10_persistence_diagram(data: FigureData) -> Figure:
+    """The PD0 with P1's bins shaded: rough (lifespan ≤ 0.1), weak (0.1 ≤ birth < 1), medium (1 ≤ birth < 2.5),
+    strong (birth ≥ 2.5)."""
+    rows = data.table
+    system, rho, realization = (data.layout[k] for k in (cols.SYSTEM, cols.RHO, "realization"))
+    birth, death = rows[cols.BIRTH].to_numpy(float), rows[cols.DEATH].to_numpy(float)
+    essential = rows["essential"].to_numpy(bool)
     fig, (ax,) = _figure(1, size=(4.8, 4.4))
     top = max(float(np.nanmax(birth)) if birth.size else 0.0, STRONG_BIRTH) * 1.05
 
@@ -362,60 +483,94 @@ def fig10_persistence_diagram(measures: Mapping[str, xr.Dataset], diagrams: Mapp
     return fig
 
 
-def fig11_persistence_bins(measures: Mapping[str, xr.Dataset]) -> Figure:
+def prepare_fig11_persistence_bins(measures: Mapping[str, xr.Dataset]) -> FigureData:
     """F11: PD0 points per bin N0/N versus ρ; rows rough/weak/medium/strong, columns 2D and 3D (P1 Fig. 11),
-    one curve per system."""
+    one curve per system. layout["columns"]: the number of panel columns (one per dimension)."""
     systems = _systems(measures)
     dimensions = sorted({s.dimension for s in systems})
-    fig, axes = _figure(len(PD_BINS) * len(dimensions), ncols=len(dimensions), size=(4.4, 2.8))
+    blocks = []
     for row, bin_name in enumerate(PD_BINS):
         for col, dimension in enumerate(dimensions):
-            ax = axes[row * len(dimensions) + col]
             for system in (s for s in systems if s.dimension == dimension):
-                counts = per_particle(system.data, "persistence_bin_count").sel(persistence_bin=bin_name)
-                mean, spread = mean_and_spread(counts)
-                _curve(ax, rho_values(system.data), mean.values, spread.values, system_color(system.name),
-                       label=system_label(system.name))
-                _mark_jamming(ax, system.rho_j, system.name)
-            ax.set_xlabel(LABELS["rho"])
-            ax.set_ylabel(LABEL_N0)
-            ax.set_title(f"{bin_name}, {dimension}D")
-            ax.legend(fontsize="x-small", frameon=False)
-    return fig
+                mean, spread = mean_and_spread(
+                    per_particle(system.data, "persistence_bin_count").sel(persistence_bin=bin_name))
+                blocks.append(_spread_rows(cols.RHO, rho_values(system.data), mean, spread, **{
+                                             cols.PANEL: row * len(dimensions) + col, cols.SYSTEM: system.name,
+                                             "persistence_bin": bin_name, "dimension": dimension,
+                                             cols.QUANTITY: "N0/N", cols.RHO_J: system.rho_j}))
+    return FigureData(concat(blocks), {"columns": len(dimensions)})
 
 
-def fig12_total_persistence(measures: Mapping[str, xr.Dataset]) -> Figure:
-    """F12: total persistence TP0/N (solid) and TP1/N (dashed) of the total-force network versus ρ."""
-    systems = _systems(measures)
-    fig, axes = _figure(len(systems))
-    for ax, system in zip(axes, systems):
-        tp = per_particle(system.data, "total_persistence")
-        for k, style in ((0, "-"), (1, "--")):
-            mean, spread = mean_and_spread(tp.sel(homology_dim=k))
-            _curve(ax, rho_values(system.data), mean.values, spread.values, system_color(system.name),
-                   label=rf"$TP_{k}/N$", linestyle=style)
-        _mark_jamming(ax, system.rho_j, system.name)
+def draw_fig11_persistence_bins(data: FigureData) -> Figure:
+    ncols = data.layout["columns"]
+    fig, axes = _figure(len(PD_BINS) * ncols, ncols=ncols, size=(4.4, 2.8))
+    for ax, panel in zip(axes, sorted(data.table[cols.PANEL].unique())):
+        rows = data.panel(panel)
+        for name, curve in rows.groupby(cols.SYSTEM, sort=False):
+            _draw_rows(ax, curve, cols.RHO, system_color(name), label=system_label(name))
+            _mark_jamming(ax, float(curve[cols.RHO_J].iloc[0]), name)
         ax.set_xlabel(LABELS["rho"])
-        ax.set_ylabel(LABEL_TP)
-        _title(ax, system.name)
+        ax.set_ylabel(LABEL_N0)
+        ax.set_title(f"{rows['persistence_bin'].iloc[0]}, {rows['dimension'].iloc[0]}D")
         ax.legend(fontsize="x-small", frameon=False)
     return fig
 
 
-def z_jamming(measures: Mapping[str, xr.Dataset]) -> Figure:
-    """Z(ρ) of every system over its whole ρ grid, with ρ_J (inflection, P1 §4) marked and Z = d + 1 dotted."""
-    fig, (ax,) = _figure(1, size=(5.2, 3.8))
+def prepare_fig12_total_persistence(measures: Mapping[str, xr.Dataset]) -> FigureData:
+    """F12: total persistence TP0/N and TP1/N of the total-force network versus ρ."""
+    blocks = []
+    for panel, system in enumerate(_systems(measures)):
+        tp = per_particle(system.data, "total_persistence")
+        for k in (0, 1):
+            mean, spread = mean_and_spread(tp.sel(homology_dim=k))
+            blocks.append(_spread_rows(cols.RHO, rho_values(system.data), mean, spread, **{
+                                         cols.PANEL: panel, cols.SYSTEM: system.name, cols.QUANTITY: "TP_k/N [<F>]",
+                                         HOMOLOGY_K: k, cols.RHO_J: system.rho_j}))
+    return FigureData(concat(blocks))
+
+
+def draw_fig12_total_persistence(data: FigureData) -> Figure:
+    """TP0/N solid, TP1/N dashed, in the system's colour."""
+    fig, panels = _panels(data)
+    for ax, rows in panels:
+        name = rows[cols.SYSTEM].iloc[0]
+        for k, style in ((0, "-"), (1, "--")):
+            _draw_rows(ax, rows[rows[HOMOLOGY_K] == k], cols.RHO, system_color(name), label=rf"$TP_{k}/N$",
+                       linestyle=style)
+        _mark_jamming(ax, float(rows[cols.RHO_J].iloc[0]), name)
+        ax.set_xlabel(LABELS["rho"])
+        ax.set_ylabel(LABEL_TP)
+        _title(ax, name)
+        ax.legend(fontsize="x-small", frameon=False)
+    return fig
+
+
+def prepare_z_jamming(measures: Mapping[str, xr.Dataset]) -> FigureData:
+    """Z(ρ) of every system over its whole ρ grid, with ρ_J (inflection, P1 §4) and Z(ρ_J) on every row."""
+    blocks = []
     for name in system_order(measures):
         ds = measures[name]
         mean, spread = mean_and_spread(ds["Z"])
-        color = system_color(name)
-        _curve(ax, rho_values(ds), mean.values, spread.values, color, label=system_label(name))
+        rho = rho_values(ds)
         rho_j = jamming_point(ds)
+        z_j = float(np.interp(rho_j, rho, mean.values)) if np.isfinite(rho_j) else float("nan")
+        blocks.append(_spread_rows(cols.RHO, rho, mean, spread, **{
+            cols.PANEL: 0, cols.SYSTEM: name, "dimension": system_dimension(ds, name), cols.QUANTITY: "Z",
+            cols.RHO_J: rho_j, "Z(rho_J)": z_j}))
+    return FigureData(concat(blocks))
+
+
+def draw_z_jamming(data: FigureData) -> Figure:
+    """The curves, ρ_J as an open circle on each, and Z = d + 1 dotted."""
+    fig, (ax,) = _figure(1, size=(5.2, 3.8))
+    for name, rows in data.table.groupby(cols.SYSTEM, sort=False):
+        color = system_color(name)
+        _draw_rows(ax, rows, cols.RHO, color, label=system_label(name))
+        rho_j = float(rows[cols.RHO_J].iloc[0])
         if np.isfinite(rho_j):
-            z_j = np.interp(rho_j, rho_values(ds), mean.values)
-            ax.plot([rho_j], [z_j], marker="o", markersize=7, markerfacecolor="white", color=color,
-                    gid=RHO_J_GID, label=rf"$\rho_J$ = {rho_j:.3f}")
-    for dimension in sorted({system_dimension(measures[name], name) for name in measures}):
+            ax.plot([rho_j], [float(rows["Z(rho_J)"].iloc[0])], marker="o", markersize=7, markerfacecolor="white",
+                    color=color, gid=RHO_J_GID, label=rf"$\rho_J$ = {rho_j:.3f}")
+    for dimension in sorted(data.table["dimension"].unique()):
         ax.axhline(dimension + 1, color="0.5", linestyle=":", linewidth=0.8, gid="isostatic")
         ax.annotate(f"Z = d + 1 = {dimension + 1} ({dimension}D)", (0.01, dimension + 1),
                     xycoords=("axes fraction", "data"), va="bottom", fontsize="x-small", color="0.4")
@@ -430,51 +585,55 @@ def z_jamming(measures: Mapping[str, xr.Dataset]) -> Figure:
 # =============================================================================================================
 @dataclass(frozen=True)
 class P1Figure:
-    """A P1 figure: the function drawing it, the inputs it needs ("measures", "diagrams", "snapshots") and the
-    caption for the report."""
+    """A P1 figure: the function preparing its data, the one drawing it, the inputs the preparation needs
+    ("measures", "diagrams", "snapshots") and the caption for the report."""
 
-    function: Callable[..., Figure]
+    prepare: Callable[..., FigureData]
+    draw: Callable[[FigureData], Figure]
     needs: tuple[str, ...]
     caption: str
 
 
 _CUT = " Packing fractions up to ρ_max (P1 §3 F_max rule); mean over realizations, band ± 1 s.d."
 P1_FIGURES: dict[str, P1Figure] = {
-    "p1_fig01_networks": P1Figure(fig01_networks, ("snapshots",),
+    "p1_fig01_networks": P1Figure(prepare_fig01_networks, draw_fig01_networks, ("snapshots",),
                                   "Fig. 1: force networks in 2D and 3D, contacts coloured by F/⟨F⟩."),
-    "p1_fig02_betti0_surface": P1Figure(fig02_betti0_surface, ("measures",),
+    "p1_fig02_betti0_surface": P1Figure(prepare_fig02_betti0_surface, _draw_heat_maps, ("measures",),
                                         "Fig. 2: number of clusters B0/N over (ρ, F_th)." + _CUT),
-    "p1_fig03_force_pdf": P1Figure(fig03_force_pdf, ("measures",),
+    "p1_fig03_force_pdf": P1Figure(prepare_fig03_force_pdf, draw_fig03_force_pdf, ("measures",),
                                    "Fig. 3: PDF of F/⟨F⟩ for several ρ, darker for larger ρ." + _CUT),
-    "p1_fig04_cluster_size": P1Figure(fig04_cluster_size, ("measures",),
+    "p1_fig04_cluster_size": P1Figure(prepare_fig04_cluster_size, _draw_family_panels, ("measures",),
                                       "Fig. 4: mean non-percolating cluster size ⟨S⟩/N versus ρ per F_th." + _CUT),
-    "p1_fig05_percolating_cluster": P1Figure(fig05_percolating_size, ("measures",),
-                                          "Fig. 5: percolating-cluster size N_per/N versus ρ per F_th, where "
-                                          "≥ 50 % of the realizations percolate." + _CUT),
-    "p1_fig06_betti0": P1Figure(fig06_betti0, ("measures",),
+    "p1_fig05_percolating_cluster": P1Figure(prepare_fig05_percolating_size, _draw_family_panels, ("measures",),
+                                             "Fig. 5: percolating-cluster size N_per/N versus ρ per F_th, where "
+                                             "≥ 50 % of the realizations percolate." + _CUT),
+    "p1_fig06_betti0": P1Figure(prepare_fig06_betti0, draw_fig06_betti0, ("measures",),
                                 "Fig. 6: B0/N versus ρ per F_th, with a close-up of small F_th in 3D." + _CUT),
-    "p1_fig07_betti1": P1Figure(fig07_loops, ("measures",),
+    "p1_fig07_betti1": P1Figure(prepare_fig07_loops, _draw_family_panels, ("measures",),
                                 "Fig. 7: loops B1/N (and cavities B2/N in 3D) versus ρ per F_th." + _CUT),
-    "p1_fig08_shape_heatmap": P1Figure(fig08_shape_surface, ("measures",),
+    "p1_fig08_shape_heatmap": P1Figure(prepare_fig08_shape_surface, _draw_heat_maps, ("measures",),
                                        "Fig. 8: shape parameter S_p over (ρ, F_th), P1's averaging rule." + _CUT),
-    "p1_fig09_shape_sections": P1Figure(fig09_shape_sections, ("measures",),
+    "p1_fig09_shape_sections": P1Figure(prepare_fig09_shape_sections, _draw_family_panels, ("measures",),
                                         "Fig. 9: shape parameter S_p versus ρ for chosen F_th." + _CUT),
-    "p1_fig10_persistence_diagram": P1Figure(fig10_persistence_diagram, ("measures", "diagrams"),
+    "p1_fig10_persistence_diagram": P1Figure(prepare_fig10_persistence_diagram, draw_fig10_persistence_diagram,
+                                             ("measures", "diagrams"),
                                              "Fig. 10: an example PD0 with the rough, weak, medium and strong "
                                              "bins."),
-    "p1_fig11_persistence_bins": P1Figure(fig11_persistence_bins, ("measures",),
+    "p1_fig11_persistence_bins": P1Figure(prepare_fig11_persistence_bins, draw_fig11_persistence_bins, ("measures",),
                                           "Fig. 11: PD0 points per bin N0/N versus ρ, 2D and 3D." + _CUT),
-    "p1_fig12_total_persistence": P1Figure(fig12_total_persistence, ("measures",),
+    "p1_fig12_total_persistence": P1Figure(prepare_fig12_total_persistence, draw_fig12_total_persistence,
+                                           ("measures",),
                                            "Fig. 12: total persistence TP0/N and TP1/N versus ρ." + _CUT),
-    "p1_z_jamming": P1Figure(z_jamming, ("measures",),
+    "p1_z_jamming": P1Figure(prepare_z_jamming, draw_z_jamming, ("measures",),
                              "Coordination number Z(ρ) with the jamming point ρ_J (inflection) marked."),
 }
 
 
-def make_p1_figure(name: str, measures: Mapping[str, xr.Dataset] | None = None,
+def p1_figure_data(name: str, measures: Mapping[str, xr.Dataset] | None = None,
                    diagrams: Mapping[str, xr.Dataset] | None = None,
-                   snapshots: Mapping[str, xr.Dataset] | None = None, **options) -> Figure:
-    """Draw the P1 figure `name` (a key of `P1_FIGURES`) from datasets keyed by system name."""
+                   snapshots: Mapping[str, xr.Dataset] | None = None, **options) -> FigureData:
+    """The plotted values of the P1 figure `name` (a key of `P1_FIGURES`) from datasets keyed by system name;
+    `options` go to its preparation (e.g. ``thresholds``, ``rho``)."""
     if name not in P1_FIGURES:
         raise KeyError(f"unknown P1 figure {name!r}; known: {', '.join(P1_FIGURES)}")
     spec = P1_FIGURES[name]
@@ -482,4 +641,16 @@ def make_p1_figure(name: str, measures: Mapping[str, xr.Dataset] | None = None,
     missing = [need for need in spec.needs if not given[need]]
     if missing:
         raise ValueError(f"{name} needs {', '.join(missing)}")
-    return spec.function(**{need: given[need] for need in spec.needs}, **options)
+    return spec.prepare(**{need: given[need] for need in spec.needs}, **options)
+
+
+def draw_p1_figure(name: str, data: FigureData) -> Figure:
+    """Draw the P1 figure `name` from its prepared data."""
+    return P1_FIGURES[name].draw(data)
+
+
+def make_p1_figure(name: str, measures: Mapping[str, xr.Dataset] | None = None,
+                   diagrams: Mapping[str, xr.Dataset] | None = None,
+                   snapshots: Mapping[str, xr.Dataset] | None = None, **options) -> Figure:
+    """Prepare and draw the P1 figure `name` (see `p1_figure_data`)."""
+    return draw_p1_figure(name, p1_figure_data(name, measures, diagrams, snapshots, **options))

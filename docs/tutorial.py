@@ -1,0 +1,166 @@
+# ---
+# jupyter:
+#   jupytext:
+#     text_representation:
+#       extension: .py
+#       format_name: percent
+#   kernelspec:
+#     display_name: Python 3
+#     language: python
+#     name: python3
+# ---
+
+# %% [markdown]
+# # forcenet tutorial: from the build's outputs to a distance between two persistence diagrams
+#
+# This notebook reads what `snakemake --cores 2` wrote under `results/` (or the smoke build,
+# `--configfile config/smoke.yaml`), with xarray and forcenet's public API only:
+#
+# 1. open a system's stacked network measures and select a realization, a packing fraction ρ and a force
+#    threshold F_th;
+# 2. plot the number of clusters B0/N versus ρ at one F_th;
+# 3. load one DEM snapshot and draw its force network;
+# 4. read a persistence diagram;
+# 5. compute the bottleneck and Wasserstein distances between two diagrams.
+#
+# It is a jupytext "percent" script: run it as `python docs/tutorial.py`, or open it as a notebook
+# (`jupytext --to ipynb docs/tutorial.py`). `tests/test_tutorial.py` executes it against the smoke build, so
+# it keeps working. Set `FORCENET_RESULTS` to read another results folder.
+
+# %%
+import os
+from pathlib import Path
+
+import matplotlib.pyplot as plt
+import numpy as np
+import xarray as xr
+from matplotlib.collections import LineCollection
+
+from forcenet.datasets import open_dataset
+from forcenet.datasets.schema import FORCE_KINDS
+from forcenet.topology import PersistenceDiagrams, diagram_distances
+
+RESULTS = Path(os.environ.get("FORCENET_RESULTS", "results"))
+print("reading", RESULTS.resolve())
+
+# %% [markdown]
+# ## 1. Network measures of one system
+#
+# `results/{system}/network_measures.nc` stacks every snapshot's analysis over `realization` and `rho`. Every
+# variable carries `units` and `long_name`; the global attributes record the config, seed, version and commit.
+
+# %%
+system = "2d_hertz"
+measures = xr.open_dataset(RESULTS / system / "network_measures.nc")
+print(measures["betti"].attrs["long_name"], "[", measures["betti"].attrs["units"], "]")
+print(dict(measures.sizes))
+print("forcenet", measures.attrs["forcenet_version"], "commit", measures.attrs["git_commit"][:10])
+
+# %% [markdown]
+# Select by label: the first realization, the ρ nearest to 0.84, the total-force network and F_th = 1 ⟨F⟩
+# (nearest grid value). `betti` has a `homology_dim` dimension: 0 counts clusters (B0), 1 loops (B1).
+
+# %%
+one = measures.sel(force_kind="total").isel(realization=0)
+snapshot_rho = float(one["rho"].sel(rho=0.84, method="nearest"))
+threshold = float(one["threshold"].sel(threshold=1.0, method="nearest"))
+b0 = one["betti"].sel(homology_dim=0, rho=snapshot_rho, threshold=threshold)
+n = int(one["n_particles"].sel(rho=snapshot_rho))
+print(f"rho = {snapshot_rho:.3f}, F_th = {threshold:g} <F>: B0 = {int(b0)} clusters, B0/N = {float(b0) / n:.4f}")
+
+# %% [markdown]
+# ## 2. B0/N versus ρ at one threshold
+#
+# The mean over realizations of the clusters per particle, with the spread over realizations as a band.
+
+# %%
+b0_per_particle = measures["betti"].sel(force_kind="total", homology_dim=0, threshold=threshold) / measures["n_particles"]
+mean = b0_per_particle.mean("realization")
+spread = b0_per_particle.std("realization")
+fig, ax = plt.subplots(figsize=(5, 3.5))
+ax.plot(mean["rho"], mean, marker="o", label=rf"$F_{{th}}$ = {threshold:g} $\langle F\rangle$")
+ax.fill_between(mean["rho"], mean - spread, mean + spread, alpha=0.2)
+ax.set_xlabel(r"packing fraction $\rho$")
+ax.set_ylabel(r"$B_0/N$")
+ax.legend()
+assert np.all(np.isfinite(mean.values)) and np.all(mean.values > 0)  # every snapshot has at least one cluster
+
+# %% [markdown]
+# ## 3. One snapshot and its force network
+#
+# `results/sim/{system}/r{NN}/rho{ρ}.nc` holds positions, radii and every contact with its normal and
+# tangential force. P1 uses the total force |F_n + F_t|, in units of its mean ⟨F⟩.
+
+# %%
+snapshot = open_dataset(RESULTS / "sim" / system / "r00" / f"rho{snapshot_rho:.3f}.nc")
+force = np.linalg.norm(snapshot["force_normal"].values + snapshot["force_tangential"].values, axis=1)
+loaded = force > 0
+relative = force[loaded] / force[loaded].mean()
+position = snapshot["position"].values
+i, j = snapshot["contact_i"].values[loaded], snapshot["contact_j"].values[loaded]
+print(f"{snapshot.sizes['particle']} particles, {loaded.sum()} loaded contacts, Z = {float(snapshot['Z']):.2f}")
+
+fig, ax = plt.subplots(figsize=(5, 5))
+lines = LineCollection(np.stack([position[i], position[j]], axis=1), array=relative, cmap="viridis",
+                       linewidths=0.5 + 2 * np.clip(relative / 3, 0, 1))
+ax.add_collection(lines)
+ax.set_xlim(snapshot["box_lo"].values[0], snapshot["box_hi"].values[0])
+ax.set_ylim(snapshot["box_lo"].values[1], snapshot["box_hi"].values[1])
+ax.set_aspect("equal")
+ax.set_xlabel(r"$x$ [$d_{ave}$]")
+ax.set_ylabel(r"$y$ [$d_{ave}$]")
+fig.colorbar(lines, label=r"$F/\langle F\rangle$")
+assert abs(relative.mean() - 1) < 1e-12
+
+# %% [markdown]
+# ## 4. A persistence diagram
+#
+# `results/{system}/diagrams.nc` stores every diagram as one flat `point` dimension: each point has its force
+# kind (`diagram_force_kind`, an index into `FORCE_KINDS`), homology dimension, birth, death (−inf for classes that never die),
+# realization and ρ. Forces decrease along the filtration (super-level sets), so birth ≥ death.
+
+# %%
+diagrams = xr.open_dataset(RESULTS / system / "diagrams.nc")
+kinds = list(FORCE_KINDS)  # ("total", "normal", "tangential"): what diagram_force_kind indexes
+
+
+def diagram_at(rho: float, kind: str = "total", realization: int = 0) -> PersistenceDiagrams:
+    """All homology dimensions of one snapshot's diagram, as forcenet's PersistenceDiagrams."""
+    chosen = ((diagrams["diagram_force_kind"] == kinds.index(kind)) & (diagrams["point_realization"] == realization)
+              & np.isclose(diagrams["point_rho"], rho)).values
+    return PersistenceDiagrams(homology_dim=diagrams["diagram_homology_dim"].values[chosen],
+                               birth=diagrams["birth"].values[chosen], death=diagrams["death"].values[chosen])
+
+
+pd_here = diagram_at(snapshot_rho)
+pd0 = pd_here.homology_dim == 0
+print(f"PD0: {pd0.sum()} points, {np.sum(pd0 & pd_here.essential)} never die")
+assert np.all(pd_here.birth[~pd_here.essential] >= pd_here.death[~pd_here.essential])
+
+fig, ax = plt.subplots(figsize=(4, 4))
+finite = pd0 & ~pd_here.essential
+ax.scatter(pd_here.birth[finite], pd_here.death[finite], s=10, label="finite")
+ax.scatter(pd_here.birth[pd0 & pd_here.essential], np.zeros(np.sum(pd0 & pd_here.essential)), marker="v",
+           color="k", label="never dies (at 0)")
+top = float(pd_here.birth[pd0].max()) * 1.05
+ax.plot([0, top], [0, top], color="0.5", lw=0.8)
+ax.set_xlabel(r"birth $b/\langle F\rangle$")
+ax.set_ylabel(r"death $d/\langle F\rangle$")
+ax.legend()
+
+# %% [markdown]
+# ## 5. Distance between two diagrams
+#
+# `forcenet.topology.diagram_distances` gives the bottleneck distance d_B and the Wasserstein distances
+# d_W1, d_W2 (L∞ ground metric, P2 §III D) between the PD_k of two networks; never-dying classes get death −1
+# (P2's convention, `essential="minus_one"`). Here: PD0 of the snapshot above and of the next denser one.
+
+# %%
+grid = diagrams["point_rho"].values
+next_rho = float(np.min(grid[grid > snapshot_rho + 1e-9])) if np.any(grid > snapshot_rho + 1e-9) else float(np.max(grid[grid < snapshot_rho]))
+pd_next = diagram_at(next_rho)
+distances = diagram_distances(pd_here, pd_next, homology_dim=0)
+for metric, value in distances.items():
+    print(f"{metric}: {value:.4f} <F>")
+assert distances["bottleneck"] <= distances["wasserstein_2"] + 1e-12 <= distances["wasserstein_1"] + 2e-12
+assert diagram_distances(pd_here, pd_here, homology_dim=0)["wasserstein_1"] == 0.0  # a diagram is 0 from itself

@@ -1,0 +1,76 @@
+"""Compression movies: an MP4 with one frame per snapshot (network) or per view angle (B0/N surface), frames with
+the figure's axes, colour bar and ρ label; a movie that fails half-way leaves no file under its name."""
+from __future__ import annotations
+
+import imageio_ffmpeg
+import matplotlib.pyplot as plt
+import pytest
+from matplotlib.animation import FFMpegWriter
+
+from forcenet.plotting import movies
+from test_plotting_p1 import make_snapshot
+from test_report_p1 import make_p1_measures
+
+pytestmark = pytest.mark.slow
+
+
+@pytest.fixture
+def frames_seen(monkeypatch):
+    """(number of axes, titles, colour-bar labels) of every frame handed to the encoder."""
+    seen = []
+    original = FFMpegWriter.grab_frame
+
+    def grab(writer, **kwargs):
+        fig = writer.fig
+        bars = [ax.get_ylabel() for ax in fig.axes if ax.get_label() == "<colorbar>"]
+        seen.append((len(fig.axes), [ax.get_title() for ax in fig.axes if ax.get_title()], bars))
+        return original(writer, **kwargs)
+
+    monkeypatch.setattr(FFMpegWriter, "grab_frame", grab)
+    return seen
+
+
+def frame_count(path) -> int:
+    return imageio_ffmpeg.count_frames_and_secs(str(path))[0]
+
+
+@pytest.mark.parametrize("dimension", [2, 3])
+def test_network_movie_has_one_labelled_frame_per_snapshot(dimension, tmp_path, frames_seen):
+    snapshots = [make_snapshot(dimension, seed=seed).assign(rho=0.80 + 0.01 * seed) for seed in range(4)]
+    output = tmp_path / "network.mp4"
+    assert movies.network_movie(snapshots, output) == 4
+    assert frame_count(output) == 4
+    assert len(frames_seen) == 4
+    for (n_axes, titles, bars), snapshot in zip(frames_seen, snapshots):
+        assert n_axes == 2 and bars == [r"$F/\langle F\rangle$"]
+        assert f"{float(snapshot['rho']):.3f}" in titles[0]  # the ρ label of that frame
+
+
+def test_b0_surface_movie_turns_around_the_surface(tmp_path, frames_seen):
+    output = tmp_path / "surface.mp4"
+    assert movies.b0_surface_movie(make_p1_measures(), "3d_hertz", output, frames=8) == 8
+    assert frame_count(output) == 8
+    n_axes, titles, bars = frames_seen[0]
+    assert n_axes == 2 and bars == [r"$B_0/N$"] and "3D" in titles[0]
+    with pytest.raises(ValueError, match="no B0/N data"):
+        movies.b0_surface_movie(make_p1_measures(), "2d_unknown", tmp_path / "x.mp4")
+
+
+def test_a_failed_movie_leaves_no_file_under_its_name(tmp_path, monkeypatch):
+    calls = []
+
+    def fail_second(*args):
+        calls.append(1)
+        if len(calls) == 2:
+            raise RuntimeError("drawing failed")
+        return draw(*args)
+
+    draw = movies.p1.draw_network_panel
+    monkeypatch.setattr(movies.p1, "draw_network_panel", fail_second)
+    output = tmp_path / "network.mp4"
+    with pytest.raises(RuntimeError, match="drawing failed"):
+        movies.network_movie([make_snapshot(2), make_snapshot(2)], output)
+    plt.close("all")
+    assert not output.exists()
+    with pytest.raises(ValueError, match="at least one snapshot"):
+        movies.network_movie([], output)

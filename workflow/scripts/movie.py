@@ -1,0 +1,7 @@
+"""Write one compression movie: thin wrapper around forcenet.pipeline.movie."""
+from forcenet.pipeline import movie
+
+movie(  # noqa: F821 — `snakemake` is injected by Snakemake
+    kind=snakemake.params.kind, system=snakemake.params.system, inputs=list(snakemake.input),
+    output=snakemake.output[0], log_path=snakemake.log[0],
+)
