@@ -41,7 +41,7 @@ def main() -> None:
         top = run.rows[-1] if run.rows else {}
         if args.summary:
             print(f"| {args.system} | {label} | r{realization:02d} | {run.rho_j:.4f} | {run.rho_j_centres:.4f} | "
-                  f"{run.cpu_seconds:.0f} | "
+                  f"{run.cpu_seconds:.1f} | "
                   f"{top.get('rho', float('nan')):.3f} | {top.get('Z', float('nan')):.2f} | "
                   f"{'stopped: ' + run.failure if run.failure else 'completed'} |", flush=True)
             continue
