@@ -3,5 +3,6 @@ from forcenet.pipeline import figure
 
 figure(  # noqa: F821 — `snakemake` is injected by Snakemake
     name=snakemake.params.figure, systems=snakemake.params.systems, inputs=dict(snakemake.input.items()),
-    pdf=snakemake.output.pdf, png=snakemake.output.png, log_path=snakemake.log[0],
+    pdf=snakemake.output.pdf, png=snakemake.output.png, force_unit=snakemake.params.force_unit,
+    log_path=snakemake.log[0],
 )

@@ -4,6 +4,12 @@ results/{system}/network_measures.nc   every ANALYSIS_VARIABLES entry except the
                                        (realization, rho, ...); coordinates rho, realization, threshold,
                                        homology_dim, force_kind, force_bin, persistence_bin
 results/{system}/diagrams.nc           all persistence points with realization(point), rho(point) added
+
+Besides the provenance attributes, both carry the system's ``dimension`` and ``force_law`` and the constants in which
+P1's F_max rule (§3) compares ⟨F⟩ across systems (`forcenet.pipeline.force_constants`, from `forcenet.units`):
+``force_unit_dyn`` (one reduced force unit m̄ d_ave τ_c⁻², in dyn), ``stiffness_scale_reduced`` (k_n d_ave^(1+β)
+in reduced force units) and ``normal_stiffness_cgs`` (k_n in dyn cm^-(1+β), P1 Eq. 1); NaN where a system has
+no `material` (P2 units).
 """
 from __future__ import annotations
 

@@ -2,16 +2,20 @@
 
 Every function takes the aggregated datasets keyed by system name — ``measures`` (network_measures.nc),
 ``diagrams`` (diagrams.nc), ``snapshots`` (one snapshot file per system) — and returns a matplotlib Figure. They
-only select and average: the reductions P1 defines (F_max cut at ρ_max, S_p averaging rule, ≥ 50 % percolation
+only select and average: the reductions P1 defines (F_max rule → ρ_max, S_p averaging rule, ≥ 50 % percolation
 rule, jamming point) live in `forcenet.report.p1` and are shared with the validation table. Curves are
 realization means with ± one standard deviation over the realizations as a band; each system keeps its colour
 (`forcenet.plotting.style.system_color`), a family of curves within a panel (F_th, ρ) uses shades of it.
+Every simulated ρ is drawn; ρ_max of P1's F_max rule (§3), with ⟨F⟩ compared in `force_unit`
+(``analysis.p1_force_unit``), is a dashed line on every ρ axis with the range beyond it shaded, where P1 shows
+nothing.
 
 The workflow calls one figure by name: ``make_p1_figure(name, measures, diagrams, snapshots)``; `P1_FIGURES`
 lists the names, which inputs each figure needs and its caption.
 """
 from __future__ import annotations
 
+import inspect
 from dataclasses import dataclass
 from typing import Callable, Mapping, Sequence
 
@@ -20,8 +24,8 @@ import xarray as xr
 
 from forcenet.measures.persistence_stats import MEDIUM_BIRTH, ROUGH_LIFESPAN, STRONG_BIRTH, WEAK_BIRTH
 from forcenet.plotting.style import LABELS, apply_style, system_color, system_label
-from forcenet.report.p1 import (P1_SMALL_THRESHOLD, cut_at_rho_max, f_max_cut, jamming_point, mean_and_spread,
-                                per_particle, percolating_size_mean, rho_values, select_total,
+from forcenet.report.p1 import (DEFAULT_P1_FORCE_UNIT, P1_SMALL_THRESHOLD, f_max_cut, jamming_point,
+                                mean_and_spread, per_particle, percolating_size_mean, rho_values, select_total,
                                 shape_parameter_average, system_dimension, system_order)
 
 import matplotlib.pyplot as plt  # noqa: E402  (style sets the Agg backend first)
@@ -36,6 +40,7 @@ PD_BINS = ("rough", "weak", "medium", "strong")  # P1 §5.3 bins drawn in Figs. 
 
 MEAN_GID = "mean"  # gid of every realization-mean curve, so that tests (and readers) can find them
 RHO_J_GID = "rho_J"
+RHO_MAX_GID = "rho_max"  # the dashed ρ_max line; the shading beyond it is "beyond_rho_max"
 FORCE_CMAP = "viridis"
 
 LABEL_B0 = r"$B_0/N$"
@@ -55,18 +60,20 @@ POSITION_LABELS = (r"$x$ [$d_{ave}$]", r"$y$ [$d_{ave}$]", r"$z$ [$d_{ave}$]")
 @dataclass(frozen=True)
 class _System:
     name: str
-    data: xr.Dataset  # total force, ρ ≤ ρ_max
-    rho_j: float  # from the full ρ range
+    data: xr.Dataset  # total force, every simulated ρ
+    rho_j: float
     dimension: int
+    rho_max: float  # P1 §3 F_max rule
+    rho_max_below_grid: bool = False  # every ρ has ⟨F⟩ > F_max
 
 
-def _systems(measures: Mapping[str, xr.Dataset]) -> list[_System]:
-    """The systems in P1's order, each cut at its ρ_max (P1 §3 F_max rule) and with its ρ_J."""
+def _systems(measures: Mapping[str, xr.Dataset], force_unit: str = DEFAULT_P1_FORCE_UNIT) -> list[_System]:
+    """The systems in P1's order, each with its ρ_J and its ρ_max (P1 §3 F_max rule, ⟨F⟩ in `force_unit`)."""
     if not measures:
         raise ValueError("no system to plot")
-    cut = f_max_cut(measures)
-    return [_System(name, cut_at_rho_max(select_total(measures[name]), cut.rho_max[name]),
-                    jamming_point(measures[name]), system_dimension(measures[name], name))
+    cut = f_max_cut(measures, force_unit)
+    return [_System(name, select_total(measures[name]), jamming_point(measures[name]),
+                    system_dimension(measures[name], name), cut.rho_max[name], cut.below_grid(name))
             for name in system_order(measures)]
 
 
@@ -106,6 +113,23 @@ def _mark_jamming(ax, rho_j: float, name: str) -> None:
         ax.axvline(rho_j, color=system_color(name), linestyle=":", linewidth=1, gid=RHO_J_GID)
 
 
+def _mark_rho_max(ax, system: _System, color=None, label: bool = True) -> None:
+    """ρ_max of `system` as a dashed vertical line, the ρ beyond it (not shown in P1) lightly shaded; every ρ
+    shaded when ρ_max lies below the grid."""
+    color = system_color(system.name) if color is None else color
+    if system.rho_max_below_grid:
+        rho = rho_values(system.data)
+        ax.axvspan(rho.min(), rho.max(), color=color, alpha=0.08, linewidth=0, gid="beyond_rho_max",
+                   label=r"every $\rho$ > $\rho_{max}$ (P1 §3)" if label else None)
+    if not np.isfinite(system.rho_max):
+        return
+    ax.axvline(system.rho_max, color=color, linestyle="--", linewidth=1, gid=RHO_MAX_GID,
+               label=r"$\rho_{max}$ (P1 §3)" if label else None)
+    top = float(rho_values(system.data).max())
+    if top > system.rho_max:
+        ax.axvspan(system.rho_max, top, color=color, alpha=0.08, linewidth=0, gid="beyond_rho_max")
+
+
 def _title(ax, name: str, extra: str = "") -> None:
     ax.set_title(system_label(name) + extra, color=system_color(name))
 
@@ -123,6 +147,7 @@ def _threshold_family(ax, system: _System, values: xr.DataArray | tuple, thresho
         _curve(ax, rho, mean.sel(threshold=threshold).transpose("rho").values,
                spread.sel(threshold=threshold).transpose("rho").values, color, label=rf"$F_{{th}}$ = {threshold:g}")
     _mark_jamming(ax, system.rho_j, system.name)
+    _mark_rho_max(ax, system)
     ax.set_xlabel(LABELS["rho"])
     ax.set_ylabel(ylabel)
     _title(ax, system.name)
@@ -135,6 +160,7 @@ def _heat_map(fig, ax, system: _System, values: xr.DataArray, label: str) -> Non
                          cmap="magma")
     fig.colorbar(mesh, ax=ax, label=label)
     _mark_jamming(ax, system.rho_j, system.name)
+    _mark_rho_max(ax, system, color="white", label=False)
     ax.set_xlabel(LABELS["rho"])
     ax.set_ylabel(LABELS["threshold"])
     _title(ax, system.name)
@@ -198,9 +224,9 @@ def fig01_networks(snapshots: Mapping[str, xr.Dataset], *, max_line_width: float
     return fig
 
 
-def fig02_betti0_surface(measures: Mapping[str, xr.Dataset]) -> Figure:
+def fig02_betti0_surface(measures: Mapping[str, xr.Dataset], *, force_unit: str = DEFAULT_P1_FORCE_UNIT) -> Figure:
     """F2: B0/N over (ρ, F_th), realization mean, one map per system."""
-    systems = _systems(measures)
+    systems = _systems(measures, force_unit)
     fig, axes = _figure(len(systems))
     for ax, system in zip(axes, systems):
         b0 = per_particle(system.data, "betti").sel(homology_dim=0).mean("realization", skipna=True)
@@ -208,9 +234,11 @@ def fig02_betti0_surface(measures: Mapping[str, xr.Dataset]) -> Figure:
     return fig
 
 
-def fig03_force_pdf(measures: Mapping[str, xr.Dataset], *, n_rho: int = 6) -> Figure:
-    """F3: PDF of F/⟨F⟩ (total force) at `n_rho` packing fractions up to ρ_max, darker for larger ρ."""
-    systems = _systems(measures)
+def fig03_force_pdf(measures: Mapping[str, xr.Dataset], *, n_rho: int = 6,
+                    force_unit: str = DEFAULT_P1_FORCE_UNIT) -> Figure:
+    """F3: PDF of F/⟨F⟩ (total force) at `n_rho` packing fractions spread over the grid, darker for larger ρ;
+    those beyond ρ_max (not shown in P1) dashed."""
+    systems = _systems(measures, force_unit)
     fig, axes = _figure(len(systems))
     for ax, system in zip(axes, systems):
         pdf = system.data["force_pdf"]
@@ -219,8 +247,10 @@ def fig03_force_pdf(measures: Mapping[str, xr.Dataset], *, n_rho: int = 6) -> Fi
         picks = np.unique(np.round(np.linspace(0, rho.size - 1, min(n_rho, rho.size))).astype(int))
         centres = pdf["force_bin"].values
         for color, index in zip(_shades(system.name, picks.size), picks):
+            beyond = rho[index] > system.rho_max + 1e-12  # False when ρ_max is NaN
             _curve(ax, centres, mean.isel(rho=index).values, spread.isel(rho=index).values, color,
-                   label=rf"$\rho$ = {rho[index]:.3f}")
+                   label=rf"$\rho$ = {rho[index]:.3f}" + (r" > $\rho_{max}$" if beyond else ""),
+                   linestyle="--" if beyond else "-")
         ax.set_xlabel(LABELS["force"])
         ax.set_ylabel(LABELS["pdf"] + r" [$\langle F\rangle^{-1}$]")
         _title(ax, system.name)
@@ -228,10 +258,10 @@ def fig03_force_pdf(measures: Mapping[str, xr.Dataset], *, n_rho: int = 6) -> Fi
     return fig
 
 
-def fig04_cluster_size(measures: Mapping[str, xr.Dataset], *,
-                       thresholds: Sequence[float] = DEFAULT_THRESHOLDS) -> Figure:
+def fig04_cluster_size(measures: Mapping[str, xr.Dataset], *, thresholds: Sequence[float] = DEFAULT_THRESHOLDS,
+                       force_unit: str = DEFAULT_P1_FORCE_UNIT) -> Figure:
     """F4: mean size ⟨S⟩/N of the non-percolating clusters versus ρ, one curve per F_th."""
-    systems = _systems(measures)
+    systems = _systems(measures, force_unit)
     fig, axes = _figure(len(systems))
     for ax, system in zip(axes, systems):
         _threshold_family(ax, system, per_particle(system.data, "cluster_mean_size"), thresholds, LABEL_S)
@@ -240,10 +270,11 @@ def fig04_cluster_size(measures: Mapping[str, xr.Dataset], *,
 
 
 def fig05_percolating_size(measures: Mapping[str, xr.Dataset], *,
-                           thresholds: Sequence[float] = DEFAULT_THRESHOLDS) -> Figure:
+                           thresholds: Sequence[float] = DEFAULT_THRESHOLDS,
+                           force_unit: str = DEFAULT_P1_FORCE_UNIT) -> Figure:
     """F5: N_per/N versus ρ per F_th, averaged over the percolating realizations and shown only where at
     least 50 % of the realizations percolate (P1 §4.3)."""
-    systems = _systems(measures)
+    systems = _systems(measures, force_unit)
     fig, axes = _figure(len(systems))
     for ax, system in zip(axes, systems):
         _threshold_family(ax, system, percolating_size_mean(system.data), thresholds, LABEL_NPER)
@@ -252,10 +283,10 @@ def fig05_percolating_size(measures: Mapping[str, xr.Dataset], *,
 
 
 def fig06_betti0(measures: Mapping[str, xr.Dataset], *, thresholds: Sequence[float] = DEFAULT_THRESHOLDS,
-                 zoom_curves: int = 4) -> Figure:
+                 zoom_curves: int = 4, force_unit: str = DEFAULT_P1_FORCE_UNIT) -> Figure:
     """F6: B0/N versus ρ per F_th; for each 3D system an extra close-up of the F_th < 0.5 curves around ρ_J
     (P1 Fig. 6d)."""
-    systems = _systems(measures)
+    systems = _systems(measures, force_unit)
     zooms = [s for s in systems if s.dimension == 3]
     fig, axes = _figure(len(systems) + len(zooms), ncols=4 if zooms else 3)
     for ax, system in zip(axes, systems):
@@ -276,9 +307,10 @@ def fig06_betti0(measures: Mapping[str, xr.Dataset], *, thresholds: Sequence[flo
     return fig
 
 
-def fig07_loops(measures: Mapping[str, xr.Dataset], *, thresholds: Sequence[float] = DEFAULT_THRESHOLDS) -> Figure:
+def fig07_loops(measures: Mapping[str, xr.Dataset], *, thresholds: Sequence[float] = DEFAULT_THRESHOLDS,
+                force_unit: str = DEFAULT_P1_FORCE_UNIT) -> Figure:
     """F7: B1/N versus ρ per F_th for every system, and B2/N for the 3D ones."""
-    systems = _systems(measures)
+    systems = _systems(measures, force_unit)
     panels = [(s, 1) for s in systems] + [(s, 2) for s in systems if s.dimension == 3]
     fig, axes = _figure(len(panels))
     for ax, (system, k) in zip(axes, panels):
@@ -288,9 +320,9 @@ def fig07_loops(measures: Mapping[str, xr.Dataset], *, thresholds: Sequence[floa
     return fig
 
 
-def fig08_shape_surface(measures: Mapping[str, xr.Dataset]) -> Figure:
+def fig08_shape_surface(measures: Mapping[str, xr.Dataset], *, force_unit: str = DEFAULT_P1_FORCE_UNIT) -> Figure:
     """F8: shape parameter S_p over (ρ, F_th) with P1's averaging rule (§5.2)."""
-    systems = _systems(measures)
+    systems = _systems(measures, force_unit)
     fig, axes = _figure(len(systems))
     for ax, system in zip(axes, systems):
         shape, _ = shape_parameter_average(system.data["shape_parameter"])
@@ -299,9 +331,10 @@ def fig08_shape_surface(measures: Mapping[str, xr.Dataset]) -> Figure:
 
 
 def fig09_shape_sections(measures: Mapping[str, xr.Dataset], *,
-                         thresholds: Sequence[float] = DEFAULT_THRESHOLDS) -> Figure:
+                         thresholds: Sequence[float] = DEFAULT_THRESHOLDS,
+                         force_unit: str = DEFAULT_P1_FORCE_UNIT) -> Figure:
     """F9: S_p versus ρ for chosen F_th (P1's averaging rule; band: spread over the nonzero realizations)."""
-    systems = _systems(measures)
+    systems = _systems(measures, force_unit)
     fig, axes = _figure(len(systems))
     for ax, system in zip(axes, systems):
         _threshold_family(ax, system, shape_parameter_average(system.data["shape_parameter"]), thresholds,
@@ -362,10 +395,10 @@ def fig10_persistence_diagram(measures: Mapping[str, xr.Dataset], diagrams: Mapp
     return fig
 
 
-def fig11_persistence_bins(measures: Mapping[str, xr.Dataset]) -> Figure:
+def fig11_persistence_bins(measures: Mapping[str, xr.Dataset], *, force_unit: str = DEFAULT_P1_FORCE_UNIT) -> Figure:
     """F11: PD0 points per bin N0/N versus ρ; rows rough/weak/medium/strong, columns 2D and 3D (P1 Fig. 11),
     one curve per system."""
-    systems = _systems(measures)
+    systems = _systems(measures, force_unit)
     dimensions = sorted({s.dimension for s in systems})
     fig, axes = _figure(len(PD_BINS) * len(dimensions), ncols=len(dimensions), size=(4.4, 2.8))
     for row, bin_name in enumerate(PD_BINS):
@@ -377,6 +410,7 @@ def fig11_persistence_bins(measures: Mapping[str, xr.Dataset]) -> Figure:
                 _curve(ax, rho_values(system.data), mean.values, spread.values, system_color(system.name),
                        label=system_label(system.name))
                 _mark_jamming(ax, system.rho_j, system.name)
+                _mark_rho_max(ax, system, label=system is next(s for s in systems if s.dimension == dimension))
             ax.set_xlabel(LABELS["rho"])
             ax.set_ylabel(LABEL_N0)
             ax.set_title(f"{bin_name}, {dimension}D")
@@ -384,9 +418,10 @@ def fig11_persistence_bins(measures: Mapping[str, xr.Dataset]) -> Figure:
     return fig
 
 
-def fig12_total_persistence(measures: Mapping[str, xr.Dataset]) -> Figure:
+def fig12_total_persistence(measures: Mapping[str, xr.Dataset], *,
+                            force_unit: str = DEFAULT_P1_FORCE_UNIT) -> Figure:
     """F12: total persistence TP0/N (solid) and TP1/N (dashed) of the total-force network versus ρ."""
-    systems = _systems(measures)
+    systems = _systems(measures, force_unit)
     fig, axes = _figure(len(systems))
     for ax, system in zip(axes, systems):
         tp = per_particle(system.data, "total_persistence")
@@ -395,6 +430,7 @@ def fig12_total_persistence(measures: Mapping[str, xr.Dataset]) -> Figure:
             _curve(ax, rho_values(system.data), mean.values, spread.values, system_color(system.name),
                    label=rf"$TP_{k}/N$", linestyle=style)
         _mark_jamming(ax, system.rho_j, system.name)
+        _mark_rho_max(ax, system)
         ax.set_xlabel(LABELS["rho"])
         ax.set_ylabel(LABEL_TP)
         _title(ax, system.name)
@@ -402,11 +438,12 @@ def fig12_total_persistence(measures: Mapping[str, xr.Dataset]) -> Figure:
     return fig
 
 
-def z_jamming(measures: Mapping[str, xr.Dataset]) -> Figure:
-    """Z(ρ) of every system over its whole ρ grid, with ρ_J (inflection, P1 §4) marked and Z = d + 1 dotted."""
+def z_jamming(measures: Mapping[str, xr.Dataset], *, force_unit: str = DEFAULT_P1_FORCE_UNIT) -> Figure:
+    """Z(ρ) of every system over its whole ρ grid, with ρ_J (inflection, P1 §4) and ρ_max marked and Z = d + 1
+    dotted."""
     fig, (ax,) = _figure(1, size=(5.2, 3.8))
-    for name in system_order(measures):
-        ds = measures[name]
+    for index, system in enumerate(_systems(measures, force_unit)):
+        name, ds = system.name, measures[system.name]
         mean, spread = mean_and_spread(ds["Z"])
         color = system_color(name)
         _curve(ax, rho_values(ds), mean.values, spread.values, color, label=system_label(name))
@@ -415,6 +452,7 @@ def z_jamming(measures: Mapping[str, xr.Dataset]) -> Figure:
             z_j = np.interp(rho_j, rho_values(ds), mean.values)
             ax.plot([rho_j], [z_j], marker="o", markersize=7, markerfacecolor="white", color=color,
                     gid=RHO_J_GID, label=rf"$\rho_J$ = {rho_j:.3f}")
+        _mark_rho_max(ax, system, label=index == 0)
     for dimension in sorted({system_dimension(measures[name], name) for name in measures}):
         ax.axhline(dimension + 1, color="0.5", linestyle=":", linewidth=0.8, gid="isostatic")
         ax.annotate(f"Z = d + 1 = {dimension + 1} ({dimension}D)", (0.01, dimension + 1),
@@ -438,7 +476,8 @@ class P1Figure:
     caption: str
 
 
-_CUT = " Packing fractions up to ρ_max (P1 §3 F_max rule); mean over realizations, band ± 1 s.d."
+_CUT = (" Every simulated ρ; ρ_max of P1's F_max rule (§3, ⟨F⟩ compared in the unit analysis.p1_force_unit) "
+        "dashed, the range beyond it (not shown in P1) shaded; mean over realizations, band ± 1 s.d.")
 P1_FIGURES: dict[str, P1Figure] = {
     "p1_fig01_networks": P1Figure(fig01_networks, ("snapshots",),
                                   "Fig. 1: force networks in 2D and 3D, contacts coloured by F/⟨F⟩."),
@@ -467,14 +506,16 @@ P1_FIGURES: dict[str, P1Figure] = {
     "p1_fig12_total_persistence": P1Figure(fig12_total_persistence, ("measures",),
                                            "Fig. 12: total persistence TP0/N and TP1/N versus ρ." + _CUT),
     "p1_z_jamming": P1Figure(z_jamming, ("measures",),
-                             "Coordination number Z(ρ) with the jamming point ρ_J (inflection) marked."),
+                             "Coordination number Z(ρ) with the jamming point ρ_J (inflection) and ρ_max marked."),
 }
 
 
 def make_p1_figure(name: str, measures: Mapping[str, xr.Dataset] | None = None,
                    diagrams: Mapping[str, xr.Dataset] | None = None,
-                   snapshots: Mapping[str, xr.Dataset] | None = None, **options) -> Figure:
-    """Draw the P1 figure `name` (a key of `P1_FIGURES`) from datasets keyed by system name."""
+                   snapshots: Mapping[str, xr.Dataset] | None = None, *, force_unit: str | None = None,
+                   **options) -> Figure:
+    """Draw the P1 figure `name` (a key of `P1_FIGURES`) from datasets keyed by system name; `force_unit`
+    (``analysis.p1_force_unit``) goes to the figures that mark ρ_max."""
     if name not in P1_FIGURES:
         raise KeyError(f"unknown P1 figure {name!r}; known: {', '.join(P1_FIGURES)}")
     spec = P1_FIGURES[name]
@@ -482,4 +523,6 @@ def make_p1_figure(name: str, measures: Mapping[str, xr.Dataset] | None = None,
     missing = [need for need in spec.needs if not given[need]]
     if missing:
         raise ValueError(f"{name} needs {', '.join(missing)}")
+    if force_unit is not None and "force_unit" in inspect.signature(spec.function).parameters:
+        options["force_unit"] = force_unit
     return spec.function(**{need: given[need] for need in spec.needs}, **options)
