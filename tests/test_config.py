@@ -56,6 +56,8 @@ BAD_CONFIGS = {
     "unknown_force_law": (["systems", "3d_hertz", "force_law"], "hooke", "force_law"),
     "unknown_damping_model": (["systems", "3d_hertz", "damping_model"], "implicit", "damping_model"),
     "missing_damping_model": (["systems", "2d_linear", "damping_model"], KeyError, "damping_model"),
+    "unknown_p1_force_unit": (["analysis", "p1_force_unit"], "newton", "p1_force_unit"),
+    "missing_p1_force_unit": (["analysis", "p1_force_unit"], KeyError, "p1_force_unit"),
 }
 
 

@@ -1,5 +1,5 @@
 """P1 figures: every registered figure draws from synthetic datasets, with labelled axes, the expected panels
-and curves, realization spread, and ρ cut at ρ_max."""
+and curves, realization spread, every simulated ρ and ρ_max marked."""
 from __future__ import annotations
 
 import matplotlib
@@ -16,6 +16,7 @@ from matplotlib.figure import Figure  # noqa: E402
 from forcenet.datasets.schema import FORCE_KINDS  # noqa: E402
 from forcenet.plotting import p1 as figures  # noqa: E402
 from forcenet.plotting.style import save_figure, system_color  # noqa: E402
+from forcenet.report import p1 as report_p1  # noqa: E402
 from forcenet.report.p1 import f_max_cut  # noqa: E402
 from test_report_p1 import make_p1_measures  # noqa: E402  (synthetic aggregated datasets)
 
@@ -145,17 +146,59 @@ def test_line_figures_use_the_system_colour(measures):
         assert {line.get_color() for line in mean_lines(ax)} == {system_color(name)}
 
 
-def test_curves_stop_at_rho_max(measures):
-    rho_max = f_max_cut(measures).rho_max
+def rho_max_marks(ax) -> list[float]:
+    return [float(line.get_xdata()[0]) for line in ax.get_lines() if line.get_gid() == figures.RHO_MAX_GID]
+
+
+def test_curves_span_every_rho_and_mark_rho_max(measures):
+    rho_max = f_max_cut(measures).rho_max  # dyn: 2D Hertz 0.94, 2D linear 0.95 (its top), 3D 0.67
     fig = figures.make_p1_figure("p1_fig04_cluster_size", measures)
     for ax, name in zip(data_axes(fig), ["2d_hertz", "2d_linear", "3d_hertz"]):
-        xmax = max(np.max(line.get_xdata()) for line in mean_lines(ax))
-        assert xmax == pytest.approx(rho_max[name])
-    assert rho_max["2d_hertz"] < measures["2d_hertz"]["rho"].max()  # the cut removed something
+        for line in mean_lines(ax):
+            np.testing.assert_allclose(line.get_xdata(), measures[name]["rho"].values)  # nothing cut
+        assert rho_max_marks(ax) == pytest.approx([rho_max[name]])
+        shaded = [p for p in ax.patches if p.get_gid() == "beyond_rho_max"]
+        assert len(shaded) == (1 if rho_max[name] < measures[name]["rho"].max() else 0)
+    assert "rho_{max}" in data_axes(fig)[0].get_legend_handles_labels()[1][-1]
     fig = figures.make_p1_figure("p1_fig02_betti0_surface", measures)
     mesh = [c for c in data_axes(fig)[2].collections if isinstance(c, QuadMesh)]
-    assert len(mesh) == 1
-    assert mesh[0].get_array().shape[1] == int((measures["3d_hertz"]["rho"] <= rho_max["3d_hertz"] + 1e-9).sum())
+    assert len(mesh) == 1 and mesh[0].get_array().shape[1] == measures["3d_hertz"].sizes["rho"]
+    assert rho_max_marks(data_axes(fig)[2]) == pytest.approx([rho_max["3d_hertz"]])
+    # the unit of the F_max rule moves the mark: in reduced units 2D Hertz is cut at 0.88
+    fig = figures.make_p1_figure("p1_fig04_cluster_size", measures, force_unit="reduced")
+    assert rho_max_marks(data_axes(fig)[0]) == pytest.approx([0.88])
+
+
+def test_rho_max_below_the_grid_shades_every_rho():
+    measures = make_p1_measures(**{"2d_linear": {"mean_force": np.full(18, 10.0)}})  # 40 dyn > F_max = 1.38
+    assert report_p1.f_max_cut(measures).below_grid("2d_linear")
+    ax = data_axes(figures.make_p1_figure("p1_fig04_cluster_size", measures))[1]
+    shaded = [p for p in ax.patches if p.get_gid() == "beyond_rho_max"]
+    assert not rho_max_marks(ax) and len(shaded) == 1
+    np.testing.assert_allclose(shaded[0].get_x(), 0.78) and np.testing.assert_allclose(shaded[0].get_width(), 0.17)
+    table = report_p1.p1_validation(measures)
+    row = table[(table["id"] == "rho_max.dyn") & (table["system"] == "2d_linear")].iloc[0]
+    assert "below the grid" in row["evidence"]
+
+
+RHO_AXIS_FIGURES = sorted(set(EXPECTED) - {"p1_fig01_networks", "p1_fig03_force_pdf", "p1_fig10_persistence_diagram"})
+
+
+@pytest.mark.parametrize("name", RHO_AXIS_FIGURES)
+def test_every_rho_panel_is_populated_and_marks_rho_max(name, measures, diagrams):
+    fig = figures.make_p1_figure(name, measures, diagrams)
+    for ax in data_axes(fig):
+        assert rho_max_marks(ax), (name, ax.get_title())
+        if mean_lines(ax):  # line panels: some curve has at least two points (heat maps: a full mesh)
+            assert max(np.isfinite(np.asarray(line.get_ydata(), float)).sum() for line in mean_lines(ax)) >= 2
+
+
+def test_force_pdfs_beyond_rho_max_are_dashed(measures):
+    fig = figures.make_p1_figure("p1_fig03_force_pdf", measures)
+    ax = data_axes(fig)[0]  # 2D Hertz, ρ_max 0.94: the largest ρ drawn (0.95) lies beyond it
+    last = mean_lines(ax)[-1]
+    assert last.get_linestyle() == "--" and "rho_{max}" in last.get_label()
+    assert mean_lines(ax)[0].get_linestyle() == "-"
 
 
 def test_percolating_size_is_hidden_where_most_realizations_do_not_percolate(measures):
@@ -208,7 +251,7 @@ def test_figures_cope_with_a_missing_system(measures, diagrams):
 
 @pytest.fixture(scope="module")
 def smoke_like():
-    """One realization and three ρ per system (config/smoke.yaml): the F_max cut leaves one or two ρ."""
+    """One realization and three ρ per system (config/smoke.yaml)."""
     grid2, grid3 = [0.80, 0.84, 0.88], [0.55, 0.60, 0.65]
     measures = make_p1_measures(**{name: dict(rho=grid3 if name.startswith("3d") else grid2, n_realizations=1)
                                    for name in ("2d_hertz", "2d_linear", "3d_hertz")})

@@ -35,6 +35,18 @@ def test_hertz_collision_time_matches_eq4_and_reduced_units_are_consistent():
     assert units.undamped_collision_time(k_red, beta, 1.0, v_red) == pytest.approx(1.0, rel=1e-12)
 
 
+@pytest.mark.parametrize("beta", [0.0, 0.5])
+def test_force_scales_in_dyn(beta):
+    material = units.Material()
+    tau = units.collision_time_seconds(material, beta)
+    assert units.force_unit_dyn(material, beta) == pytest.approx(3.0 * 1.735 / tau ** 2, rel=1e-12)
+    # k_n d_ave^(1+β) = 2Y d_ave²/(3(1 − σ²)) for both laws (Y = 234500 dyn/cm²) ...
+    assert units.stiffness_force_scale_dyn(material, beta) == pytest.approx(2 * 234500.0 * 1.735 ** 2 / 2.25)
+    # ... and the reduced k_n (d_ave = 1) converted to dyn
+    assert units.stiffness_force_scale_dyn(material, beta) == pytest.approx(
+        units.reduced_normal_stiffness(material, beta) * units.force_unit_dyn(material, beta), rel=1e-12)
+
+
 def test_collision_time_by_direct_integration_of_undamped_hertz():
     # Integrate m ẍ = −k x^1.5 with a fine leapfrog: the contact lasts P1 Eq. 4.
     k, m, v = 3.0, 0.7, 0.2

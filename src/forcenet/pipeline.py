@@ -15,7 +15,7 @@ from pathlib import Path
 from typing import Any, Iterator, Mapping, Sequence
 
 from forcenet.errors import ForcenetError
-from forcenet.systems import config_sha256, realization_seed, system_from_config
+from forcenet.systems import config_sha256, material_from_config, realization_seed, system_from_config
 
 
 @contextmanager
@@ -127,18 +127,24 @@ def simulate(*, config: Mapping[str, Any], system: str, realization: str, output
             os.replace(temporary, cost_path)
 
 
-def force_unit_dyn(config: Mapping[str, Any], system: str) -> float:
-    """One reduced force unit m̄ d_ave / τ_c² in dyn (P1 systems; NaN when the system has no material).
+def force_constants(config: Mapping[str, Any], system: str) -> dict[str, float]:
+    """The per-system constants in which P1's F_max rule (§3) compares ⟨F⟩ across systems
+    (`analysis.p1_force_unit`), stored as global attributes of network_measures.nc (`forcenet.datasets.aggregate` lists them with units).
 
-    Lets P1's F_max rule (§3) compare ⟨F⟩ across systems whose τ_c differ (linear vs Hertzian)."""
+    force_unit_dyn : one reduced force unit m̄ d_ave/τ_c² in dyn (NaN for a system without `material`)
+    stiffness_scale_reduced : k_n d_ave^(1+β) in the system's reduced force units (= its reduced k_n, d_ave = 1)
+    normal_stiffness_cgs : k_n in dyn/cm^(1+β), P1 Eq. 1 (NaN for a system without `material`)
+    """
     from forcenet import units
 
-    entry = config["systems"][system]
-    if entry["stiffness"] != "material":
-        return float("nan")
-    material = units.Material(**config["material"])
-    tau_c = units.collision_time_seconds(material, units.FORCE_LAW_BETA[entry["force_law"]])
-    return material.mean_mass * material.mean_diameter / tau_c ** 2
+    spec = system_from_config(system, config)
+    constants = {"force_unit_dyn": float("nan"), "stiffness_scale_reduced": float(spec.normal_stiffness),
+                 "normal_stiffness_cgs": float("nan")}
+    if config["systems"][system]["stiffness"] == "material":
+        material = material_from_config(config)
+        constants["force_unit_dyn"] = units.force_unit_dyn(material, spec.beta)
+        constants["normal_stiffness_cgs"] = units.normal_stiffness_cgs(material, spec.beta)
+    return constants
 
 
 def aggregate(*, analyses: Sequence[str], realizations: Sequence[int], rhos: Sequence[float], measures_path: str,
@@ -152,7 +158,7 @@ def aggregate(*, analyses: Sequence[str], realizations: Sequence[int], rhos: Seq
         datasets = [read_dataset(path, "analysis") for path in analyses]
         attrs = provenance_attrs(system=system, realization=-1, seed=config["seed"], config=config,
                                  title=f"forcenet network measures, {system}, stacked over realization and rho")
-        attrs.update(dimension=spec.dimension, force_law=spec.force_law, force_unit_dyn=force_unit_dyn(config, system))
+        attrs.update(dimension=spec.dimension, force_law=spec.force_law, **force_constants(config, system))
         write_netcdf(stack_network_measures(datasets, realizations, rhos, attrs), measures_path,
                      kind="network_measures")
         attrs["title"] = f"forcenet persistence diagrams, {system}, all realizations and rho"
@@ -236,9 +242,10 @@ def _open_by_system(paths: Sequence[str], kind: str) -> dict[str, Any]:
 
 
 def figure(*, name: str, systems: Sequence[str], inputs: Mapping[str, Sequence[str]], pdf: str, png: str, csv: str,
-           log_path: str | None = None) -> None:
+           force_unit: str | None = None, log_path: str | None = None) -> None:
     """Draw one P1 figure from the aggregated datasets (and example snapshots for figure 1), and write the
-    values it draws to `csv` (one preparation feeds both)."""
+    values it draws to `csv` (one preparation feeds both); `force_unit` (``analysis.p1_force_unit``) is the unit
+    of the F_max rule whose ρ_max the figures mark."""
     from forcenet.plotting.figure_data import write_csv
     from forcenet.plotting.p1 import draw_p1_figure, p1_figure_data
     from forcenet.plotting.style import apply_style, save_figure
@@ -247,7 +254,8 @@ def figure(*, name: str, systems: Sequence[str], inputs: Mapping[str, Sequence[s
         apply_style()
         data = p1_figure_data(name, measures=_open_by_system(inputs.get("measures", []), "network_measures"),
                               diagrams=_open_by_system(inputs.get("diagrams", []), "diagrams"),
-                              snapshots=_open_by_system(inputs.get("snapshots", []), "snapshot"))
+                              snapshots=_open_by_system(inputs.get("snapshots", []), "snapshot"),
+                              force_unit=force_unit)
         save_figure(draw_p1_figure(name, data), pdf, png)
         write_csv(data, csv)
         log.info("%s drawn for %s (%d rows of source data)", name, ", ".join(systems), len(data.table))
@@ -269,15 +277,16 @@ def movie(*, kind: str, system: str, inputs: Sequence[str], output: str, log_pat
         log.info("%s movie of %s: %d frames", kind, system, frames)
 
 
-def p1_validation_table(*, measures: Sequence[str], systems: Sequence[str], csv: str, md: str,
+def p1_validation_table(*, measures: Sequence[str], systems: Sequence[str], csv: str, md: str, force_unit: str,
                         log_path: str | None = None) -> None:
-    """P1's numbers and claims next to ours (results/tables/p1_validation.{csv,md})."""
-    from forcenet.report.p1 import p1_validation, write_p1_validation
+    """P1's numbers and claims next to ours (results/tables/p1_validation.{csv,md}); `force_unit`
+    (``analysis.p1_force_unit``) is the unit of the F_max rule the figures use."""
+    from forcenet.report.p1 import p1_validation, verdict_counts, write_p1_validation
 
     with job_logger(log_path, "p1_validation") as log:
-        table = p1_validation(_open_by_system(measures, "network_measures"))
-        write_p1_validation(table, csv, md)
-        log.info("P1 validation: %d rows, verdicts %s", len(table), table["verdict"].value_counts().to_dict())
+        table = p1_validation(_open_by_system(measures, "network_measures"), force_unit=force_unit)
+        write_p1_validation(table, csv, md, force_unit=force_unit)
+        log.info("P1 validation: %d rows, claim verdicts %s", len(table), verdict_counts(table))
 
 
 def p2_distances(*, analyses: Sequence[str], realizations: Sequence[int], output: str, essential_convention: str,

@@ -69,6 +69,24 @@ def reduced_normal_stiffness(material: Material, beta: float) -> float:
     return normal_stiffness_cgs(material, beta) * material.mean_diameter ** beta * tau_c ** 2 / material.mean_mass
 
 
+def force_unit_dyn(material: Material, beta: float) -> float:
+    """One reduced force unit m̄ d_ave / τ_c² in dyn, τ_c of P1 Eq. 4 for the law β.
+
+    τ_c differs between the linear and the Hertz law, so do the reduced force units: ⟨F⟩ of two P1 systems
+    compares only after conversion (P1 §3 F_max rule).
+    """
+    return material.mean_mass * material.mean_diameter / collision_time_seconds(material, beta) ** 2
+
+
+def stiffness_force_scale_dyn(material: Material, beta: float) -> float:
+    """k_n d_ave^(1+β) in dyn: the force P1 Eq. 1 gives for an overlap of one mean diameter.
+
+    With k_n of P1 Eq. 1 it is 2Y d_ave² / (3(1 − σ²)), the same for both laws; in reduced units it is the
+    reduced k_n (d_ave = 1): `reduced_normal_stiffness` × `force_unit_dyn`.
+    """
+    return normal_stiffness_cgs(material, beta) * material.mean_diameter ** (1.0 + beta)
+
+
 def reduced_velocity_scale(material: Material, beta: float) -> float:
     """v0 in d_ave/τ_c: the P1 compression speed in reduced units."""
     return material.velocity_scale * collision_time_seconds(material, beta) / material.mean_diameter

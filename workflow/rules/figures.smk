@@ -47,6 +47,7 @@ for _figure, _caption in P1_FIGURES.items():
             figure=_figure,
             caption=_caption,
             systems=P1_SYSTEMS,
+            force_unit=config["analysis"]["p1_force_unit"],  # the F_max rule's unit: ρ_max marked on the figures
         script:
             "../scripts/figure.py"
 
@@ -63,6 +64,7 @@ rule p1_validation_table:
         f"{LOGS}/tables/p1_validation.log",
     params:
         systems=P1_SYSTEMS,
+        force_unit=config["analysis"]["p1_force_unit"],
     script:
         "../scripts/p1_validation.py"
 

@@ -7,6 +7,12 @@ results/{system}/network_measures.nc   every NETWORK_MEASURES_VARIABLES entry, d
 results/{system}/diagrams.nc           all persistence points with point_realization, point_rho (grid) and
                                        point_rho_measured added, and the force_kind coordinate that
                                        diagram_force_kind indexes into
+
+Besides the provenance attributes, both carry the system's ``dimension`` and ``force_law`` and the constants in which
+P1's F_max rule (§3) compares ⟨F⟩ across systems (`forcenet.pipeline.force_constants`, from `forcenet.units`):
+``force_unit_dyn`` (one reduced force unit m̄ d_ave τ_c⁻², in dyn), ``stiffness_scale_reduced`` (k_n d_ave^(1+β)
+in reduced force units) and ``normal_stiffness_cgs`` (k_n in dyn cm^-(1+β), P1 Eq. 1); NaN where a system has
+no `material` (P2 units).
 """
 from __future__ import annotations
 

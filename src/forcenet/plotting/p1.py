@@ -15,6 +15,7 @@ names, which inputs each figure needs and its caption.
 """
 from __future__ import annotations
 
+import inspect
 from dataclasses import dataclass
 from typing import Callable, Mapping, Sequence
 
@@ -26,7 +27,8 @@ from forcenet.measures.persistence_stats import MEDIUM_BIRTH, ROUGH_LIFESPAN, ST
 from forcenet.plotting import figure_data as cols
 from forcenet.plotting.figure_data import FigureData, concat, curve_rows
 from forcenet.plotting.style import LABELS, apply_style, system_color, system_label
-from forcenet.report.p1 import (P1_SMALL_THRESHOLD, cut_at_rho_max, f_max_cut, jamming_point, mean_and_spread,
+from forcenet.report.p1 import (DEFAULT_P1_FORCE_UNIT, P1_SMALL_THRESHOLD, f_max_cut, jamming_point,
+                                mean_and_spread,
                                 per_particle, percolating_size_mean, rho_values, select_total,
                                 shape_parameter_average, system_dimension, system_order)
 
@@ -42,6 +44,9 @@ PD_BINS = ("rough", "weak", "medium", "strong")  # P1 §5.3 bins drawn in Figs. 
 
 MEAN_GID = "mean"  # gid of every realization-mean curve, so that tests (and readers) can find them
 RHO_J_GID = "rho_J"
+RHO_MAX_GID = "rho_max"  # the dashed ρ_max line; the shading beyond it is BEYOND_RHO_MAX_GID
+BEYOND_RHO_MAX_GID = "beyond_rho_max"
+RHO_MAX_COLUMN = "rho_max"  # CSV column: ρ_max of P1's F_max rule for the row's system
 FORCE_CMAP = "viridis"
 
 LABEL_B0 = r"$B_0/N$"
@@ -76,19 +81,26 @@ RADIUS = "radius [d_ave]"
 @dataclass(frozen=True)
 class _System:
     name: str
-    data: xr.Dataset  # total force, ρ ≤ ρ_max
-    rho_j: float  # from the full ρ range
+    data: xr.Dataset  # total force, every simulated ρ
+    rho_j: float
     dimension: int
+    rho_max: float  # P1 §3 F_max rule; NaN when every ρ has ⟨F⟩ > F_max (`rho_max_below_grid`)
+    rho_max_below_grid: bool = False
 
 
-def _systems(measures: Mapping[str, xr.Dataset]) -> list[_System]:
-    """The systems in P1's order, each cut at its ρ_max (P1 §3 F_max rule) and with its ρ_J."""
+def _systems(measures: Mapping[str, xr.Dataset], force_unit: str = DEFAULT_P1_FORCE_UNIT) -> list[_System]:
+    """The systems in P1's order, each with its ρ_J and its ρ_max (P1 §3 F_max rule, ⟨F⟩ in `force_unit`)."""
     if not measures:
         raise ValueError("no system to plot")
-    cut = f_max_cut(measures)
-    return [_System(name, cut_at_rho_max(select_total(measures[name]), cut.rho_max[name]),
-                    jamming_point(measures[name]), system_dimension(measures[name], name))
+    cut = f_max_cut(measures, force_unit)
+    return [_System(name, select_total(measures[name]), jamming_point(measures[name]),
+                    system_dimension(measures[name], name), cut.rho_max[name], cut.below_grid(name))
             for name in system_order(measures)]
+
+
+def _marks(system: _System) -> dict:
+    """The ρ_J and ρ_max columns every ρ-curve row carries (the CSV says where P1 would stop showing data)."""
+    return {cols.RHO_J: system.rho_j, RHO_MAX_COLUMN: system.rho_max}
 
 
 def _figure(n_panels: int, ncols: int = 3, size=(4.2, 3.3), projections: Sequence[str | None] | None = None):
@@ -126,7 +138,7 @@ def _mean_rows(values: xr.DataArray | tuple, system: _System, family: str, famil
         blocks.append(_spread_rows(cols.RHO, rho, mean.sel(threshold=value).transpose("rho"),
                                    spread.sel(threshold=value).transpose("rho"), **{
             cols.PANEL: panel, cols.SYSTEM: system.name, cols.QUANTITY: quantity, family: value,
-            cols.RHO_J: system.rho_j}))
+            **_marks(system)}))
     return concat(blocks)
 
 
@@ -166,6 +178,24 @@ def _mark_jamming(ax, rho_j: float, name: str) -> None:
         ax.axvline(rho_j, color=system_color(name), linestyle=":", linewidth=1, gid=RHO_J_GID)
 
 
+def _mark_rho_max(ax, rows: pd.DataFrame, name: str, color=None, label: bool = True) -> None:
+    """ρ_max of P1's F_max rule (§3) as a dashed vertical line, the ρ beyond it (where P1 shows nothing) lightly
+    shaded; every ρ shaded when ρ_max lies below the grid (NaN)."""
+    if RHO_MAX_COLUMN not in rows or cols.RHO not in rows:
+        return
+    color = system_color(name) if color is None else color
+    rho_max = float(rows[RHO_MAX_COLUMN].iloc[0])
+    low, high = float(rows[cols.RHO].min()), float(rows[cols.RHO].max())
+    if not np.isfinite(rho_max):
+        ax.axvspan(low, high, color=color, alpha=0.08, linewidth=0, gid=BEYOND_RHO_MAX_GID,
+                   label=r"every $\rho$ > $\rho_{max}$ (P1 §3)" if label else None)
+        return
+    ax.axvline(rho_max, color=color, linestyle="--", linewidth=1, gid=RHO_MAX_GID,
+               label=r"$\rho_{max}$ (P1 §3)" if label else None)
+    if high > rho_max:
+        ax.axvspan(rho_max, high, color=color, alpha=0.08, linewidth=0, gid=BEYOND_RHO_MAX_GID)
+
+
 def _title(ax, name: str, extra: str = "") -> None:
     ax.set_title(system_label(name) + extra, color=system_color(name))
 
@@ -177,6 +207,7 @@ def _draw_family(ax, rows: pd.DataFrame, family: str, label: Callable[[float], s
     for color, value in zip(_shades(name, len(values)), values):
         _draw_rows(ax, rows[rows[family] == value], cols.RHO, color, label=label(value))
     _mark_jamming(ax, float(rows[cols.RHO_J].iloc[0]), name)
+    _mark_rho_max(ax, rows, name)
     ax.set_xlabel(LABELS["rho"])
     ax.set_ylabel(QUANTITY_LABELS[rows[cols.QUANTITY].iloc[0]])
     _title(ax, name)
@@ -200,7 +231,7 @@ def _heat_rows(system: _System, values: xr.DataArray, quantity: str, panel: int)
     values = values.transpose("rho", "threshold")
     rho = np.repeat(rho_values(system.data), values.sizes["threshold"])
     threshold = np.tile(values["threshold"].values, values.sizes["rho"])
-    return pd.DataFrame({cols.PANEL: panel, cols.SYSTEM: system.name, cols.QUANTITY: quantity, cols.RHO_J: system.rho_j,
+    return pd.DataFrame({cols.PANEL: panel, cols.SYSTEM: system.name, cols.QUANTITY: quantity, **_marks(system),
                          cols.RHO: rho, cols.THRESHOLD: threshold, cols.MEAN: values.values.ravel()})
 
 
@@ -213,6 +244,7 @@ def _draw_heat_maps(data: FigureData) -> Figure:
         name = rows[cols.SYSTEM].iloc[0]
         fig.colorbar(mesh, ax=ax, label=QUANTITY_LABELS[rows[cols.QUANTITY].iloc[0]])
         _mark_jamming(ax, float(rows[cols.RHO_J].iloc[0]), name)
+        _mark_rho_max(ax, rows, name, color="white", label=False)
         ax.set_xlabel(LABELS["rho"])
         ax.set_ylabel(LABELS["threshold"])
         _title(ax, name)
@@ -304,18 +336,21 @@ def draw_network_panel(ax, rows: pd.DataFrame, box, norm: Normalize) -> None:
     _title(ax, rows[cols.SYSTEM].iloc[0], rf", $\rho$ = {float(rows[cols.RHO].iloc[0]):.3f}")
 
 
-def prepare_fig02_betti0_surface(measures: Mapping[str, xr.Dataset]) -> FigureData:
+def prepare_fig02_betti0_surface(measures: Mapping[str, xr.Dataset], *,
+                                 force_unit: str = DEFAULT_P1_FORCE_UNIT) -> FigureData:
     """F2: B0/N over (ρ, F_th), realization mean, one map per system."""
     return FigureData(concat(
         _heat_rows(system, per_particle(system.data, "betti").sel(homology_dim=0).mean("realization", skipna=True),
                    "B0/N", panel)
-        for panel, system in enumerate(_systems(measures))))
+        for panel, system in enumerate(_systems(measures, force_unit))))
 
 
-def prepare_fig03_force_pdf(measures: Mapping[str, xr.Dataset], *, n_rho: int = 6) -> FigureData:
-    """F3: PDF of F/⟨F⟩ (total force) at `n_rho` packing fractions up to ρ_max."""
+def prepare_fig03_force_pdf(measures: Mapping[str, xr.Dataset], *, n_rho: int = 6,
+                            force_unit: str = DEFAULT_P1_FORCE_UNIT) -> FigureData:
+    """F3: PDF of F/⟨F⟩ (total force) at `n_rho` packing fractions spread over the grid; those beyond ρ_max (not
+    shown in P1) are drawn dashed."""
     blocks = []
-    for panel, system in enumerate(_systems(measures)):
+    for panel, system in enumerate(_systems(measures, force_unit)):
         pdf = system.data["force_pdf"]
         mean, spread = mean_and_spread(pdf)
         rho = rho_values(system.data)
@@ -323,7 +358,8 @@ def prepare_fig03_force_pdf(measures: Mapping[str, xr.Dataset], *, n_rho: int = 
         for index in picks:
             blocks.append(_spread_rows(cols.FORCE, pdf["force_bin"].values, mean.isel(rho=index),
                                        spread.isel(rho=index), **{
-                cols.PANEL: panel, cols.SYSTEM: system.name, cols.QUANTITY: "PDF [<F>^-1]", cols.RHO: rho[index]}))
+                cols.PANEL: panel, cols.SYSTEM: system.name, cols.QUANTITY: "PDF [<F>^-1]", cols.RHO: rho[index],
+                RHO_MAX_COLUMN: system.rho_max}))
     return FigureData(concat(blocks))
 
 
@@ -333,8 +369,12 @@ def draw_fig03_force_pdf(data: FigureData) -> Figure:
     for ax, rows in panels:
         name = rows[cols.SYSTEM].iloc[0]
         values = sorted(rows[cols.RHO].unique())
+        rho_max = float(rows[RHO_MAX_COLUMN].iloc[0])
         for color, rho in zip(_shades(name, len(values)), values):
-            _draw_rows(ax, rows[rows[cols.RHO] == rho], cols.FORCE, color, label=rf"$\rho$ = {rho:.3f}")
+            beyond = rho > rho_max + 1e-12  # beyond P1's range (False when ρ_max is NaN)
+            _draw_rows(ax, rows[rows[cols.RHO] == rho], cols.FORCE, color,
+                       label=rf"$\rho$ = {rho:.3f}" + (r" > $\rho_{max}$" if beyond else ""),
+                       linestyle="--" if beyond else "-")
         ax.set_xlabel(LABELS["force"])
         ax.set_ylabel(QUANTITY_LABELS["PDF [<F>^-1]"])
         _title(ax, name)
@@ -343,26 +383,28 @@ def draw_fig03_force_pdf(data: FigureData) -> Figure:
 
 
 def prepare_fig04_cluster_size(measures: Mapping[str, xr.Dataset], *,
-                               thresholds: Sequence[float] = DEFAULT_THRESHOLDS) -> FigureData:
+                               thresholds: Sequence[float] = DEFAULT_THRESHOLDS,
+                               force_unit: str = DEFAULT_P1_FORCE_UNIT) -> FigureData:
     """F4: mean size ⟨S⟩/N of the non-percolating clusters versus ρ, one curve per F_th."""
     return FigureData(concat(_threshold_rows(system, per_particle(system.data, "cluster_mean_size"), thresholds,
                                              "<S>/N", panel)
-                             for panel, system in enumerate(_systems(measures))))
+                             for panel, system in enumerate(_systems(measures, force_unit))))
 
 
 def prepare_fig05_percolating_size(measures: Mapping[str, xr.Dataset], *,
-                                   thresholds: Sequence[float] = DEFAULT_THRESHOLDS) -> FigureData:
+                                   thresholds: Sequence[float] = DEFAULT_THRESHOLDS,
+                                   force_unit: str = DEFAULT_P1_FORCE_UNIT) -> FigureData:
     """F5: N_per/N versus ρ per F_th, averaged over the percolating realizations and shown only where at
     least 50 % of the realizations percolate (P1 §4.3)."""
     return FigureData(concat(_threshold_rows(system, percolating_size_mean(system.data), thresholds, "N_per/N", panel)
-                             for panel, system in enumerate(_systems(measures))))
+                             for panel, system in enumerate(_systems(measures, force_unit))))
 
 
 def prepare_fig06_betti0(measures: Mapping[str, xr.Dataset], *, thresholds: Sequence[float] = DEFAULT_THRESHOLDS,
-                         zoom_curves: int = 4) -> FigureData:
+                         zoom_curves: int = 4, force_unit: str = DEFAULT_P1_FORCE_UNIT) -> FigureData:
     """F6: B0/N versus ρ per F_th; for each 3D system an extra close-up of the F_th < 0.5 curves around ρ_J
     (P1 Fig. 6d). layout["close_up"] maps each close-up panel to its ρ range (None: the whole range)."""
-    systems = _systems(measures)
+    systems = _systems(measures, force_unit)
     blocks = [_threshold_rows(system, per_particle(system.data, "betti").sel(homology_dim=0), thresholds, "B0/N", panel)
               for panel, system in enumerate(systems)]
     close_up = {}
@@ -398,27 +440,30 @@ def draw_fig06_betti0(data: FigureData) -> Figure:
 
 
 def prepare_fig07_loops(measures: Mapping[str, xr.Dataset], *,
-                        thresholds: Sequence[float] = DEFAULT_THRESHOLDS) -> FigureData:
+                        thresholds: Sequence[float] = DEFAULT_THRESHOLDS,
+                        force_unit: str = DEFAULT_P1_FORCE_UNIT) -> FigureData:
     """F7: B1/N versus ρ per F_th for every system, and B2/N for the 3D ones."""
-    systems = _systems(measures)
+    systems = _systems(measures, force_unit)
     panels = [(s, 1) for s in systems] + [(s, 2) for s in systems if s.dimension == 3]
     return FigureData(concat(_threshold_rows(system, per_particle(system.data, "betti").sel(homology_dim=k),
                                              thresholds, f"B{k}/N", panel)
                              for panel, (system, k) in enumerate(panels)))
 
 
-def prepare_fig08_shape_surface(measures: Mapping[str, xr.Dataset]) -> FigureData:
+def prepare_fig08_shape_surface(measures: Mapping[str, xr.Dataset], *,
+                                force_unit: str = DEFAULT_P1_FORCE_UNIT) -> FigureData:
     """F8: shape parameter S_p over (ρ, F_th) with P1's averaging rule (§5.2)."""
     return FigureData(concat(_heat_rows(system, shape_parameter_average(system.data["shape_parameter"])[0], "S_p", panel)
-                             for panel, system in enumerate(_systems(measures))))
+                             for panel, system in enumerate(_systems(measures, force_unit))))
 
 
 def prepare_fig09_shape_sections(measures: Mapping[str, xr.Dataset], *,
-                                 thresholds: Sequence[float] = DEFAULT_THRESHOLDS) -> FigureData:
+                                 thresholds: Sequence[float] = DEFAULT_THRESHOLDS,
+                                 force_unit: str = DEFAULT_P1_FORCE_UNIT) -> FigureData:
     """F9: S_p versus ρ for chosen F_th (P1's averaging rule; band: spread over the nonzero realizations)."""
     return FigureData(concat(_threshold_rows(system, shape_parameter_average(system.data["shape_parameter"]),
                                              thresholds, "S_p", panel)
-                             for panel, system in enumerate(_systems(measures))))
+                             for panel, system in enumerate(_systems(measures, force_unit))))
 
 
 def prepare_fig10_persistence_diagram(measures: Mapping[str, xr.Dataset], diagrams: Mapping[str, xr.Dataset], *,
@@ -483,10 +528,11 @@ def draw_fig10_persistence_diagram(data: FigureData) -> Figure:
     return fig
 
 
-def prepare_fig11_persistence_bins(measures: Mapping[str, xr.Dataset]) -> FigureData:
+def prepare_fig11_persistence_bins(measures: Mapping[str, xr.Dataset], *,
+                                   force_unit: str = DEFAULT_P1_FORCE_UNIT) -> FigureData:
     """F11: PD0 points per bin N0/N versus ρ; rows rough/weak/medium/strong, columns 2D and 3D (P1 Fig. 11),
     one curve per system. layout["columns"]: the number of panel columns (one per dimension)."""
-    systems = _systems(measures)
+    systems = _systems(measures, force_unit)
     dimensions = sorted({s.dimension for s in systems})
     blocks = []
     for row, bin_name in enumerate(PD_BINS):
@@ -497,7 +543,7 @@ def prepare_fig11_persistence_bins(measures: Mapping[str, xr.Dataset]) -> Figure
                 blocks.append(_spread_rows(cols.RHO, rho_values(system.data), mean, spread, **{
                                              cols.PANEL: row * len(dimensions) + col, cols.SYSTEM: system.name,
                                              "persistence_bin": bin_name, "dimension": dimension,
-                                             cols.QUANTITY: "N0/N", cols.RHO_J: system.rho_j}))
+                                             cols.QUANTITY: "N0/N", **_marks(system)}))
     return FigureData(concat(blocks), {"columns": len(dimensions)})
 
 
@@ -509,6 +555,7 @@ def draw_fig11_persistence_bins(data: FigureData) -> Figure:
         for name, curve in rows.groupby(cols.SYSTEM, sort=False):
             _draw_rows(ax, curve, cols.RHO, system_color(name), label=system_label(name))
             _mark_jamming(ax, float(curve[cols.RHO_J].iloc[0]), name)
+            _mark_rho_max(ax, curve, name, label=False)
         ax.set_xlabel(LABELS["rho"])
         ax.set_ylabel(LABEL_N0)
         ax.set_title(f"{rows['persistence_bin'].iloc[0]}, {rows['dimension'].iloc[0]}D")
@@ -516,16 +563,17 @@ def draw_fig11_persistence_bins(data: FigureData) -> Figure:
     return fig
 
 
-def prepare_fig12_total_persistence(measures: Mapping[str, xr.Dataset]) -> FigureData:
+def prepare_fig12_total_persistence(measures: Mapping[str, xr.Dataset], *,
+                                    force_unit: str = DEFAULT_P1_FORCE_UNIT) -> FigureData:
     """F12: total persistence TP0/N and TP1/N of the total-force network versus ρ."""
     blocks = []
-    for panel, system in enumerate(_systems(measures)):
+    for panel, system in enumerate(_systems(measures, force_unit)):
         tp = per_particle(system.data, "total_persistence")
         for k in (0, 1):
             mean, spread = mean_and_spread(tp.sel(homology_dim=k))
             blocks.append(_spread_rows(cols.RHO, rho_values(system.data), mean, spread, **{
                                          cols.PANEL: panel, cols.SYSTEM: system.name, cols.QUANTITY: "TP_k/N [<F>]",
-                                         HOMOLOGY_K: k, cols.RHO_J: system.rho_j}))
+                                         HOMOLOGY_K: k, **_marks(system)}))
     return FigureData(concat(blocks))
 
 
@@ -538,6 +586,7 @@ def draw_fig12_total_persistence(data: FigureData) -> Figure:
             _draw_rows(ax, rows[rows[HOMOLOGY_K] == k], cols.RHO, system_color(name), label=rf"$TP_{k}/N$",
                        linestyle=style)
         _mark_jamming(ax, float(rows[cols.RHO_J].iloc[0]), name)
+        _mark_rho_max(ax, rows, name)
         ax.set_xlabel(LABELS["rho"])
         ax.set_ylabel(LABEL_TP)
         _title(ax, name)
@@ -545,9 +594,10 @@ def draw_fig12_total_persistence(data: FigureData) -> Figure:
     return fig
 
 
-def prepare_z_jamming(measures: Mapping[str, xr.Dataset]) -> FigureData:
-    """Z(ρ) of every system over its whole ρ grid, with ρ_J (inflection, P1 §4) and Z(ρ_J) on every row."""
+def prepare_z_jamming(measures: Mapping[str, xr.Dataset], *, force_unit: str = DEFAULT_P1_FORCE_UNIT) -> FigureData:
+    """Z(ρ) of every system over its whole ρ grid, with ρ_J (inflection, P1 §4), Z(ρ_J) and ρ_max on every row."""
     blocks = []
+    rho_max = {system.name: system.rho_max for system in _systems(measures, force_unit)}
     for name in system_order(measures):
         ds = measures[name]
         mean, spread = mean_and_spread(ds["Z"])
@@ -556,7 +606,7 @@ def prepare_z_jamming(measures: Mapping[str, xr.Dataset]) -> FigureData:
         z_j = float(np.interp(rho_j, rho, mean.values)) if np.isfinite(rho_j) else float("nan")
         blocks.append(_spread_rows(cols.RHO, rho, mean, spread, **{
             cols.PANEL: 0, cols.SYSTEM: name, "dimension": system_dimension(ds, name), cols.QUANTITY: "Z",
-            cols.RHO_J: rho_j, "Z(rho_J)": z_j}))
+            cols.RHO_J: rho_j, "Z(rho_J)": z_j, RHO_MAX_COLUMN: rho_max[name]}))
     return FigureData(concat(blocks))
 
 
@@ -570,6 +620,7 @@ def draw_z_jamming(data: FigureData) -> Figure:
         if np.isfinite(rho_j):
             ax.plot([rho_j], [float(rows["Z(rho_J)"].iloc[0])], marker="o", markersize=7, markerfacecolor="white",
                     color=color, gid=RHO_J_GID, label=rf"$\rho_J$ = {rho_j:.3f}")
+        _mark_rho_max(ax, rows, name, label=False)
     for dimension in sorted(data.table["dimension"].unique()):
         ax.axhline(dimension + 1, color="0.5", linestyle=":", linewidth=0.8, gid="isostatic")
         ax.annotate(f"Z = d + 1 = {dimension + 1} ({dimension}D)", (0.01, dimension + 1),
@@ -594,7 +645,8 @@ class P1Figure:
     caption: str
 
 
-_CUT = " Packing fractions up to ρ_max (P1 §3 F_max rule); mean over realizations, band ± 1 s.d."
+_CUT = (" Every simulated ρ; ρ_max of P1's F_max rule (§3) dashed, the range beyond it (not shown in P1) shaded;"
+        " mean over realizations, band ± 1 s.d.")
 P1_FIGURES: dict[str, P1Figure] = {
     "p1_fig01_networks": P1Figure(prepare_fig01_networks, draw_fig01_networks, ("snapshots",),
                                   "Fig. 1: force networks in 2D and 3D, contacts coloured by F/⟨F⟩."),
@@ -631,9 +683,11 @@ P1_FIGURES: dict[str, P1Figure] = {
 
 def p1_figure_data(name: str, measures: Mapping[str, xr.Dataset] | None = None,
                    diagrams: Mapping[str, xr.Dataset] | None = None,
-                   snapshots: Mapping[str, xr.Dataset] | None = None, **options) -> FigureData:
+                   snapshots: Mapping[str, xr.Dataset] | None = None, force_unit: str | None = None,
+                   **options) -> FigureData:
     """The plotted values of the P1 figure `name` (a key of `P1_FIGURES`) from datasets keyed by system name;
-    `options` go to its preparation (e.g. ``thresholds``, ``rho``)."""
+    `options` go to its preparation (e.g. ``thresholds``, ``rho``); `force_unit` (``analysis.p1_force_unit``) to
+    the ρ-axis figures, which mark ρ_max of P1's F_max rule in it."""
     if name not in P1_FIGURES:
         raise KeyError(f"unknown P1 figure {name!r}; known: {', '.join(P1_FIGURES)}")
     spec = P1_FIGURES[name]
@@ -641,6 +695,8 @@ def p1_figure_data(name: str, measures: Mapping[str, xr.Dataset] | None = None,
     missing = [need for need in spec.needs if not given[need]]
     if missing:
         raise ValueError(f"{name} needs {', '.join(missing)}")
+    if force_unit is not None and "force_unit" in inspect.signature(spec.prepare).parameters:
+        options["force_unit"] = force_unit
     return spec.prepare(**{need: given[need] for need in spec.needs}, **options)
 
 
