@@ -4,8 +4,10 @@ and one that draws it.
 The preparation (`prepare_*`) takes the aggregated datasets keyed by system name — ``measures``
 (network_measures.nc), ``diagrams`` (diagrams.nc), ``snapshots`` (one snapshot file per system) — and returns a
 `FigureData` whose table holds every plotted value (the figure's CSV); the drawing (`draw_*`) turns that into a
-matplotlib Figure and reads nothing else. The preparations only select and average: the reductions P1 defines (F_max cut at ρ_max, S_p averaging rule, ≥ 50 % percolation
-rule, jamming point) live in `forcenet.report.p1` and are shared with the validation table. Curves are
+matplotlib Figure and reads nothing else. The preparations only select and average: the reductions P1 defines
+(F_max rule → ρ_max, S_p averaging rule, ≥ 50 % percolation rule, jamming point) live in `forcenet.report.p1`
+and are shared with the validation table. Every simulated ρ is drawn; ρ_max, with ⟨F⟩ compared in `force_unit`
+(``analysis.p1_force_unit``), is a dashed line on every ρ axis with the range beyond it shaded. Curves are
 realization means with ± one standard deviation over the realizations as a band; each system keeps its colour
 (`forcenet.plotting.style.system_color`), a family of curves within a panel (F_th, ρ) uses shades of it.
 
