@@ -111,7 +111,7 @@ def test_a_broken_input_stops_the_job_with_one_line_and_writes_nothing(good, tmp
                                          measures_path=str(out / "m.nc"), diagrams_path=str(out / "d.nc"),
                                          config=CONFIG, system="2d_linear", log_path=str(log))
     elif kind == "network_measures":
-        job = lambda: pipeline.p1_validation_table(measures=inputs, systems=["2d_linear"],  # noqa: E731
+        job = lambda: pipeline.p1_validation_table(measures=inputs, systems=["2d_linear"], force_unit="dyn",  # noqa: E731
                                                    csv=str(out / "t.csv"), md=str(out / "t.md"), log_path=str(log))
     elif kind == "diagrams":
         job = lambda: pipeline.figure(name="p1_fig10_persistence_diagram", systems=["2d_linear"],  # noqa: E731

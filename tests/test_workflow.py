@@ -126,7 +126,7 @@ def test_the_readme_resume_instructions_work_after_sigkill(tmp_path):
     config["realizations"] = 1
     path = tmp_path / "one.yaml"
     path.write_text(yaml.safe_dump(config))
-    grid = {"start": 0.74, "stop": 0.88, "step": 0.02}
+    grid = {"start": 0.74, "stop": 0.88, "step": 0.01}
     assert config["systems"]["2d_linear"]["rho"] == grid
     target = "results/sim/2d_linear/r00/rho0.880.nc"
 
