@@ -9,7 +9,7 @@ from snakemake.utils import validate
 
 sys.path.insert(0, str(Path(workflow.basedir) / "src"))  # works before `pip install -e .` too
 
-from forcenet.pipeline import SNAPSHOT_ANALYSIS_KEYS, realization_index
+from forcenet.pipeline import realization_index, snapshot_analysis_params
 from forcenet.systems import ConfigError, validate_config
 
 validate(config, str(Path(workflow.basedir) / "workflow/schemas/config.schema.yaml"))

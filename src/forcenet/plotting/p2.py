@@ -32,7 +32,7 @@ RATIO_LABEL = r"ratio of distances $d_B/d_{Wq}$"
 
 # --- Fig. 1: three nearby snapshots and |ΔF| between them ------------------------------------------------------
 def p2_fig01_snapshots_differences(snapshots: Sequence[xr.Dataset], *, kind: str = "normal",
-                                   system: str = report.FRICTIONAL, remove_rattlers: bool = False) -> Figure:
+                                   system: str = report.FRICTIONAL, remove_rattlers: bool | str = False) -> Figure:
     """P2 Fig. 1: (a–c) the force network of three nearby snapshots, colour = F/⟨F⟩ of that snapshot;
     (d) |F_b − F_a| and (e) |F_c − F_a| on the contacts of either snapshot (a contact missing in one has F = 0
     there), drawn at snapshot a's particle positions."""
@@ -117,20 +117,20 @@ def p2_fig03_diagrams(analysis: xr.Dataset, *, kind: str = "normal", system: str
 # --- Figs 6, 8, 9: distances vs ρ with Z(ρ) ------------------------------------------------------------------------
 def p2_fig06_distances_normal_mu05(distances: xr.Dataset, *, system: str = report.FRICTIONAL) -> Figure:
     """P2 Fig. 6: d_B, d_W1, d_W2 between consecutive PDs vs ρ, β0 and β1, normal forces, μ = 0.5; Z(ρ)."""
-    return _distance_figure(distances, "normal", system, "P2 Fig. 6")
+    return _distance_figure(distances, "normal", system, 6)
 
 
 def p2_fig08_distances_tangential_mu05(distances: xr.Dataset, *, system: str = report.FRICTIONAL) -> Figure:
     """P2 Fig. 8: as Fig. 6 for the tangential forces (each network normalised by its mean tangential force)."""
-    return _distance_figure(distances, "tangential", system, "P2 Fig. 8")
+    return _distance_figure(distances, "tangential", system, 8)
 
 
 def p2_fig09_distances_normal_mu0(distances: xr.Dataset, *, system: str = report.FRICTIONLESS) -> Figure:
     """P2 Fig. 9: as Fig. 6 for the frictionless system (μ = 0)."""
-    return _distance_figure(distances, "normal", system, "P2 Fig. 9")
+    return _distance_figure(distances, "normal", system, 9)
 
 
-def _distance_figure(distances: xr.Dataset, kind: str, system: str, source: str) -> Figure:
+def _distance_figure(distances: xr.Dataset, kind: str, system: str, p2_figure: int) -> Figure:
     apply_style()
     fig, axes = plt.subplots(1, 2, figsize=(11.5, 4.6), constrained_layout=True)
     dimension, rho_j = _jamming(distances)
@@ -140,11 +140,21 @@ def _distance_figure(distances: xr.Dataset, kind: str, system: str, source: str)
             _mean_band(ax, report.realization_mean(da), da, METRIC_COLORS[metric], METRIC_MARKERS[metric],
                        METRIC_TEX[metric])
         _log_panel_vs_rho(ax, h, DISTANCE_LABEL, rho_j, dimension)
+        _mark_quoted_levels(ax, p2_figure, h, distances["rho"].values, rho_j)
         twin = _z_twin(ax, distances, system, dimension)
     _figure_legend(fig, [axes[0], twin])
     fig.suptitle(f"{system_label(system)}, {KIND_WORDS.get(kind, kind)}: distances between consecutive states "
-                 f"({_realizations_text(distances)}; {source})")
+                 f"({_realizations_text(distances)}; P2 Fig. {p2_figure})")
     return fig
+
+
+def _mark_quoted_levels(ax, p2_figure: int, h: int, rho: np.ndarray, rho_j: float) -> None:
+    """P2's quoted levels for this panel (`report.P2_QUOTED_LEVELS`) as grey dashed segments over their ρ range."""
+    for level in report.quoted_levels(p2_figure, h):
+        high = rho_j if level.rho_below == "rho_J" else float(level.rho_below)
+        if np.isfinite(high) and high > float(np.min(rho)):
+            ax.hlines(level.value, float(np.min(rho)), min(high, float(np.max(rho))), colors="0.35",
+                      linestyles=(0, (5, 3)), lw=1.4, label=level.text)
 
 
 def _jamming(distances: xr.Dataset) -> tuple[int, float]:
@@ -188,21 +198,21 @@ def _figure_legend(fig, axes) -> None:
             if label not in labels:
                 handles.append(handle)
                 labels.append(label)
-    fig.legend(handles, labels, loc="outside lower center", ncol=len(labels), frameon=False)
+    fig.legend(handles, labels, loc="outside lower center", ncol=min(len(labels), 4), frameon=False)
 
 
 # --- Figs 7, 10: ratios d_B/d_W1 and d_B/d_W2 ---------------------------------------------------------------------
 def p2_fig07_ratios_mu05(distances: xr.Dataset, *, kind: str = "normal", system: str = report.FRICTIONAL) -> Figure:
     """P2 Fig. 7: d_B/d_W1 and d_B/d_W2 vs ρ, β0 and β1, μ = 0.5 (normal forces)."""
-    return _ratio_figure(distances, kind, system, "P2 Fig. 7")
+    return _ratio_figure(distances, kind, system, 7)
 
 
 def p2_fig10_ratios_mu0(distances: xr.Dataset, *, kind: str = "normal", system: str = report.FRICTIONLESS) -> Figure:
     """P2 Fig. 10: as Fig. 7 for the frictionless system (μ = 0)."""
-    return _ratio_figure(distances, kind, system, "P2 Fig. 10")
+    return _ratio_figure(distances, kind, system, 10)
 
 
-def _ratio_figure(distances: xr.Dataset, kind: str, system: str, source: str) -> Figure:
+def _ratio_figure(distances: xr.Dataset, kind: str, system: str, p2_figure: int) -> Figure:
     apply_style()
     fig, axes = plt.subplots(1, 2, figsize=(11, 4.4), constrained_layout=True)
     dimension, rho_j = _jamming(distances)
@@ -213,9 +223,10 @@ def _ratio_figure(distances: xr.Dataset, kind: str, system: str, source: str) ->
                        report.distance_ratio(distances, den).sel(panel),
                        METRIC_COLORS[den], METRIC_MARKERS[den], rf"$d_B/${METRIC_TEX[den]}")
         _log_panel_vs_rho(ax, h, RATIO_LABEL, rho_j, dimension)
+        _mark_quoted_levels(ax, p2_figure, h, distances["rho"].values, rho_j)
     _figure_legend(fig, [axes[0]])
     fig.suptitle(f"{system_label(system)}, {KIND_WORDS.get(kind, kind)}: ratios of the rates of change "
-                 f"({_realizations_text(distances)}; {source})")
+                 f"({_realizations_text(distances)}; P2 Fig. {p2_figure})")
     return fig
 
 
