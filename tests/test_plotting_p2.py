@@ -212,7 +212,7 @@ def test_ratio_and_distance_figures_mark_p2_quoted_levels():
     try:
         [(level, lo, hi, label)] = quoted_segments(fig.axes[0])
         rho_j = report.jamming_density(ds)
-        assert level == 10.0 and hi == pytest.approx(rho_j) and "ρ_J" in label
+        assert level == 10.0 and hi == pytest.approx(rho_j) and r"\rho_J" in label
     finally:
         plt.close(fig)
     fig = figures.p2_fig10_ratios_mu0(p2_shaped(frictionless=True))

@@ -689,3 +689,60 @@ def test_a_comparison_of_two_zero_rates_is_not_evaluated():
     assert "both rates are 0" in table.loc["IV.C-5", "measured"]
     # zero before jamming but positive after: the rate did not fall after jamming (IV.A-11 does not hold)
     assert table.loc["IV.A-11a", "verdict"] == p2.FAILS
+
+
+# --- explanations of the claims that do not hold -----------------------------------------------------------------
+def test_every_claim_has_an_explanation():
+    assert set(p2.EXPLANATIONS) == {c.claim_id for c in p2.CLAIMS}
+
+
+def test_explanations_are_given_exactly_where_a_claim_does_not_hold():
+    table = p2.p2_validation(both_systems(), paper_tables()).set_index("claim_id")
+    for claim_id, row in table.iterrows():
+        assert (row["explanation"] != "") == (row["verdict"] != p2.HOLDS), claim_id
+    assert table.loc["V-2", "explanation"].startswith("Not a small-system effect")
+    # without network measures the diagnostic says why it is missing instead of failing
+    assert "no never-dying class counts" in table.loc["V-2", "explanation"]
+
+
+def measures_with_never_dying_changes(ds, changing_pairs):
+    """network_measures-like dataset for distances `ds`: one more state than pairs, the count of never-dying
+    normal PD1 classes changing at the given pair indices (0 = first pair) of every realization."""
+    n_pairs = ds.sizes["rho"]
+    rho = np.concatenate([[float(ds["rho"][0]) - 0.005], ds["rho"].values])
+    steps = np.zeros(n_pairs, dtype=int)
+    steps[list(changing_pairs)] = 1
+    count = np.concatenate([[10], 10 + np.cumsum(steps)])
+    values = np.zeros((ds.sizes["realization"], n_pairs + 1, 3, 2), dtype=int)
+    values[:, :, FORCE_KINDS.index("normal"), 1] = count
+    return xr.Dataset({"essential_count": (("realization", "rho", "force_kind", "homology_dim"), values)},
+                      coords={"realization": ds["realization"].values, "rho": rho, "force_kind": list(FORCE_KINDS),
+                              "homology_dim": [0, 1]})
+
+
+def test_never_dying_diagnostic_counts_the_pairs_that_change_the_class_count():
+    ds = p2_shaped()  # rho_J = 0.78; pairs after it: later states 0.785 .. 0.900 (24 per realization)
+    after = np.flatnonzero(ds["rho"].values > 0.78)
+    assert after.size == 24
+    changing = after[::4]  # 6 of the 24
+    ds["distance"].loc[dict(force_kind="normal", homology_dim=1, metric="bottleneck")] = 0.02
+    ds["distance"].loc[dict(force_kind="normal", homology_dim=1, metric="bottleneck",
+                            rho=ds["rho"].values[changing])] = 0.5
+    ctx = p2._Context({p2.FRICTIONAL: p2._Curves(p2.FRICTIONAL, ds, 2, p2.ValidationTolerances())}, None,
+                      p2.ValidationTolerances(), p2.FRICTIONAL, p2.FRICTIONLESS,
+                      {p2.FRICTIONAL: measures_with_never_dying_changes(ds, changing)})
+    text = p2._never_dying_events(lambda c: c.frictional, 1, "after")(ctx)
+    assert "25 % of the 72 consecutive pairs" in text and "median d_B of the other pairs 0.02" in text
+    # a measures file that does not match the distances is not used
+    ctx.measures[p2.FRICTIONAL] = measures_with_never_dying_changes(ds.isel(rho=slice(1, None)), [])
+    with pytest.raises(p2._NotEvaluated, match="different states"):
+        p2._never_dying_events(lambda c: c.frictional, 1, "after")(ctx)
+
+
+def test_table_state_diagnostic_reports_where_a_b_c_lie():
+    states = p2.table_state_candidates([state_analysis(r, rho, z, f) for r in (0, 1, 2)
+                                        for rho, z, f in zip((0.788, 0.791, 0.794), (2.8, 2.9, 3.0), (1.0, 2.0, 4.0))])
+    ctx = p2._Context({p2.FRICTIONAL: p2._Curves(p2.FRICTIONAL, p2_shaped(), 2, p2.ValidationTolerances())}, None,
+                      p2.ValidationTolerances(), p2.FRICTIONAL, p2.FRICTIONLESS, {}, states)
+    text = p2._table_state_diagnostic(ctx)
+    assert "realization 0 (the quietest of 3" in text and "<F_n> x 4.00" in text and "Z 2.80 -> 3.00" in text

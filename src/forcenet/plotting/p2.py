@@ -57,7 +57,8 @@ def p2_fig01_snapshots_differences(snapshots: Sequence[xr.Dataset], *, kind: str
     side.axis("off")
     fig.colorbar(lines, cax=side.inset_axes([0.0, 0.1, 0.06, 0.8]),
                  label=r"$|\Delta F|/\langle F\rangle$ (each snapshot normalised by its own mean)")
-    side.text(0.45, 0.5, f"{system_label(system)}\n{KIND_WORDS.get(kind, kind)}\n"
+    side.text(0.45, 0.5, f"{system_label(system)}, realization {snapshots[0].attrs.get('realization', '?')}\n"
+              f"{KIND_WORDS.get(kind, kind)}\n"
               + "\n".join(f"{letter}: ρ = {float(s['rho']):.4f}, Z = {float(s['Z']):.2f}"
                           for letter, s in zip("abc", snapshots)),
               transform=side.transAxes, va="center")
@@ -153,8 +154,8 @@ def _mark_quoted_levels(ax, p2_figure: int, h: int, rho: np.ndarray, rho_j: floa
     for level in report.quoted_levels(p2_figure, h):
         high = rho_j if level.rho_below == "rho_J" else float(level.rho_below)
         if np.isfinite(high) and high > float(np.min(rho)):
-            ax.hlines(level.value, float(np.min(rho)), min(high, float(np.max(rho))), colors="0.35",
-                      linestyles=(0, (5, 3)), lw=1.4, label=level.text)
+            ax.hlines(level.value, float(np.min(rho)), min(high, float(np.max(rho))), colors=METRIC_COLORS[level.metric],
+                      linestyles=(0, (5, 3)), lw=1.6, alpha=0.8, label=level.text)
 
 
 def _jamming(distances: xr.Dataset) -> tuple[int, float]:
