@@ -12,12 +12,20 @@ Products
   consecutive snapshots of each realization, dims (realization, rho, force_kind, homology_dim, metric), with
   Z(ρ). ``rho`` is the packing fraction of the *later* snapshot of each pair (P2 Figs 6–10 plot the distance
   between consecutive samples against ρ).
-- `select_table_snapshots`, `p2_tables`, `write_table` — Tables I–III: three nearby snapshots a, b, c around
-  ``table_rho`` (P2: ρ ≈ 0.79), distances (a,b) and (a,c) of the normal-force diagrams over the whole box
-  (Table I) and per quadrant of the box (Tables II, III), β0 and β1 × d_B, d_W1, d_W2, as P2 prints them.
+- `select_table_snapshots`, `table_state_candidates`, `chosen_states` — the states a, b, c of Tables I–III and
+  Figs 1, 3: three consecutive samples around ``table_rho`` (P2: ρ ≈ 0.79) of the realization whose Z and ⟨F_n⟩
+  change least over them (P2 Fig. 1: "almost identical").
+- `p2_tables`, `write_table` — Tables I–III: distances (a,b) and (a,c) of the normal-force diagrams over the
+  whole box (Table I) and per quadrant of the box (Tables II, III), β0 and β1 × d_B, d_W1, d_W2, as P2 prints
+  them, with P2's printed values (`P2_TABLE_VALUES`) and ours / P2's beside them.
+- `P2_QUOTED_LEVELS` — the levels P2 quotes in words for Figs 6–9 (drawn by `forcenet.plotting.p2`).
+- `lagged_distances`, `lagged_distance_summary` — distances between states k samples apart, per P2 regime: how
+  the sampling step and the wall speed change the distances (docs/p2_sampling.md, scripts/p2_sampling.py).
 - `p2_validation`, `p2_validation_markdown`, `write_p2_validation` — each claim of P2 §III D–§IV (and the
-  conclusions that summarise §IV) with the measured evidence, the criterion and a computed verdict. The only
-  numbers typed in are P2's own (the ``reference`` column and the ρ ranges it names); the tolerances are
+  conclusions that summarise §IV) with the measured evidence, the criterion, a computed verdict and, where it
+  does not hold, the explanation (`EXPLANATIONS`: the cause, measured in docs/p2_sampling.md, and diagnostics
+  measured on the same data). The only numbers typed in are P2's own (the ``reference`` column, the ρ ranges it
+  names, its printed tables) and, in the explanations, what docs/p2_sampling.md measured; the tolerances are
   fields of `ValidationTolerances`.
 """
 from __future__ import annotations
