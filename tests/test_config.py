@@ -13,7 +13,8 @@ import pytest
 import yaml
 
 from conftest import REPO, load_config
-from forcenet.systems import ConfigError, rho_grid, validate_config
+from forcenet.pipeline import snapshot_analysis_params
+from forcenet.systems import ConfigError, rho_grid, study_rattler_rule, validate_config
 
 SCHEMA = yaml.safe_load((REPO / "workflow/schemas/config.schema.yaml").read_text())
 CONFIGS = ["config.yaml", "paper.yaml", "smoke.yaml"]
@@ -79,6 +80,31 @@ def test_semantic_errors_name_the_key(default_config):
     config = _mutate(["systems", "2d_hertz", "time_step"], 0.5, default_config)
     with pytest.raises(ConfigError, match=r"systems\.2d_hertz\.time_step"):
         validate_config(config)
+
+
+def test_rattler_rule_is_chosen_per_study(default_config):
+    # shipped: P1 removes rattlers (analysis.remove_rattlers), P2 keeps them (studies.p2.remove_rattlers: false)
+    assert {s: study_rattler_rule(default_config, s) for s in default_config["studies"]["p1"]["systems"]} == {
+        "2d_linear": "once", "2d_hertz": "once", "3d_hertz": "once"}
+    assert {s: study_rattler_rule(default_config, s) for s in default_config["studies"]["p2"]["systems"]} == {
+        "2d_poly_mu05": "none", "2d_poly_mu0": "none"}
+    assert snapshot_analysis_params(default_config, "2d_poly_mu0")["remove_rattlers"] == "none"
+    assert snapshot_analysis_params(default_config, "2d_hertz")["remove_rattlers"] == "once"
+    # a study without the key uses analysis.remove_rattlers; a system in no study too
+    config = _mutate(["studies", "p2", "remove_rattlers"], KeyError, default_config)
+    assert study_rattler_rule(config, "2d_poly_mu05") == "once"
+    config = _mutate(["studies", "p2", "systems"], ["2d_poly_mu05"], default_config)
+    config["analysis"]["remove_rattlers"] = "iterative"
+    assert study_rattler_rule(config, "2d_poly_mu0") == "iterative"
+
+
+def test_a_system_in_two_studies_with_different_rattler_rules_is_refused(default_config):
+    config = _mutate(["studies", "p1", "systems"], ["2d_linear", "2d_poly_mu05"], default_config)
+    with pytest.raises(ConfigError, match=r"studies\.p2\.remove_rattlers|analysis\.remove_rattlers"):
+        validate_config(config)
+    config["studies"]["p1"]["remove_rattlers"] = False  # both keep rattlers: one analysis serves both
+    assert study_rattler_rule(config, "2d_poly_mu05") == "none"
+    assert schema_errors(_mutate(["studies", "p2", "remove_rattlers"], "sometimes", default_config))
 
 
 def test_rho_grid_forms():

@@ -185,3 +185,38 @@ def test_difference_maps_are_zero_where_nothing_changed(snapshots):
     key = {(i, j): q for i, j, q in zip(ci.tolist(), cj.tolist(), quadrant)}
     changed = np.array([key[i, j] == "bottom left" for i, j in zip(diff.i.tolist(), diff.j.tolist())])
     assert np.all(diff.force[~changed] == 0) and np.any(diff.force[changed] > 0)
+
+
+def quoted_segments(ax) -> list[tuple[float, float, float, str]]:
+    """(level, ρ from, ρ to, label) of the P2 levels drawn on a panel (horizontal LineCollections)."""
+    out = []
+    for collection in ax.collections:
+        if collection.get_label().startswith("P2"):
+            (x0, y0), (x1, y1) = collection.get_segments()[0]
+            assert y0 == y1
+            out.append((y0, x0, x1, collection.get_label()))
+    return out
+
+
+def test_ratio_and_distance_figures_mark_p2_quoted_levels():
+    ds = p2_shaped()  # rho 0.63 .. 0.90, rho_J = 0.78
+    fig = figures.p2_fig07_ratios_mu05(ds)
+    try:
+        beta0, beta1 = (quoted_segments(ax) for ax in fig.axes[:2])
+        assert sorted(level for level, *_ in beta0) == [0.2, 0.75]  # P2 §IV A, rho < 0.75
+        assert all(lo == pytest.approx(0.63) and hi == pytest.approx(0.75) for _, lo, hi, _ in beta0)
+        assert beta1 == []  # P2 quotes no level for loops
+    finally:
+        plt.close(fig)
+    fig = figures.p2_fig06_distances_normal_mu05(ds)
+    try:
+        [(level, lo, hi, label)] = quoted_segments(fig.axes[0])
+        rho_j = report.jamming_density(ds)
+        assert level == 10.0 and hi == pytest.approx(rho_j) and r"\rho_J" in label
+    finally:
+        plt.close(fig)
+    fig = figures.p2_fig10_ratios_mu0(p2_shaped(frictionless=True))
+    try:
+        assert all(quoted_segments(ax) == [] for ax in fig.axes)  # P2 gives no level for Fig. 10
+    finally:
+        plt.close(fig)

@@ -531,9 +531,218 @@ def test_validation_markdown_lists_every_claim(tmp_path):
     n = len(p2.CLAIMS)
     assert f"holds: {n - len(SHAPED_DATA_FAIL)}; does not hold: {len(SHAPED_DATA_FAIL)}; not evaluated: 0" in md
     rows = {line.split(" | ")[0].removeprefix("| "): line for line in md.splitlines() if line.startswith("| ")}
-    for claim_id, verdict in zip(table["claim_id"], table["verdict"]):
-        assert rows[claim_id].endswith(f"| {verdict} |"), rows[claim_id]
+    for claim_id, verdict, why in zip(table["claim_id"], table["verdict"], table["explanation"]):
+        assert rows[claim_id].endswith(f"| {verdict} | {why} |"), rows[claim_id]
     assert f"| {p2.FRICTIONAL} | 3 | {RHO.size} | 0.630–0.900 | 0.78 | minus_one |" in md
     assert "value_factor = 1.5" in md and "2d_poly_mu0 " in md
     back = pd.read_csv(tmp_path / "p2_validation.csv")
     assert list(back.columns) == list(p2.VALIDATION_COLUMNS) and list(back["verdict"]) == list(table["verdict"])
+
+
+# --- rattlers (P2 §III C) ----------------------------------------------------------------------------------------
+def small_snapshot(rattler_forces=(), realization=0, rho=0.79, z=2.0, scale=1.0):
+    """Particles 0-1-2 a triangle (forces 3, 2, 1), particle 3 touches 0 only (one contact: a rattler by P1's
+    rule) with force `rattler_forces[0]` if given, particle 4 touches nothing."""
+    position = np.array([[0.0, 0.0], [1.0, 0.0], [0.5, 0.87], [-1.0, 0.0], [3.0, 3.0]])
+    ci, cj, f = [0, 1, 0], [1, 2, 2], [3.0, 2.0, 1.0]
+    for force in rattler_forces:
+        ci, cj, f = ci + [0], cj + [3], f + [force]
+    ci, cj, f = np.array(ci), np.array(cj), scale * np.array(f)
+    direction = position[cj] - position[ci]
+    direction /= np.linalg.norm(direction, axis=1, keepdims=True)
+    n = len(position)
+    return snapshot_dataset(
+        attrs={"system": "test", "realization": realization}, position=position, radius=np.full(n, 0.5),
+        velocity=np.zeros((n, 2)), angular_velocity=np.zeros(n), contact_i=ci, contact_j=cj,
+        force_normal=-f[:, None] * direction, force_tangential=np.zeros((len(f), 2)),
+        wall_contact_particle=np.zeros(0), wall_contact_wall=np.zeros(0), wall_contact_force=np.zeros((0, 2)),
+        box_lo=np.zeros(2), box_hi=np.full(2, 4.0), rho=rho, Z=z, kinetic_energy=0.0, pressure=1.0, time=0.0,
+        step=0, relaxation_steps=-1)
+
+
+def test_kept_rattlers_are_components_born_at_the_zero_level():
+    snap = small_snapshot()  # forces 3, 2, 1 have mean 2: the triangle's births are 1.5, 1, 0.5 in <F>
+    kept = p2.snapshot_diagrams(snap, "normal", "none")
+    pd0 = kept.points(0)
+    # the triangle (born at its largest force 3/2) and the isolated particles 3 and 4, born at zero; all never die
+    assert sorted(map(tuple, pd0.tolist())) == [(0.0, -np.inf), (0.0, -np.inf), (1.5, -np.inf)]
+    removed = p2.snapshot_diagrams(snap, "normal", "once")
+    assert removed.points(0).tolist() == [[1.5, -np.inf]]
+    # P2's convention: a zero-level component that joins the network costs d_B = 1/2 (its (0, -1) point goes to
+    # the diagonal), and nothing when rattlers are removed (force 2 keeps <F> = 2: the triangle is unchanged)
+    joined = small_snapshot(rattler_forces=(2.0,))
+    for rule, expected in (("none", 0.5), ("once", 0.0)):
+        d = p2._distances(p2.snapshot_diagrams(snap, "normal", rule), p2.snapshot_diagrams(joined, "normal", rule),
+                          0, "minus_one")
+        assert d["bottleneck"] == pytest.approx(expected, abs=1e-6), rule
+
+
+def test_tables_record_the_rattler_rule_and_realization():
+    snaps = [small_snapshot(rho=r, realization=2) for r in (0.78, 0.79, 0.80)]
+    tables = p2.p2_tables(snaps, remove_rattlers=False)
+    assert tables["table1"].attrs["rattler_rule"] == "none" and tables["table1"].attrs["realization"] == 2
+    md = p2.table_markdown(tables["table1"])
+    assert "realization 2" in md and "rattler rule 'none'" in md
+
+
+# --- P2's printed tables beside ours ------------------------------------------------------------------------------
+def test_tables_print_p2_values_beside_ours_with_the_ratio(quadrant_tables, tmp_path):
+    tables = quadrant_tables["bottom left"]
+    written = p2.write_p2_tables(tables, tmp_path)
+    md = (tmp_path / "p2_table1.md").read_text()
+    rows = {line.split(" | ")[0].removeprefix("| "): line.split(" | ")[1:] for line in md.splitlines()
+            if line.startswith("| (a")}
+    assert rows["(a,b), P2"][0] == "0.089" and rows["(a,c), P2"][1] == "14"  # P2 Table I, β0 d_B and d_W1
+    ours = tables["table1"].loc["(a,b)", "beta0_d_B"]
+    assert float(rows["(a,b), ours / P2"][0]) == pytest.approx(ours / 0.089, rel=0.01)
+    csv = pd.read_csv(tmp_path / "p2_table3.csv", index_col=0)
+    assert csv.loc["top left", "p2_beta1_d_W2"] == pytest.approx(0.87)  # P2 Table III
+    np.testing.assert_allclose(csv["ratio_beta0_d_W1"], csv["beta0_d_W1"] / csv["p2_beta0_d_W1"])
+    back = p2.read_table(tmp_path / "p2_table3.csv")  # our values only
+    pd.testing.assert_frame_equal(back, tables["table3"], check_names=False)
+    assert len(written) == 6
+
+
+def test_p2_reference_tables_have_our_layout():
+    for name in ("table1", "table2", "table3"):
+        ref = p2.p2_reference_table(name)
+        assert list(ref.columns) == [p2.table_column(h, m) for h in (0, 1) for m in p2.METRICS]
+        assert list(ref.index) == list(p2.TABLE_PAIRS if name == "table1" else p2.QUADRANTS)
+
+
+# --- which realization gives a, b, c ------------------------------------------------------------------------------
+def state_analysis(realization, rho, z, mean_normal_force):
+    ds = analysis_factory(rho, z, {})
+    ds["mean_force"] = ("force_kind", np.array([2.0, mean_normal_force, 0.5]))
+    ds.attrs["realization"] = realization
+    return ds
+
+
+def test_table_states_pick_the_realization_whose_z_and_force_change_least():
+    rhos = (0.788, 0.791, 0.794)
+    analyses = [state_analysis(0, r, z, f) for r, z, f in zip(rhos, (2.8, 2.9, 3.0), (1.0, 1.5, 2.0))]  # ⟨F⟩ +100 %
+    analyses += [state_analysis(1, r, z, f) for r, z, f in zip(rhos, (3.2, 3.21, 3.22), (1.0, 1.01, 1.03))]  # quiet
+    analyses += [state_analysis(2, r, z, f) for r, z, f in zip(rhos, (3.2, 3.5, 3.6), (1.0, 1.0, 1.0))]  # Z +12 %
+    table = p2.table_state_candidates(analyses[::-1])  # any order
+    assert list(table["realization"]) == [0, 1, 2] and list(table["chosen"]) == [False, True, False]
+    assert table.loc[0, "force_change"] == pytest.approx(1.0) and table.loc[2, "Z_change"] == pytest.approx(0.125)
+    assert table.loc[1, "score"] == pytest.approx(0.03)
+    picked = p2.chosen_states(analyses, table)
+    assert [int(ds.attrs["realization"]) for ds in picked] == [1, 1, 1]
+    assert [float(ds["rho"]) for ds in picked] == list(rhos)
+    # equal scores: the lowest realization
+    twins = [state_analysis(r, rho, 3.0, 1.0) for r in (4, 3) for rho in rhos]
+    assert list(p2.table_state_candidates(twins)["chosen"]) == [True, False]
+
+
+def test_table_states_refuse_incomplete_or_mismatched_states():
+    with pytest.raises(ValueError, match="need a, b, c"):
+        p2.table_state_candidates([state_analysis(0, 0.79, 3.0, 1.0)])
+    table = p2.table_state_candidates([state_analysis(0, r, 3.0, 1.0) for r in (0.788, 0.791, 0.794)])
+    with pytest.raises(ValueError, match="expected"):
+        p2.chosen_states([state_analysis(0, r, 3.0, 1.0) for r in (0.70, 0.71, 0.72)], table)
+
+
+# --- sampling: distances between states k samples apart -----------------------------------------------------------
+def test_lagged_distances_compare_states_k_samples_apart():
+    analyses = worked_example_analyses()
+    diagrams = [p2.analysis_diagram(ds, "normal", 0) for ds in analyses]  # f, g, g
+    rho = [0.70, 0.71, 0.72]
+    lag1 = p2.lagged_distances(diagrams, rho, 1, homology_dims=(0,))
+    np.testing.assert_allclose(lag1["beta0_d_W1"], [5.5, 0.0], atol=1e-9)
+    np.testing.assert_allclose(lag1["rho"], [0.71, 0.72])
+    lag2 = p2.lagged_distances(diagrams, rho, 2, homology_dims=(0,))
+    assert len(lag2) == 1 and lag2.loc[0, "rho_previous"] == 0.70
+    for metric, value in WORKED.items():  # (f, g) again, two samples apart
+        assert lag2.loc[0, p2.table_column(0, metric)] == pytest.approx(value, rel=1e-6)
+    with pytest.raises(ValueError):
+        p2.lagged_distances(diagrams, rho, 0)
+
+
+def test_lagged_summary_splits_pairs_by_p2_regime():
+    # states at rho 0.70 .. 0.84, Z crossing 3 at 0.79; PD0 = one point whose birth grows by 1 per state
+    rho = np.round(np.arange(0.70, 0.8401, 0.02), 3)
+    z = 3.0 + (rho - 0.79) * 10
+    diagrams = [p2._diagram_from_points(np.array([5.0 + k]), np.array([1.0]), np.array([False]), 0)
+                for k in range(rho.size)]
+    summary = p2.lagged_distance_summary({1e-4: (rho, z, diagrams, 12.0)}, [1, 2]).set_index(["lag", "window"])
+    windows = p2.SAMPLING_WINDOWS
+    # both states of a pair inside the window: 0.70-0.72, 0.72-0.74 | 0.76-0.78 | 0.80-0.82, 0.82-0.84
+    assert [summary.loc[(1, w), "pairs"] for w in windows] == [2, 1, 2]
+    assert [summary.loc[(2, w), "pairs"] for w in windows] == [1, 0, 1]
+    assert summary.loc[(1, windows[0]), "beta0_d_B"] == pytest.approx(1.0)  # L∞ shift of one point by 1
+    assert summary.loc[(2, windows[0]), "beta0_d_B"] == pytest.approx(2.0)
+    assert np.isnan(summary.loc[(2, windows[1]), "beta0_d_W1"])
+    assert summary["rho_J"].iloc[0] == pytest.approx(0.79) and summary["simulation_s"].iloc[0] == 12.0
+    md = p2.lagged_distance_markdown(summary.reset_index())
+    assert "ρ_J = 0.790" in md and "| 0.0001 | 2 | 0.0400 |" in md
+
+
+def test_a_comparison_of_two_zero_rates_is_not_evaluated():
+    # no loop changes at all in either system before jamming (beta1 distances 0): IV.C-5 cannot compare them
+    data = both_systems()
+    for name in data:
+        early = data[name]["rho"] < 0.74
+        data[name]["distance"].loc[dict(homology_dim=1, rho=data[name]["rho"][early])] = 0.0
+    table = p2.p2_validation(data, paper_tables()).set_index("claim_id")
+    assert table.loc["IV.C-5", "verdict"] == p2.NOT_EVALUATED
+    assert "both rates are 0" in table.loc["IV.C-5", "measured"]
+    # zero before jamming but positive after: the rate did not fall after jamming (IV.A-11 does not hold)
+    assert table.loc["IV.A-11a", "verdict"] == p2.FAILS
+
+
+# --- explanations of the claims that do not hold -----------------------------------------------------------------
+def test_every_claim_has_an_explanation():
+    assert set(p2.EXPLANATIONS) == {c.claim_id for c in p2.CLAIMS}
+
+
+def test_explanations_are_given_exactly_where_a_claim_does_not_hold():
+    table = p2.p2_validation(both_systems(), paper_tables()).set_index("claim_id")
+    for claim_id, row in table.iterrows():
+        assert (row["explanation"] != "") == (row["verdict"] != p2.HOLDS), claim_id
+    assert table.loc["V-2", "explanation"].startswith("Not a small-system effect")
+    # without network measures the diagnostic says why it is missing instead of failing
+    assert "no never-dying class counts" in table.loc["V-2", "explanation"]
+
+
+def measures_with_never_dying_changes(ds, changing_pairs):
+    """network_measures-like dataset for distances `ds`: one more state than pairs, the count of never-dying
+    normal PD1 classes changing at the given pair indices (0 = first pair) of every realization."""
+    n_pairs = ds.sizes["rho"]
+    rho = np.concatenate([[float(ds["rho"][0]) - 0.005], ds["rho"].values])
+    steps = np.zeros(n_pairs, dtype=int)
+    steps[list(changing_pairs)] = 1
+    count = np.concatenate([[10], 10 + np.cumsum(steps)])
+    values = np.zeros((ds.sizes["realization"], n_pairs + 1, 3, 2), dtype=int)
+    values[:, :, FORCE_KINDS.index("normal"), 1] = count
+    return xr.Dataset({"essential_count": (("realization", "rho", "force_kind", "homology_dim"), values)},
+                      coords={"realization": ds["realization"].values, "rho": rho, "force_kind": list(FORCE_KINDS),
+                              "homology_dim": [0, 1]})
+
+
+def test_never_dying_diagnostic_counts_the_pairs_that_change_the_class_count():
+    ds = p2_shaped()  # rho_J = 0.78; pairs after it: later states 0.785 .. 0.900 (24 per realization)
+    after = np.flatnonzero(ds["rho"].values > 0.78)
+    assert after.size == 24
+    changing = after[::4]  # 6 of the 24
+    ds["distance"].loc[dict(force_kind="normal", homology_dim=1, metric="bottleneck")] = 0.02
+    ds["distance"].loc[dict(force_kind="normal", homology_dim=1, metric="bottleneck",
+                            rho=ds["rho"].values[changing])] = 0.5
+    ctx = p2._Context({p2.FRICTIONAL: p2._Curves(p2.FRICTIONAL, ds, 2, p2.ValidationTolerances())}, None,
+                      p2.ValidationTolerances(), p2.FRICTIONAL, p2.FRICTIONLESS,
+                      {p2.FRICTIONAL: measures_with_never_dying_changes(ds, changing)})
+    text = p2._never_dying_events(lambda c: c.frictional, 1, "after")(ctx)
+    assert "25 % of the 72 consecutive pairs" in text and "median d_B of the other pairs 0.02" in text
+    # a measures file that does not match the distances is not used
+    ctx.measures[p2.FRICTIONAL] = measures_with_never_dying_changes(ds.isel(rho=slice(1, None)), [])
+    with pytest.raises(p2._NotEvaluated, match="different states"):
+        p2._never_dying_events(lambda c: c.frictional, 1, "after")(ctx)
+
+
+def test_table_state_diagnostic_reports_where_a_b_c_lie():
+    states = p2.table_state_candidates([state_analysis(r, rho, z, f) for r in (0, 1, 2)
+                                        for rho, z, f in zip((0.788, 0.791, 0.794), (2.8, 2.9, 3.0), (1.0, 2.0, 4.0))])
+    ctx = p2._Context({p2.FRICTIONAL: p2._Curves(p2.FRICTIONAL, p2_shaped(), 2, p2.ValidationTolerances())}, None,
+                      p2.ValidationTolerances(), p2.FRICTIONAL, p2.FRICTIONLESS, {}, states)
+    text = p2._table_state_diagnostic(ctx)
+    assert "realization 0 (the quietest of 3" in text and "<F_n> x 4.00" in text and "Z 2.80 -> 3.00" in text

@@ -165,3 +165,19 @@ def test_the_readme_resume_instructions_work_after_sigkill(tmp_path):
         with xr.open_dataset(reference_file) as a, xr.open_dataset(resumed) as b:
             for name in a.data_vars:
                 np.testing.assert_array_equal(a[name].values, b[name].values, err_msg=f"{resumed.name}: {name}")
+
+def test_each_study_uses_its_rattler_rule_and_p2_products_show_p2(smoke_run):
+    results = smoke_run / "results"
+    config = yaml.safe_load((REPO / "config/smoke.yaml").read_text())
+    rules = {s: "once" for s in config["studies"]["p1"]["systems"]} | {
+        s: "none" for s in config["studies"]["p2"]["systems"]}  # smoke: P1 removes rattlers, P2 keeps them
+    for system, rule in rules.items():
+        analysis = next((results / "analysis" / system).rglob("rho*.nc"))
+        assert open_dataset(analysis).attrs["rattler_rule"] == rule, system
+        assert open_dataset(results / system / "network_measures.nc").attrs["rattler_rule"] == rule, system
+    for system in config["studies"]["p2"]["systems"]:
+        assert open_dataset(results / system / "distances.nc").attrs["rattler_rule"] == "none"
+    table1 = (results / "tables/p2_table1.md").read_text()
+    assert "(a,b), P2 | 0.089" in table1 and "ours / P2" in table1 and "rattler rule 'none'" in table1
+    states = (results / "tables/p2_table_states.csv").read_text().splitlines()
+    assert states[0].startswith("realization,rho_a") and len(states) == 1 + config["realizations"]

@@ -159,6 +159,7 @@ def aggregate(*, analyses: Sequence[str], realizations: Sequence[int], rhos: Seq
         attrs = provenance_attrs(system=system, realization=-1, seed=config["seed"], config=config,
                                  title=f"forcenet network measures, {system}, stacked over realization and rho")
         attrs.update(dimension=spec.dimension, force_law=spec.force_law, **force_constants(config, system))
+        attrs.update(rattler_attrs(common_rattler_rule(datasets)))
         write_netcdf(stack_network_measures(datasets, realizations, rhos, attrs), measures_path,
                      kind="network_measures")
         attrs["title"] = f"forcenet persistence diagrams, {system}, all realizations and rho"
@@ -169,6 +170,17 @@ def aggregate(*, analyses: Sequence[str], realizations: Sequence[int], rhos: Seq
 #: the `analysis:` config keys that the per-snapshot analysis reads (`snapshot_measures`, `analysis_attrs`); the
 #: workflow passes only these to the analysis jobs, so that other keys do not rerun every snapshot analysis
 SNAPSHOT_ANALYSIS_KEYS = ("thresholds", "remove_rattlers", "force_pdf")
+
+
+def snapshot_analysis_params(config: Mapping[str, Any], system: str) -> dict[str, Any]:
+    """What the analysis jobs of `system` read: the `SNAPSHOT_ANALYSIS_KEYS` of ``analysis:``, with
+    ``remove_rattlers`` replaced by the rule of the system's study (`forcenet.systems.study_rattler_rule`:
+    P1 removes rattlers, P2 keeps them), so that changing one study's rule reruns only its systems' analyses."""
+    from forcenet.systems import study_rattler_rule
+
+    params = {key: config["analysis"][key] for key in SNAPSHOT_ANALYSIS_KEYS}
+    params["remove_rattlers"] = study_rattler_rule(config, system)
+    return params
 
 
 def analyze_run(*, snapshots: Sequence[str], outputs: Sequence[str], analysis: Mapping[str, Any],
@@ -229,8 +241,26 @@ def analysis_attrs(snap, source: str, analysis: Mapping[str, Any]) -> dict[str, 
                                                "config_sha256", "config", "Conventions", "dimension")}
     attrs["title"] = f"forcenet analysis of one snapshot, {attrs['system']}"
     attrs["source"] = str(source)
-    attrs["remove_rattlers"] = int(bool(analysis["remove_rattlers"]))
+    attrs.update(rattler_attrs(analysis["remove_rattlers"]))
     return attrs
+
+
+def rattler_attrs(remove_rattlers: bool | str) -> dict[str, str]:
+    """Global attributes naming the rattler rule that made a file's force networks (analysis, stacked and
+    distance files, P2 tables)."""
+    from forcenet.network import RATTLER_RULE_DESCRIPTIONS, resolve_rattler_rule
+
+    rule = resolve_rattler_rule(remove_rattlers)
+    return {"rattler_rule": rule, "rattler_rule_description": RATTLER_RULE_DESCRIPTIONS[rule]}
+
+
+def common_rattler_rule(datasets: Sequence[Any]) -> str:
+    """The `rattler_rule` attribute shared by every dataset (analysis files); ValueError when they differ or
+    one lacks it (a product must not mix networks made by different rules)."""
+    rules = {ds.attrs.get("rattler_rule", "missing") for ds in datasets}
+    if len(rules) != 1 or "missing" in rules:
+        raise ValueError(f"analyses were made with different or unrecorded rattler rules: {sorted(rules)}")
+    return rules.pop()
 
 
 def _open_by_system(paths: Sequence[str], kind: str) -> dict[str, Any]:
@@ -311,31 +341,59 @@ def p2_distances(*, analyses: Sequence[str], realizations: Sequence[int], output
         attrs = provenance_attrs(system=system, realization=-1, seed=config["seed"], config=config,
                                  title=f"forcenet distances between consecutive persistence diagrams, {system}")
         attrs["dimension"] = spec.dimension
+        attrs.update(rattler_attrs(common_rattler_rule(datasets)))  # the rule that made every compared diagram
         stacked = distances_on_grid(stack_distances(results, realizations, attrs), spec.rho_grid[1:])
         write_netcdf(stacked, output, kind="distances")
 
 
-def p2_tables(*, snapshots: Sequence[str], csv: Sequence[str], md: Sequence[str], analysis: Mapping[str, Any],
-              log_path: str | None = None) -> None:
-    """P2 Tables I–III from three nearby snapshots a, b, c (whole box and quadrants); `csv` and `md` are the
-    paths `forcenet.report.p2.write_p2_tables` writes (``{directory}/p2_table{1,2,3}.{csv,md}``)."""
+def p2_table_states(*, analyses: Sequence[str], csv: str, log_path: str | None = None) -> None:
+    """Which realization gives the states a, b, c of Tables I–III and Figs 1, 3 (P2 Fig. 1's criterion,
+    `forcenet.report.p2.TABLE_STATE_CRITERION`): one row per realization, written to `csv`."""
+    from forcenet.datasets import read_dataset
+    from forcenet.report.p2 import table_state_candidates
+
+    with job_logger(log_path, "p2_table_states") as log:
+        table = table_state_candidates([read_dataset(p, "analysis") for p in analyses])
+        Path(csv).parent.mkdir(parents=True, exist_ok=True)
+        table.to_csv(csv, index=False)
+        chosen = table[table["chosen"]].iloc[0]
+        log.info("states a, b, c: realization %d (score %.3g of %s)", chosen["realization"], chosen["score"],
+                 ", ".join(f"{s:.3g}" for s in table["score"]))
+
+
+def _chosen(paths: Sequence[str], states_csv: str, reader) -> list:
+    """The datasets among `paths` (read with `reader`) of the realization `states_csv` chose, in increasing ρ."""
+    import pandas as pd
+
+    from forcenet.report.p2 import chosen_states
+
+    return chosen_states([reader(p) for p in paths], pd.read_csv(states_csv))
+
+
+def p2_tables(*, snapshots: Sequence[str], states: str, csv: Sequence[str], md: Sequence[str],
+              rattler_rule: bool | str, essential_convention: str, log_path: str | None = None) -> None:
+    """P2 Tables I–III from the states a, b, c of the realization `states` (the `p2_table_states` CSV) chose,
+    whole box and quadrants, networks made with the P2 study's `rattler_rule`; `csv` and `md` are the paths
+    `forcenet.report.p2.write_p2_tables` writes (``{directory}/p2_table{1,2,3}.{csv,md}``)."""
     from forcenet.datasets import read_snapshot
     from forcenet.report.p2 import p2_tables as compute_tables, write_p2_tables
 
     with job_logger(log_path, "p2_tables") as log:
-        tables = compute_tables([read_snapshot(p) for p in snapshots], remove_rattlers=analysis["remove_rattlers"],
-                                essential_convention=analysis["essential_convention"])
+        chosen = _chosen(snapshots, states, read_snapshot)
+        tables = compute_tables(chosen, remove_rattlers=rattler_rule, essential_convention=essential_convention)
         written = write_p2_tables(tables, Path(csv[0]).parent)
         expected = sorted(Path(p).resolve() for p in (*csv, *md))
         if sorted(p.resolve() for p in written) != expected:
             raise ValueError(f"P2 tables written as {[str(p) for p in written]}, expected {[str(p) for p in expected]}")
-        log.info("P2 tables from %s", ", ".join(snapshots))
+        log.info("P2 tables from realization %s, rho %s", chosen[0].attrs.get("realization"),
+                 ", ".join(f"{float(s.rho):.4f}" for s in chosen))
 
 
 def p2_figure(*, name: str, system: str, inputs: Mapping[str, Sequence[str]], pdf: str, png: str, csv: str,
-              log_path: str | None = None) -> None:
-    """Draw one P2 figure (snapshots, one analysis, or one system's distances) and write the values it draws to
-    `csv` (one preparation feeds both)."""
+              rattler_rule: bool | str = False, log_path: str | None = None) -> None:
+    """Draw one P2 figure: the snapshots a, b, c (Fig. 1, networks made with `rattler_rule`) or the analysis of
+    state a (Fig. 3) of the realization ``inputs["states"]`` chose, or one system's distances (Figs 6–10), and
+    write the values it draws to `csv` (one preparation feeds both)."""
     from forcenet.datasets import read_dataset, read_snapshot
     from forcenet.plotting.figure_data import write_csv
     from forcenet.plotting.p2 import draw_p2_figure, p2_figure_data
@@ -343,26 +401,81 @@ def p2_figure(*, name: str, system: str, inputs: Mapping[str, Sequence[str]], pd
 
     with job_logger(log_path, f"figure.{name}") as log:
         apply_style()
+        options = {}
         if inputs.get("snapshots"):
-            source = [read_snapshot(p) for p in inputs["snapshots"]]
+            source = _chosen(inputs["snapshots"], inputs["states"][0], read_snapshot)
+            options = {"remove_rattlers": rattler_rule}
         elif inputs.get("analysis"):
-            source = read_dataset(inputs["analysis"][0], "analysis")
+            source = _chosen(inputs["analysis"], inputs["states"][0], lambda path: read_dataset(path, "analysis"))[0]
         else:
             source = read_dataset(inputs["distances"][0], "distances")
-        data = p2_figure_data(name, source, system=system)
+        data = p2_figure_data(name, source, system=system, **options)
         save_figure(draw_p2_figure(name, data), pdf, png)
         write_csv(data, csv)
         log.info("%s drawn for %s (%d rows of source data)", name, system, len(data.table))
 
 
-def p2_validation_table(*, distances: Sequence[str], tables: Sequence[str], frictional: str, frictionless: str | None,
-                        md: str, csv: str, log_path: str | None = None) -> None:
-    """Each claim of P2 §IV with its measured evidence and verdict (results/tables/p2_validation.md)."""
+def p2_validation_table(*, distances: Sequence[str], tables: Sequence[str], measures: Sequence[str], states: str,
+                        frictional: str, frictionless: str | None, md: str, csv: str,
+                        log_path: str | None = None) -> None:
+    """Each claim of P2 §IV with its measured evidence, verdict and, where it does not hold, the explanation
+    (results/tables/p2_validation.md); `measures` (network_measures.nc) and `states` (the p2_table_states CSV)
+    feed the explanations' diagnostics."""
+    import pandas as pd
+
     from forcenet.report.p2 import p2_validation, read_table, write_p2_validation
 
     with job_logger(log_path, "p2_validation") as log:
         table = p2_validation(_open_by_system(distances, "distances"),
                               {f"table{i + 1}": read_table(path) for i, path in enumerate(sorted(tables))},
-                              frictional=frictional, frictionless=frictionless or "")
+                              frictional=frictional, frictionless=frictionless or "",
+                              measures=_open_by_system(measures, "network_measures"), states=pd.read_csv(states))
         write_p2_validation(table, md, csv)
         log.info("P2 validation: verdicts %s", table["verdict"].value_counts().to_dict())
+
+
+def p2_sampling_study(*, config: Mapping[str, Any], system: str, wall_speeds: Sequence[float], count: int,
+                      lags: Sequence[int], rattler_rule: str, out: str | os.PathLike,
+                      simulate_only: bool = False) -> str:
+    """Distances between states k samples apart at several wall speeds, one realization (docs/p2_sampling.md).
+
+    For each speed, realization 0 of `system` (its config entry with ``wall_speed`` and a ρ grid of `count`
+    states from 0.63 to 0.90) is compressed into ``{out}/v{speed}/`` (reused when complete); the normal-force
+    diagrams of every state (rattler rule `rattler_rule`) are compared at each lag. Returns the Markdown
+    table of `forcenet.report.p2.lagged_distance_summary` (also written to ``{out}/p2_sampling.md``), or ""
+    when `simulate_only`.
+    """
+    import time
+
+    from forcenet.datasets import read_snapshot
+    from forcenet.report.p2 import lagged_distance_markdown, lagged_distance_summary, snapshot_diagrams
+
+    runs = {}
+    for speed in wall_speeds:
+        entry = {**config["systems"][system], "wall_speed": float(speed),
+                 "rho": {"start": 0.63, "stop": 0.90, "count": int(count)}}
+        run_config = {**config, "realizations": 1, "systems": {system: entry}}
+        spec = system_from_config(system, run_config)
+        directory = Path(out) / f"v{speed:g}"
+        paths = [str(directory / f"rho{label}.nc") for label in spec.rho_labels]
+        seconds = float("nan")
+        if not all(Path(p).exists() for p in paths):
+            start = time.perf_counter()
+            simulate(config=run_config, system=system, realization="r00", outputs=paths,
+                     log_path=str(directory / "simulate.log"))
+            seconds = time.perf_counter() - start
+        runs[float(speed)] = (paths, seconds)
+    if simulate_only:
+        return ""
+    summaries = {}
+    for speed, (paths, seconds) in runs.items():
+        snapshots = [read_snapshot(p) for p in paths]
+        diagrams = [snapshot_diagrams(s, "normal", rattler_rule) for s in snapshots]
+        rho = [float(s["rho"]) for s in snapshots]
+        z = [float(s["Z"]) for s in snapshots]
+        summaries[speed] = (rho, z, diagrams, seconds)
+    table = lagged_distance_markdown(lagged_distance_summary(summaries, lags,
+                                                             dimension=int(config["systems"][system]["dimension"])))
+    Path(out).mkdir(parents=True, exist_ok=True)
+    (Path(out) / "p2_sampling.md").write_text(table)
+    return table

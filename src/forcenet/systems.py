@@ -32,6 +32,9 @@ class ConfigError(ForcenetError, ValueError):
 #: ρ values are written into file names with this many decimals (results/sim/…/rho0.842.nc)
 RHO_DECIMALS = 3
 
+#: rattler rules of the force networks (`study_rattler_rule`; `forcenet.network` applies them)
+RATTLER_RULES = ("once", "iterative", "none")
+
 
 @dataclass(frozen=True)
 class Relaxation:
@@ -190,6 +193,45 @@ def check_system(system: SystemSpec, key: str) -> None:
         raise ConfigError(f"{key}.{problems[0].key}", problems[0].message)
 
 
+def resolve_rattler_rule(remove_rattlers: bool | str) -> str:
+    """``True`` → "once" (P1 §3), ``False`` → "none" (P2 §III C: rattlers kept), or a rule name itself
+    (`RATTLER_RULES`; what each does: `forcenet.network.RATTLER_RULE_DESCRIPTIONS`)."""
+    if remove_rattlers is True:
+        return "once"
+    if remove_rattlers is False:
+        return "none"
+    if remove_rattlers not in RATTLER_RULES:
+        raise ValueError(f"remove_rattlers must be a bool or one of {RATTLER_RULES}, got {remove_rattlers!r}")
+    return remove_rattlers
+
+
+def study_rattler_rule(config: Mapping[str, Any], system: str) -> str:
+    """The rattler rule that makes `system`'s force networks (its analysis files and its study's products).
+
+    Each study may choose its own (``studies.<study>.remove_rattlers``: P1 removes rattlers, P2 keeps them);
+    a study without one, or a system in no study, uses ``analysis.remove_rattlers``. A system listed by two
+    studies with different rules is a `ConfigError` (its snapshots are analysed once).
+    """
+    default = config["analysis"]["remove_rattlers"]
+    rules = {}
+    for study, entry in config["studies"].items():
+        if system in entry["systems"]:
+            key = f"studies.{study}.remove_rattlers" if "remove_rattlers" in entry else "analysis.remove_rattlers"
+            try:
+                rules[key] = resolve_rattler_rule(entry.get("remove_rattlers", default))
+            except ValueError as error:
+                raise ConfigError(key, str(error)) from None
+    if len(set(rules.values())) > 1:
+        raise ConfigError(next(iter(rules)), f"system '{system}' is analysed once but its studies ask for different "
+                                             f"rattler rules: {rules}")
+    if rules:
+        return next(iter(rules.values()))
+    try:
+        return resolve_rattler_rule(default)
+    except ValueError as error:
+        raise ConfigError("analysis.remove_rattlers", str(error)) from None
+
+
 def validate_config(config: Mapping[str, Any]) -> dict[str, SystemSpec]:
     """Semantic validation after the JSON schema; returns every system by name. Raises `ConfigError`."""
     for study, entry in config["studies"].items():
@@ -200,6 +242,8 @@ def validate_config(config: Mapping[str, Any]) -> dict[str, SystemSpec]:
     thresholds = config["analysis"]["thresholds"]
     if thresholds["stop"] <= thresholds["start"]:
         raise ConfigError("analysis.thresholds", "stop must exceed start")
+    for name in config["systems"]:
+        study_rattler_rule(config, name)
     return {name: system_from_config(name, config) for name in config["systems"]}
 
 

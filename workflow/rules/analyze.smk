@@ -14,9 +14,9 @@ for _name, _spec in SYSTEMS.items():
         log:
             f"{LOGS}/analyze/{_name}/{{realization}}.log",
         params:
-            # only the keys the snapshot analysis reads: changing another `analysis:` key (P2's distance settings)
-            # must not rerun every snapshot analysis
-            analysis={key: config["analysis"][key] for key in SNAPSHOT_ANALYSIS_KEYS},
+            # only the keys the snapshot analysis reads, with the rattler rule of the system's study: changing
+            # another `analysis:` key (P2's distance settings) must not rerun every snapshot analysis
+            analysis=snapshot_analysis_params(config, _name),
         group:
             "analysis"
         threads: 1

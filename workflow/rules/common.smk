@@ -10,7 +10,7 @@ from snakemake.exceptions import WorkflowError
 sys.path.insert(0, str(Path(workflow.basedir) / "src"))  # works before `pip install -e .` too
 
 from forcenet.errors import ForcenetError
-from forcenet.pipeline import SNAPSHOT_ANALYSIS_KEYS, realization_index, simulation_params
+from forcenet.pipeline import realization_index, simulation_params, snapshot_analysis_params
 from forcenet.workflow_io import CONFIG_SCHEMA, DEFAULT_CONFIG, checked_config, read_config_file
 
 # A config given with --configfile stands alone: the default is read only when none is given (Snakemake's

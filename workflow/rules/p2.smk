@@ -1,5 +1,7 @@
 # P2: distances between persistence diagrams of consecutive states, Tables I–III, figures 1, 3, 6–10 and the
 # validation of P2's claims. P2_SYSTEMS[0] is the frictional system (μ = 0.5), P2_SYSTEMS[1] the frictionless one.
+from forcenet.systems import study_rattler_rule
+
 P2_FRICTIONAL = P2_SYSTEMS[0] if P2_SYSTEMS else None
 P2_FRICTIONLESS = P2_SYSTEMS[1] if len(P2_SYSTEMS) > 1 else None
 
@@ -13,8 +15,16 @@ def p2_table_labels():
     return [spec.rho_labels[i] for i in indices]
 
 
-def p2_table_snapshots(wildcards=None):
-    return [snapshot_path(P2_FRICTIONAL, REALIZATIONS[0], rho) for rho in p2_table_labels()]
+def p2_table_candidates(path=snapshot_path, states="abc"):
+    """Files of the states a, b, c (or those named by `states`) of every realization, realization-major: the
+    candidates among which p2_table_states picks one realization (forcenet.report.p2.TABLE_STATE_CRITERION)."""
+    labels = [label for letter, label in zip("abc", p2_table_labels()) if letter in states]
+    return [path(P2_FRICTIONAL, r, rho) for r in REALIZATIONS for rho in labels]
+
+
+P2_TABLE_STATES = f"{RESULTS}/tables/p2_table_states.csv"
+# the P2 products read networks made by the P2 study's rattler rule (P2 §III C keeps rattlers)
+P2_RATTLER_RULE = study_rattler_rule(config, P2_FRICTIONAL) if P2_FRICTIONAL else None
 
 
 P2_FIGURE_INPUTS = {
@@ -58,10 +68,24 @@ rule p2_distances:
         "../scripts/p2_distances.py"
 
 
+rule p2_table_states:
+    """Which realization's states a, b, c make Tables I–III and Figs 1, 3 (P2 Fig. 1: Z and <F> almost identical)."""
+    localrule: True
+    input:
+        p2_table_candidates(analysis_path),
+    output:
+        P2_TABLE_STATES,
+    log:
+        f"{LOGS}/tables/p2_table_states.log",
+    script:
+        "../scripts/p2_table_states.py"
+
+
 rule p2_tables:
     localrule: True
     input:
-        p2_table_snapshots,
+        snapshots=p2_table_candidates(),
+        states=P2_TABLE_STATES,
     output:
         csv=[f"{RESULTS}/tables/p2_table{i}.csv" for i in (1, 2, 3)],
         md=[report(f"{RESULTS}/tables/p2_table{i}.md", caption="../report/p2_tables.rst", category="P2",
@@ -69,7 +93,8 @@ rule p2_tables:
     log:
         f"{LOGS}/tables/p2_tables.log",
     params:
-        analysis={key: config["analysis"][key] for key in ("remove_rattlers", "essential_convention")},
+        rattler_rule=P2_RATTLER_RULE,
+        essential_convention=config["analysis"]["essential_convention"],
     script:
         "../scripts/p2_tables.py"
 
@@ -81,8 +106,9 @@ for _figure, (_kind, _system) in P2_FIGURES.items():
             f"figure_{_figure}"
         localrule: True
         input:
-            snapshots=p2_table_snapshots() if _kind == "snapshots" else [],
-            analysis=[analysis_path(P2_FRICTIONAL, REALIZATIONS[0], p2_table_labels()[0])] if _kind == "analysis" else [],
+            snapshots=p2_table_candidates() if _kind == "snapshots" else [],
+            analysis=p2_table_candidates(analysis_path, states="a") if _kind == "analysis" else [],
+            states=[P2_TABLE_STATES] if _kind in ("snapshots", "analysis") else [],
             distances=[f"{RESULTS}/{_system}/distances.nc"] if _kind == "distances" else [],
         output:
             **figure_outputs(_figure, "P2"),
@@ -92,6 +118,7 @@ for _figure, (_kind, _system) in P2_FIGURES.items():
             figure=_figure,
             caption=P2_CAPTIONS[_figure],
             systems=[_system or P2_FRICTIONAL],
+            rattler_rule=P2_RATTLER_RULE,
         script:
             "../scripts/p2_figure.py"
 
@@ -101,6 +128,8 @@ rule p2_validation:
     input:
         distances=[f"{RESULTS}/{s}/distances.nc" for s in P2_SYSTEMS],
         tables=rules.p2_tables.output.csv,
+        measures=[f"{RESULTS}/{s}/network_measures.nc" for s in P2_SYSTEMS],
+        states=P2_TABLE_STATES,
     output:
         md=report(f"{RESULTS}/tables/p2_validation.md", caption="../report/table.rst", category="P2",
                   subcategory=REPORT_TABLES),

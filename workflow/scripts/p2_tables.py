@@ -2,6 +2,7 @@
 from forcenet.pipeline import p2_tables
 
 p2_tables(  # noqa: F821 — `snakemake` is injected by Snakemake
-    snapshots=list(snakemake.input), csv=list(snakemake.output.csv), md=list(snakemake.output.md),
-    analysis=snakemake.params.analysis, log_path=snakemake.log[0],
+    snapshots=list(snakemake.input.snapshots), states=snakemake.input.states, csv=list(snakemake.output.csv),
+    md=list(snakemake.output.md), rattler_rule=snakemake.params.rattler_rule,
+    essential_convention=snakemake.params.essential_convention, log_path=snakemake.log[0],
 )

@@ -1,6 +1,7 @@
 """Contacts → force network: edges, force magnitudes in units of ⟨F⟩, rattlers, wall contacts, regions."""
 from forcenet.network.force_network import (
     FORCE_KINDS,
+    RATTLER_RULE_DESCRIPTIONS,
     RATTLER_RULES,
     CompactGraph,
     ForceNetwork,
@@ -18,7 +19,8 @@ from forcenet.network.regions import (
 )
 
 __all__ = [
-    "FORCE_KINDS", "RATTLER_RULES", "CompactGraph", "ForceNetwork", "build_force_network", "force_magnitude",
+    "FORCE_KINDS", "RATTLER_RULES", "RATTLER_RULE_DESCRIPTIONS", "CompactGraph", "ForceNetwork",
+    "build_force_network", "force_magnitude",
     "network_from_edge_forces", "rattler_free_mask", "resolve_rattler_rule", "QUADRANTS", "quadrant_mask",
     "restrict_to_quadrant", "restrict_to_region",
 ]

@@ -30,8 +30,17 @@ from functools import cached_property
 import numpy as np
 
 from forcenet.datasets.schema import FORCE_KINDS
+from forcenet.systems import RATTLER_RULES, resolve_rattler_rule  # noqa: F401 — the config's rules, applied here
 
-RATTLER_RULES = ("once", "iterative", "none")
+#: what each rule does, in words (recorded next to the rule in every analysis file)
+RATTLER_RULE_DESCRIPTIONS = {
+    "once": "particles with <= 1 particle contact removed in one pass (P1 §3), then particles without an edge "
+            "of the network's kind",
+    "iterative": "particles with <= 1 particle contact removed until none is left (2-core), then particles "
+                 "without an edge of the network's kind",
+    "none": "every particle kept: rattlers and particles with only zero-force contacts are components born at "
+            "the zero level of PD0 (P2 §III C)",
+}
 
 
 @dataclass(frozen=True)
@@ -196,17 +205,6 @@ def force_magnitude(force_normal: np.ndarray, force_tangential: np.ndarray, kind
     else:
         raise ValueError(f"kind must be one of {FORCE_KINDS}, got {kind!r}")
     return np.sqrt(np.einsum("cd,cd->c", vector, vector))
-
-
-def resolve_rattler_rule(remove_rattlers: bool | str) -> str:
-    """``True`` → "once" (the default, P1 §3), ``False`` → "none", or a rule name itself."""
-    if remove_rattlers is True:
-        return "once"
-    if remove_rattlers is False:
-        return "none"
-    if remove_rattlers not in RATTLER_RULES:
-        raise ValueError(f"remove_rattlers must be a bool or one of {RATTLER_RULES}, got {remove_rattlers!r}")
-    return remove_rattlers
 
 
 def rattler_free_mask(n_particles: int, contact_i: np.ndarray, contact_j: np.ndarray, rule: str,

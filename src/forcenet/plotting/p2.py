@@ -45,7 +45,7 @@ EDGE_ENDS = ("x_i [d_ave]", "y_i [d_ave]", "x_j [d_ave]", "y_j [d_ave]")
 
 # --- Fig. 1: three nearby snapshots and |ΔF| between them ------------------------------------------------------
 def prepare_p2_fig01(snapshots: Sequence[xr.Dataset], *, kind: str = "normal", system: str = report.FRICTIONAL,
-                     remove_rattlers: bool = False) -> FigureData:
+                     remove_rattlers: bool | str = False) -> FigureData:
     """Edges of panels (a–c): the force network of three nearby snapshots, F/⟨F⟩ of that snapshot; (d–e):
     |F_b − F_a| and |F_c − F_a| on the contacts of either snapshot (a contact missing in one has F = 0 there),
     at snapshot a's particle positions. Panels 0–4 are a–e."""
@@ -66,7 +66,8 @@ def prepare_p2_fig01(snapshots: Sequence[xr.Dataset], *, kind: str = "normal", s
                                     cols.VALUE: edges.force}))
     return FigureData(concat(blocks), {
         "box": [(s["box_lo"].values[:2], s["box_hi"].values[:2]) for s in snapshots],
-        "states": [(float(s["rho"]), float(s["Z"])) for s in snapshots], "kind": kind, "system": system})
+        "states": [(float(s["rho"]), float(s["Z"])) for s in snapshots], "kind": kind, "system": system,
+        "realization": snapshots[0].attrs.get("realization", "?")})
 
 
 def draw_p2_fig01(data: FigureData) -> Figure:
@@ -88,7 +89,8 @@ def draw_p2_fig01(data: FigureData) -> Figure:
     side.axis("off")
     fig.colorbar(lines, cax=side.inset_axes([0.0, 0.1, 0.06, 0.8]),
                  label=r"$|\Delta F|/\langle F\rangle$ (each snapshot normalised by its own mean)")
-    side.text(0.45, 0.5, f"{system_label(system)}\n{KIND_WORDS.get(kind, kind)}\n"
+    side.text(0.45, 0.5, f"{system_label(system)}, realization {data.layout.get('realization', '?')}\n"
+              f"{KIND_WORDS.get(kind, kind)}\n"
               + "\n".join(f"{letter}: ρ = {rho:.4f}, Z = {z:.2f}"
                           for letter, (rho, z) in zip("abc", data.layout["states"])),
               transform=side.transAxes, va="center")
@@ -97,7 +99,7 @@ def draw_p2_fig01(data: FigureData) -> Figure:
 
 
 def p2_fig01_snapshots_differences(snapshots: Sequence[xr.Dataset], *, kind: str = "normal",
-                                   system: str = report.FRICTIONAL, remove_rattlers: bool = False) -> Figure:
+                                   system: str = report.FRICTIONAL, remove_rattlers: bool | str = False) -> Figure:
     """P2 Fig. 1: (a–c) the force network of three nearby snapshots, colour = F/⟨F⟩ of that snapshot;
     (d) |F_b − F_a| and (e) |F_c − F_a| on the contacts of either snapshot (see `prepare_p2_fig01`)."""
     return draw_p2_fig01(prepare_p2_fig01(snapshots, kind=kind, system=system, remove_rattlers=remove_rattlers))
@@ -214,6 +216,7 @@ def draw_distances(data: FigureData) -> Figure:
             _draw_band(ax, rows[rows[cols.QUANTITY] == METRIC_QUANTITY[metric]], METRIC_COLORS[metric],
                        METRIC_MARKERS[metric], METRIC_TEX[metric])
         _log_panel_vs_rho(ax, h, DISTANCE_LABEL, layout["rho_J"], layout["dimension"])
+        _mark_quoted_levels(ax, layout["source"], h, rows[cols.RHO].values, layout["rho_J"])
         twin = _z_twin(ax, rows[rows[cols.QUANTITY] == "Z"], layout["system"], layout["dimension"])
     _figure_legend(fig, [axes[0], twin])
     fig.suptitle(f"{system_label(layout['system'])}, {KIND_WORDS.get(layout['kind'], layout['kind'])}: distances "
@@ -234,6 +237,19 @@ def p2_fig08_distances_tangential_mu05(distances: xr.Dataset, *, system: str = r
 def p2_fig09_distances_normal_mu0(distances: xr.Dataset, *, system: str = report.FRICTIONLESS) -> Figure:
     """P2 Fig. 9: as Fig. 6 for the frictionless system (μ = 0)."""
     return _from_parts("p2_fig09_distances_normal_mu0", distances, system)
+
+
+def _mark_quoted_levels(ax, source: str, h: int, rho: np.ndarray, rho_j: float) -> None:
+    """P2's quoted levels for this panel (`report.quoted_levels`; `source` is "P2 Fig. N") as dashed segments over
+    the ρ range P2 quotes them for."""
+    rho = np.asarray(rho, dtype=float)
+    if rho.size == 0:
+        return
+    for level in report.quoted_levels(int(source.split()[-1]), h):
+        high = rho_j if level.rho_below == "rho_J" else float(level.rho_below)
+        if np.isfinite(high) and high > float(np.min(rho)):
+            ax.hlines(level.value, float(np.min(rho)), min(high, float(np.max(rho))),
+                      colors=METRIC_COLORS[level.metric], linestyles=(0, (5, 3)), lw=1.6, alpha=0.8, label=level.text)
 
 
 def _jamming(distances: xr.Dataset) -> tuple[int, float]:
@@ -276,7 +292,7 @@ def _figure_legend(fig, axes) -> None:
             if label not in labels:
                 handles.append(handle)
                 labels.append(label)
-    fig.legend(handles, labels, loc="outside lower center", ncol=len(labels), frameon=False)
+    fig.legend(handles, labels, loc="outside lower center", ncol=min(len(labels), 4), frameon=False)
 
 
 # --- Figs 7, 10: ratios d_B/d_W1 and d_B/d_W2 ---------------------------------------------------------------------
@@ -305,6 +321,7 @@ def draw_ratios(data: FigureData) -> Figure:
             _draw_band(ax, rows[rows[cols.QUANTITY] == RATIO_QUANTITY[den]], METRIC_COLORS[den], METRIC_MARKERS[den],
                        rf"$d_B/${METRIC_TEX[den]}")
         _log_panel_vs_rho(ax, h, RATIO_LABEL, layout["rho_J"], layout["dimension"])
+        _mark_quoted_levels(ax, layout["source"], h, rows[cols.RHO].values, layout["rho_J"])
     _figure_legend(fig, [axes[0]])
     fig.suptitle(f"{system_label(layout['system'])}, {KIND_WORDS.get(layout['kind'], layout['kind'])}: ratios of the "
                  f"rates of change ({layout['realizations']}; {layout['source']})")
@@ -358,10 +375,10 @@ def _from_parts(name: str, data, system: str) -> Figure:
     return draw_p2_figure(name, p2_figure_data(name, data, system=system))
 
 
-def p2_figure_data(name: str, data, *, system: str) -> FigureData:
+def p2_figure_data(name: str, data, *, system: str, **options) -> FigureData:
     """The plotted values of the P2 figure `name` from its input (three snapshots, one analysis or a distances
-    dataset, as `P2_FIGURES[name]` takes)."""
-    return P2_FIGURE_PARTS[name][0](data, system=system)
+    dataset, as `P2_FIGURES[name]` takes); `options` go to its preparation (Fig. 1: ``remove_rattlers``)."""
+    return P2_FIGURE_PARTS[name][0](data, system=system, **options)
 
 
 def draw_p2_figure(name: str, data: FigureData) -> Figure:

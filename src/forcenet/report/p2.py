@@ -12,12 +12,20 @@ Products
   consecutive snapshots of each realization, dims (realization, rho, force_kind, homology_dim, metric), with
   Z(ρ). ``rho`` is the packing fraction of the *later* snapshot of each pair (P2 Figs 6–10 plot the distance
   between consecutive samples against ρ).
-- `select_table_snapshots`, `p2_tables`, `write_table` — Tables I–III: three nearby snapshots a, b, c around
-  ``table_rho`` (P2: ρ ≈ 0.79), distances (a,b) and (a,c) of the normal-force diagrams over the whole box
-  (Table I) and per quadrant of the box (Tables II, III), β0 and β1 × d_B, d_W1, d_W2, as P2 prints them.
+- `select_table_snapshots`, `table_state_candidates`, `chosen_states` — the states a, b, c of Tables I–III and
+  Figs 1, 3: three consecutive samples around ``table_rho`` (P2: ρ ≈ 0.79) of the realization whose Z and ⟨F_n⟩
+  change least over them (P2 Fig. 1: "almost identical").
+- `p2_tables`, `write_table` — Tables I–III: distances (a,b) and (a,c) of the normal-force diagrams over the
+  whole box (Table I) and per quadrant of the box (Tables II, III), β0 and β1 × d_B, d_W1, d_W2, as P2 prints
+  them, with P2's printed values (`P2_TABLE_VALUES`) and ours / P2's beside them.
+- `P2_QUOTED_LEVELS` — the levels P2 quotes in words for Figs 6–9 (drawn by `forcenet.plotting.p2`).
+- `lagged_distances`, `lagged_distance_summary` — distances between states k samples apart, per P2 regime: how
+  the sampling step and the wall speed change the distances (docs/p2_sampling.md, scripts/p2_sampling.py).
 - `p2_validation`, `p2_validation_markdown`, `write_p2_validation` — each claim of P2 §III D–§IV (and the
-  conclusions that summarise §IV) with the measured evidence, the criterion and a computed verdict. The only
-  numbers typed in are P2's own (the ``reference`` column and the ρ ranges it names); the tolerances are
+  conclusions that summarise §IV) with the measured evidence, the criterion, a computed verdict and, where it
+  does not hold, the explanation (`EXPLANATIONS`: the cause, measured in docs/p2_sampling.md, and diagnostics
+  measured on the same data). The only numbers typed in are P2's own (the ``reference`` column, the ρ ranges it
+  names, its printed tables) and, in the explanations, what docs/p2_sampling.md measured; the tolerances are
   fields of `ValidationTolerances`.
 """
 from __future__ import annotations
@@ -58,7 +66,8 @@ TABLE_RHO_KEYS = ("rho_a", "rho_b", "rho_c")  # packing fractions of snapshots a
 FRICTIONAL, FRICTIONLESS = "2d_poly_mu05", "2d_poly_mu0"
 
 HOLDS, FAILS, NOT_EVALUATED = "holds", "does not hold", "not evaluated"
-VALIDATION_COLUMNS = ("claim_id", "section", "system", "claim", "reference", "criterion", "measured", "verdict")
+VALIDATION_COLUMNS = ("claim_id", "section", "system", "claim", "reference", "criterion", "measured", "verdict",
+                      "explanation")
 
 
 # =============================================================================================================
@@ -296,6 +305,83 @@ def _convention_attrs(essential_convention: str) -> dict:
 
 
 # =============================================================================================================
+# Sampling: distances between states k samples apart (docs/p2_sampling.md)
+# =============================================================================================================
+#: ρ windows of the sampling summary: P2's regimes (§IV A: before 0.75, from 0.75 to ρ_J, after ρ_J)
+SAMPLING_WINDOWS = ("rho < 0.75", "0.75 <= rho < rho_J", "rho > rho_J")
+
+
+def snapshot_diagrams(snapshot: xr.Dataset, kind: str = "normal", rattler_rule: bool | str = "none"):
+    """PD0 and PD1 of one snapshot's force network of `kind` (forces in units of its own mean) built with
+    `rattler_rule` (P2: ``"none"``, rattlers kept as components born at 0)."""
+    return _network_diagrams(_snapshot_network(snapshot, kind, rattler_rule))
+
+
+def lagged_distances(diagrams: Sequence, rho: Sequence[float], lag: int, *, essential_convention: str = "minus_one",
+                     homology_dims: Sequence[int] = P2_HOMOLOGY_DIMS) -> pd.DataFrame:
+    """d_B, d_W1, d_W2 between the diagrams of states `lag` samples apart (lag 1: P2's consecutive states).
+
+    Returns one row per pair (s, s + lag): columns ``rho_previous``, ``rho`` (the later state) and
+    `table_column` names (``beta0_d_B`` …) [⟨F⟩].
+    """
+    if lag < 1:
+        raise ValueError(f"lag must be >= 1, got {lag}")
+    rows = []
+    for s in range(len(diagrams) - lag):
+        row = {"rho_previous": float(rho[s]), "rho": float(rho[s + lag])}
+        for h in homology_dims:
+            d = _distances(diagrams[s], diagrams[s + lag], h, essential_convention)
+            row.update({table_column(h, m): d[m] for m in METRICS})
+        rows.append(row)
+    columns = ["rho_previous", "rho"] + [table_column(h, m) for h in homology_dims for m in METRICS]
+    return pd.DataFrame(rows, columns=columns)
+
+
+def lagged_distance_summary(runs: Mapping[float, tuple], lags: Sequence[int], *, dimension: int = 2,
+                            essential_convention: str = "minus_one") -> pd.DataFrame:
+    """Median distances between states k samples apart, per wall speed, lag and P2 regime.
+
+    Parameters
+    ----------
+    runs : ``{wall_speed: (rho, Z, diagrams, simulation_seconds)}``: one compression run per wall speed,
+        states in increasing ρ.
+    lags : k values.
+
+    Returns
+    -------
+    DataFrame with columns wall_speed, lag, delta_rho (mean ρ step of a pair), window (`SAMPLING_WINDOWS`,
+    both states of a pair inside it; ρ_J where Z first reaches d + 1), pairs, rho_J, simulation_s and the
+    medians of every `table_column` [⟨F⟩].
+    """
+    rows = []
+    for speed, (rho, z, diagrams, seconds) in runs.items():
+        rho_j = _rho_at_isostatic_crossing(np.asarray(rho), np.asarray(z), dimension)
+        bounds = dict(zip(SAMPLING_WINDOWS, ((-np.inf, 0.75), (0.75, rho_j), (rho_j, np.inf))))
+        for lag in lags:
+            pairs = lagged_distances(diagrams, rho, lag, essential_convention=essential_convention)
+            values = [c for c in pairs.columns if c.startswith("beta")]
+            for window, (lo, hi) in bounds.items():
+                inside = pairs[(pairs["rho_previous"] >= lo) & (pairs["rho"] < hi)] if np.isfinite(rho_j) else pairs[:0]
+                rows.append({"wall_speed": speed, "lag": lag,
+                             "delta_rho": float((pairs["rho"] - pairs["rho_previous"]).mean()) if len(pairs) else np.nan,
+                             "window": window, "pairs": len(inside), "rho_J": rho_j, "simulation_s": seconds,
+                             **{c: float(inside[c].median()) if len(inside) else np.nan for c in values}})
+    return pd.DataFrame(rows)
+
+
+def lagged_distance_markdown(summary: pd.DataFrame) -> str:
+    """`lagged_distance_summary` as one Markdown table (medians, 2 significant digits)."""
+    values = [c for c in summary.columns if c.startswith("beta")]
+    header = ["v_c [d/τ_c]", "k", "Δρ", "window", "pairs"] + [_pretty_column(c) for c in values]
+    lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
+    for _, r in summary.iterrows():
+        window = r["window"].replace("rho_J", f"ρ_J = {r['rho_J']:.3f}").replace("rho", "ρ")
+        lines.append("| " + " | ".join([f"{r['wall_speed']:g}", str(int(r["lag"])), f"{r['delta_rho']:.4f}", window,
+                                        str(int(r["pairs"]))] + [_format(r[c], 2) for c in values]) + " |")
+    return "\n".join(lines) + "\n"
+
+
+# =============================================================================================================
 # Reductions shared by the figures and the validation
 # =============================================================================================================
 def realization_mean(da: xr.DataArray) -> xr.DataArray:
@@ -347,6 +433,38 @@ def jamming_density_per_realization(distances: xr.Dataset, dimension: int = 2) -
                      for i in range(distances.sizes["realization"])])
 
 
+@dataclass(frozen=True)
+class QuotedLevel:
+    """A level P2 quotes in words for one of its figures, drawn on ours over the ρ range it applies to.
+
+    figure : P2's figure number (6–10); homology_dim : k of the panel; metric : the distance (Figs 6, 8, 9) or the
+    denominator d_Wq of d_B/d_Wq (Figs 7, 10); value : P2's level; rho_below : upper end of the ρ range, a number
+    or ``"rho_J"``; text : P2's statement (legend label).
+    """
+
+    figure: int
+    homology_dim: int
+    metric: str
+    value: float
+    rho_below: float | str
+    text: str
+
+
+#: P2's quoted levels (§IV A, B, C); Fig. 10 gets none: P2 only says its d_B/d_W2 is "roughly the same" as Fig. 7's
+P2_QUOTED_LEVELS = (
+    QuotedLevel(6, 0, "bottleneck", 10.0, "rho_J", r"P2 §IV A: $d_B \approx 10$ ($\gg 1$) before $\rho_J$"),
+    QuotedLevel(7, 0, "wasserstein_2", 0.75, 0.75, r"P2 §IV A: $d_B/d_{W2} \approx 0.75$ for $\rho < 0.75$"),
+    QuotedLevel(7, 0, "wasserstein_1", 0.2, 0.75, r"P2 §IV A: $d_B/d_{W1} \approx 0.2$ for $\rho < 0.75$"),
+    QuotedLevel(8, 0, "bottleneck", 10.0, "rho_J", r"P2 §IV B: $d_B$ as for normal forces ($\approx 10$ before $\rho_J$)"),
+    QuotedLevel(9, 0, "bottleneck", 10.0, 0.65, r"P2 §IV C: $d_B$ as with friction ($\approx 10$) for $\rho < 0.65$"),
+)
+
+
+def quoted_levels(figure: int, homology_dim: int) -> list[QuotedLevel]:
+    """P2's quoted levels for one panel of one of its figures (`P2_QUOTED_LEVELS`)."""
+    return [q for q in P2_QUOTED_LEVELS if q.figure == figure and q.homology_dim == homology_dim]
+
+
 # =============================================================================================================
 # Tables I–III (P2 §III D): three nearby snapshots, whole box and quadrants
 # =============================================================================================================
@@ -382,7 +500,8 @@ def p2_tables(snapshots: Sequence[xr.Dataset], *, kind: str = "normal", remove_r
     quadrants = pd.Index(QUADRANTS, name="quadrant")
     table2 = pd.DataFrame([row(parts[0][q], parts[1][q]) for q in QUADRANTS], index=quadrants)
     table3 = pd.DataFrame([row(parts[0][q], parts[2][q]) for q in QUADRANTS], index=quadrants)
-    meta = {**dict(zip(TABLE_RHO_KEYS, rho)), "force_kind": kind, "essential_convention": essential_convention}
+    meta = {**dict(zip(TABLE_RHO_KEYS, rho)), "force_kind": kind, "essential_convention": essential_convention,
+            "rattler_rule": networks[0].rattler_rule, "realization": int(snapshots[0].attrs.get("realization", -1))}
     captions = {
         "table1": "Table I: distances between the persistence diagrams of the force networks of snapshots a, b, c",
         "table2": "Table II: distances (PD^a, PD^b) between corresponding quarters of the box",
@@ -394,34 +513,142 @@ def p2_tables(snapshots: Sequence[xr.Dataset], *, kind: str = "normal", remove_r
     return tables
 
 
+# --- which realization gives the states a, b, c ---------------------------------------------------------------
+TABLE_STATE_CRITERION = (
+    "P2 Fig. 1: the three states look alike and 'both the average contact number Z and the average force are almost "
+    "identical'. Among the realizations, the one whose states a, b, c (consecutive samples around table_rho) change "
+    "Z and the mean normal force <F_n> least: score = the larger of max(|Z_x - Z_a|)/Z_a and "
+    "max(|<F_n>_x - <F_n>_a|)/<F_n>_a over x = b, c; the lowest score is chosen, the lowest index on ties")
+TABLE_STATE_COLUMNS = ("realization", *TABLE_RHO_KEYS, "Z_a", "Z_b", "Z_c", "mean_normal_force_a",
+                       "mean_normal_force_b", "mean_normal_force_c", "Z_change", "force_change", "score", "chosen")
+
+
+def table_state_candidates(analyses: Sequence[xr.Dataset]) -> pd.DataFrame:
+    """The candidate states a, b, c of Tables I–III and Figs 1, 3: one row per realization (`TABLE_STATE_COLUMNS`).
+
+    Parameters
+    ----------
+    analyses : per-snapshot analysis files of states a, b, c of every realization (three per realization, told
+        apart by their ``realization`` attribute): Z and the mean normal force ⟨F_n⟩ [m̄ d_ave τ_c⁻²] are read.
+
+    Returns
+    -------
+    DataFrame with ρ, Z, ⟨F_n⟩ of a, b, c, the relative changes, the score and ``chosen`` (one True row) by
+    `TABLE_STATE_CRITERION`.
+    """
+    by_realization: dict[int, list[xr.Dataset]] = {}
+    for ds in analyses:
+        by_realization.setdefault(int(ds.attrs["realization"]), []).append(ds)
+    normal = FORCE_KINDS.index("normal")
+    rows = []
+    for realization, states in sorted(by_realization.items()):
+        if len(states) != 3:
+            raise ValueError(f"realization {realization}: {len(states)} states, need a, b, c")
+        states = sorted(states, key=lambda ds: float(ds["rho"]))
+        z = [float(ds["Z"]) for ds in states]
+        force = [float(ds["mean_force"].values[normal]) for ds in states]
+        z_change = max(abs(z[1] - z[0]), abs(z[2] - z[0])) / z[0] if z[0] > 0 else math.inf
+        force_change = max(abs(force[1] - force[0]), abs(force[2] - force[0])) / force[0] if force[0] > 0 else math.inf
+        rows.append({"realization": realization, **{k: float(ds["rho"]) for k, ds in zip(TABLE_RHO_KEYS, states)},
+                     "Z_a": z[0], "Z_b": z[1], "Z_c": z[2], "mean_normal_force_a": force[0],
+                     "mean_normal_force_b": force[1], "mean_normal_force_c": force[2], "Z_change": z_change,
+                     "force_change": force_change, "score": max(z_change, force_change)})
+    if not rows:
+        raise ValueError("no candidate states a, b, c")
+    table = pd.DataFrame(rows, columns=list(TABLE_STATE_COLUMNS[:-1]))
+    table["chosen"] = False
+    table.loc[table["score"].idxmin(), "chosen"] = True  # idxmin: first (lowest realization) on ties
+    table.attrs["criterion"] = TABLE_STATE_CRITERION
+    return table
+
+
+def chosen_states(datasets: Sequence[xr.Dataset], candidates: pd.DataFrame) -> list[xr.Dataset]:
+    """The datasets (snapshots or analyses) of the chosen realization of `candidates`, in increasing ρ."""
+    chosen = candidates[candidates["chosen"].astype(bool)]
+    if len(chosen) != 1:
+        raise ValueError(f"{len(chosen)} chosen realizations in the table-state candidates, need one")
+    realization = int(chosen["realization"].iloc[0])
+    picked = sorted((ds for ds in datasets if int(ds.attrs.get("realization", -1)) == realization),
+                    key=lambda ds: float(ds["rho"]))
+    if not picked:
+        raise ValueError(f"no dataset of the chosen realization {realization}")
+    expected = chosen[list(TABLE_RHO_KEYS)].to_numpy(dtype=float)[0][:len(picked)]
+    if not np.allclose([float(ds["rho"]) for ds in picked], expected, atol=1e-9):
+        raise ValueError(f"realization {realization}: states at rho {[float(ds['rho']) for ds in picked]}, "
+                         f"expected {expected.tolist()}")
+    return picked
+
+
 def table_column(homology_dim: int, metric: str) -> str:
     """Column name of a table entry: ``beta0_d_B``, ``beta1_d_W2`` …"""
     return f"beta{homology_dim}_{METRIC_SYMBOLS[metric]}"
 
 
-def table_markdown(table: pd.DataFrame, digits: int = 3) -> str:
-    """One table as Markdown, with P2's header (β0/β1 × d_B, d_W1, d_W2) and a caption with ρ_a, ρ_b, ρ_c."""
+# P2's printed Tables I–III (μ = 0.5, normal forces, three nearby states at ρ ≈ 0.79), columns β0 then β1 ×
+# d_B, d_W1, d_W2 as `table_column` orders them: printed beside ours, and the reference of the III.D claims
+P2_TABLE_VALUES = {
+    "table1": {"(a,b)": (0.089, 4.18, 0.50, 0.081, 3.8, 0.57),
+               "(a,c)": (0.12, 14.0, 0.89, 0.15, 19.2, 0.99)},
+    "table2": {"bottom left": (0.12, 3.6, 0.50, 0.16, 3.66, 0.95),
+               "bottom right": (0.014, 0.40, 0.070, 0.014, 0.43, 0.037),
+               "top right": (0.0046, 0.58, 0.35, 0.0055, 0.29, 0.024),
+               "top left": (0.0076, 0.56, 0.31, 0.0045, 0.23, 0.019)},
+    "table3": {"bottom left": (0.16, 4.1, 0.53, 0.13, 5.8, 0.59),
+               "bottom right": (0.18, 5.2, 0.67, 0.14, 5.6, 0.50),
+               "top right": (0.10, 5.1, 0.69, 0.12, 5.5, 0.51),
+               "top left": (0.11, 4.3, 0.53, 0.087, 5.1, 0.87)},
+}
+P2_PREFIX, RATIO_PREFIX = "p2_", "ratio_"  # CSV columns of P2's value and of ours / P2's
+
+
+def p2_reference_table(name: str) -> pd.DataFrame:
+    """P2's printed Table I, II or III (``"table1"`` …) with our row labels and `table_column` columns."""
+    rows = P2_TABLE_VALUES[name]
+    columns = [table_column(h, m) for h in P2_HOMOLOGY_DIMS for m in METRICS]
+    index = pd.Index(list(rows), name="pair" if name == "table1" else "quadrant")
+    return pd.DataFrame([rows[label] for label in index], index=index, columns=columns)
+
+
+def table_markdown(table: pd.DataFrame, digits: int = 3, reference: pd.DataFrame | None = None) -> str:
+    """One table as Markdown, with P2's header (β0/β1 × d_B, d_W1, d_W2) and a caption with ρ_a, ρ_b, ρ_c.
+
+    With `reference` (P2's printed table, `p2_reference_table`), each row of ours is followed by P2's row and
+    the row of ratios ours / P2's."""
     header = [table.index.name or ""] + [_pretty_column(c) for c in table.columns]
     lines = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
     for label, values in table.iterrows():
         lines.append("| " + " | ".join([str(label)] + [_format(v, digits) for v in values]) + " |")
+        if reference is not None and label in reference.index:
+            paper = reference.loc[label, table.columns]
+            lines.append("| " + " | ".join([f"{label}, P2"] + [_format(float(v), digits) for v in paper]) + " |")
+            lines.append("| " + " | ".join([f"{label}, ours / P2"] + [_format(float(v), 2) for v in
+                                                                      values / paper]) + " |")
     caption = table.attrs.get("caption", "")
     rhos = ", ".join(f"{key} = {table.attrs[key]:.4f}" for key in TABLE_RHO_KEYS if key in table.attrs)
     kind = table.attrs.get("force_kind")
-    note = "; ".join(x for x in (rhos, f"{kind} forces" if kind else "", "distances in units of <F>") if x)
+    realization = table.attrs.get("realization", -1)
+    rule = table.attrs.get("rattler_rule")
+    note = "; ".join(x for x in (rhos, f"realization {realization}" if realization >= 0 else "",
+                                 f"{kind} forces" if kind else "", f"rattler rule '{rule}'" if rule else "",
+                                 "distances in units of <F>") if x)
     return "\n".join(([f"{caption} ({note}).", ""] if caption else []) + lines) + "\n"
 
 
-def write_table(table: pd.DataFrame, csv_path: str | os.PathLike, md_path: str | os.PathLike) -> None:
-    """Write one of Tables I–III as CSV (machine-readable, flat columns) and Markdown (P2's layout)."""
+def write_table(table: pd.DataFrame, csv_path: str | os.PathLike, md_path: str | os.PathLike,
+                reference: pd.DataFrame | None = None) -> None:
+    """Write one of Tables I–III as CSV (machine-readable, flat columns: ours, then with `reference` P2's values
+    ``p2_*`` and ours / P2's ``ratio_*``) and Markdown (P2's layout, P2's rows beside ours)."""
     for path in (csv_path, md_path):
         Path(path).parent.mkdir(parents=True, exist_ok=True)
     frame = table.copy()
+    if reference is not None:
+        paper = reference.loc[table.index, table.columns]
+        frame = frame.join(paper.add_prefix(P2_PREFIX)).join((table / paper).add_prefix(RATIO_PREFIX))
     for key in TABLE_RHO_KEYS:
         if key in table.attrs:
             frame[key] = table.attrs[key]
     frame.to_csv(csv_path)
-    Path(md_path).write_text(table_markdown(table))
+    Path(md_path).write_text(table_markdown(table, reference=reference))
 
 
 def write_p2_tables(tables: Mapping[str, pd.DataFrame], directory: str | os.PathLike,
@@ -431,14 +658,16 @@ def write_p2_tables(tables: Mapping[str, pd.DataFrame], directory: str | os.Path
     written = []
     for name, table in tables.items():
         csv_path, md_path = Path(directory) / f"{prefix}{name}.csv", Path(directory) / f"{prefix}{name}.md"
-        write_table(table, csv_path, md_path)
+        write_table(table, csv_path, md_path, p2_reference_table(name) if name in P2_TABLE_VALUES else None)
         written += [csv_path, md_path]
     return written
 
 
 def read_table(csv_path: str | os.PathLike) -> pd.DataFrame:
-    """Read a table written by `write_table` (ρ_a, ρ_b, ρ_c go back into ``attrs``)."""
+    """Read a table written by `write_table`: our values (ρ_a, ρ_b, ρ_c go back into ``attrs``; P2's values and
+    the ratios are left out)."""
     frame = pd.read_csv(csv_path, index_col=0)
+    frame = frame.drop(columns=[c for c in frame.columns if c.startswith((P2_PREFIX, RATIO_PREFIX))])
     for key in TABLE_RHO_KEYS:
         if key in frame:
             frame.attrs[key] = float(frame[key].iloc[0])
@@ -603,9 +832,14 @@ def _per_dim_metric(values: Mapping[tuple[int, str], float]) -> str:
     return ", ".join(f"beta{h} {METRIC_SYMBOLS[m]} {_f(v, 2)}" for (h, m), v in values.items())
 
 
-def _quotient(numerator: float, denominator: float) -> float:
-    """numerator / denominator of two non-negative values, inf where the denominator is 0."""
-    return float(numerator) / float(denominator) if denominator > 0 else math.inf
+def _quotient(numerator: float, denominator: float, what: str = "") -> float:
+    """numerator / denominator of two non-negative values, inf where only the denominator is 0. Both 0 (no
+    change at all in either curve, e.g. no loops yet) cannot be compared: the claim is not evaluated."""
+    if denominator > 0:
+        return float(numerator) / float(denominator)
+    if numerator > 0:
+        return math.inf
+    raise _NotEvaluated(f"both rates are 0{' (' + what + ')' if what else ''}: nothing to compare")
 
 
 @dataclass
@@ -615,6 +849,8 @@ class _Context:
     tol: ValidationTolerances
     frictional: str
     frictionless: str
+    measures: Mapping[str, xr.Dataset] = field(default_factory=dict)
+    states: pd.DataFrame | None = None
 
     def system(self, name: str) -> _Curves:
         if name not in self.curves:
@@ -739,7 +975,7 @@ def _fall_after_jamming(role: str):
             for m in METRICS:
                 s = c.mean(NORMAL, h, m)
                 before, after = c.window(s, hi=rho_j).median(), c.window(s, lo=rho_j, closed_lo=False).median()
-                factors[h, m] = _quotient(before, after)
+                factors[h, m] = _quotient(before, after, f"beta{h} {METRIC_SYMBOLS[m]} median before and after rho_J")
         worst = min(factors.values())
         text = f"rho_J = {_f(rho_j)}; median(rho < rho_J) / median(rho > rho_J): {_per_dim_metric(factors)}"
         return text, worst >= ctx.tol.fall_factor
@@ -855,7 +1091,8 @@ def _median_quotient(ctx: _Context, dim: int, metrics: Sequence[str], lo: float 
     def median(c: _Curves, metric: str) -> float:
         return float(c.window(c.mean(NORMAL, dim, metric), lo, hi, closed_lo=closed_lo).median())
 
-    return {m: _quotient(median(n, m), median(f, m)) for m in metrics}
+    return {m: _quotient(median(n, m), median(f, m), f"beta{dim} {METRIC_SYMBOLS[m]} medians of both systems")
+            for m in metrics}
 
 
 def _peak_quotient(ctx: _Context, dim: int, bounds: Callable[[_Curves], tuple[float, float]], *,
@@ -866,7 +1103,8 @@ def _peak_quotient(ctx: _Context, dim: int, bounds: Callable[[_Curves], tuple[fl
     quotient = {}
     for m in METRICS:
         peak_f, peak_n = (c.window(c.mean(NORMAL, dim, m), *bounds(c), closed_hi=True).max() for c in (f, n))
-        quotient[m] = _quotient(peak_f, peak_n) if numerator == "frictional" else _quotient(peak_n, peak_f)
+        what = f"beta{dim} {METRIC_SYMBOLS[m]} peaks of both systems"
+        quotient[m] = _quotient(peak_f, peak_n, what) if numerator == "frictional" else _quotient(peak_n, peak_f, what)
     return quotient
 
 
@@ -1120,9 +1358,178 @@ CLAIMS: tuple[_Claim, ...] = (
 )
 
 
+# --- why a claim does not hold: diagnostics measured on the same data ------------------------------------------
+def _never_dying_events(name_of: Callable[[_Context], str], dim: int, where: str) -> Callable[[_Context], str]:
+    """Diagnostic: how often consecutive states differ in their number of never-dying PD_dim classes (normal forces)
+    in a ρ window (`where`: "after" ρ > ρ_J, "dense" 0.75 <= ρ < ρ_J). Under P2's death −1 each such pair has
+    d_B >= 1/2 (the extra class, born at b >= 0, goes to the diagonal at (b + 1)/2 or to a finite point at >= 1),
+    whatever else changed; the median d_B of the other pairs is what the forces alone give."""
+    def diagnostic(ctx: _Context) -> str:
+        name = name_of(ctx)
+        c = ctx.system(name)
+        measures = ctx.measures.get(name)
+        if measures is None or "essential_count" not in measures or "realization" not in c.ds.dims:
+            raise _NotEvaluated(f"{name}: no never-dying class counts (network_measures.nc) to compare")
+        count = measures["essential_count"].sel(force_kind=NORMAL, homology_dim=dim)
+        count = count.sel(realization=c.ds["realization"].values).transpose("realization", "rho").values
+        d_b = c.ds["distance"].sel(force_kind=NORMAL, homology_dim=dim, metric=B).transpose("realization", "rho")
+        changed = np.diff(count, axis=1) != 0
+        if changed.shape != d_b.shape:
+            raise _NotEvaluated(f"{name}: network measures and distances cover different states")
+        rho, rho_j = c.ds["rho"].values, c.jammed()
+        inside = rho > rho_j if where == "after" else (rho >= 0.75) & (rho < rho_j)
+        changed, d_b = changed[:, inside], d_b.values[:, inside]
+        if not changed.size:
+            raise _NotEvaluated(f"{name}: no pairs {where} rho_J")
+        quiet = d_b[~changed]
+        window = f"rho > rho_J = {_f(rho_j)}" if where == "after" else f"0.75 <= rho < rho_J = {_f(rho_j)}"
+        return (f"{name}: {100 * changed.mean():.0f} % of the {changed.size} consecutive pairs with {window} change "
+                f"the number of never-dying beta{dim} classes (rattlers joining or leaving, loops opening or "
+                f"closing), each d_B >= 0.5 under P2's death -1; median d_B of the other pairs "
+                f"{_f(np.median(quiet), 2) if quiet.size else 'n/a'}")
+    return diagnostic
+
+
+def _argmax_per_realization(name_of: Callable[[_Context], str], dim: int, metric: str) -> Callable[[_Context], str]:
+    """Diagnostic: where each realization's curve peaks, next to ρ_J of its own Z (the spread that a mean over
+    3 realizations keeps, and P2's 20 average out)."""
+    def diagnostic(ctx: _Context) -> str:
+        name = name_of(ctx)
+        c = ctx.system(name)
+        if "realization" not in c.ds.dims:
+            raise _NotEvaluated(f"{name}: one realization")
+        da = c.ds["distance"].sel(force_kind=NORMAL, homology_dim=dim, metric=metric)
+        peaks = [float(da.isel(realization=i).idxmax("rho")) for i in range(da.sizes["realization"])]
+        rho_js = jamming_density_per_realization(c.ds, c.dimension)
+        return (f"{name}: argmax of beta{dim} {METRIC_SYMBOLS[metric]} per realization at rho "
+                + ", ".join(f"{_f(p)} (rho_J {_f(j)})" for p, j in zip(peaks, rho_js)))
+    return diagnostic
+
+
+def _table_state_diagnostic(ctx: _Context) -> str:
+    """Diagnostic: where the states a, b, c of Tables I–III sit relative to their realization's ρ_J, and how much
+    Z and ⟨F_n⟩ change over them (P2 Fig. 1: 'almost identical')."""
+    if ctx.states is None:
+        raise _NotEvaluated("no table-state candidates given")
+    row = ctx.states[ctx.states["chosen"].astype(bool)].iloc[0]
+    c = ctx.system(ctx.frictional)
+    realizations = list(c.ds["realization"].values) if "realization" in c.ds.dims else [int(row["realization"])]
+    rho_js = jamming_density_per_realization(c.ds, c.dimension)
+    rho_j = rho_js[realizations.index(int(row["realization"]))] if int(row["realization"]) in realizations else np.nan
+    return (f"states a, b, c of realization {int(row['realization'])} (the quietest of {len(ctx.states)} by P2 Fig. 1's "
+            f"criterion) at rho {row['rho_a']:.4f}-{row['rho_c']:.4f}, its rho_J = {_f(rho_j)}: Z {row['Z_a']:.2f} -> "
+            f"{row['Z_c']:.2f}, <F_n> x {row['mean_normal_force_c'] / row['mean_normal_force_a']:.2f} from a to c "
+            "(P2: Z and <F> almost identical)")
+
+
+def explain(claim_id: str, ctx: _Context) -> str:
+    """Why a claim does not hold on these data: `EXPLANATIONS`' verdict on the cause, then its diagnostics measured
+    here (a diagnostic the data cannot give says why)."""
+    cause, diagnostics = EXPLANATIONS.get(claim_id, ("No explanation recorded.", ()))
+    measured = []
+    for diagnostic in diagnostics:
+        try:
+            measured.append(diagnostic(ctx))
+        except _NotEvaluated as reason:
+            measured.append(f"({reason})")
+    return cause + (" Measured here: " + "; ".join(measured) + "." if measured else "")
+
+
+def _frictional(ctx: _Context) -> str:
+    return ctx.frictional
+
+
+def _frictionless(ctx: _Context) -> str:
+    return ctx.frictionless
+
+
+# Causes, measured in docs/p2_sampling.md: the distances at four wall speeds and five sampling steps (one
+# realization of 400 disks), and P2's own setting run once per system ("paper size": 2025 disks, v_c = 2.5e-5,
+# 100 samples; config/paper.yaml with one realization). "Small system" means the claim holds at paper size;
+# "not a small-system effect" that it fails there too.
+_PAPER = "docs/p2_sampling.md, paper size"
+_AT_JAMMING = ("Not a small-system effect: a, b, c (consecutive samples at rho ~ 0.79) lie at this system's jamming "
+               f"transition, also at paper size (rho_J 0.80; {_PAPER}), where P2's look alike ('Z and the average "
+               "force almost identical'), i.e. P2's rho = 0.79 is jammed and ours is not; and each new or lost "
+               "never-dying class (a rattler joining, a defect loop opening) costs d_B >= 0.5 under P2's death -1.")
+_NEVER_DYING = ("Not a small-system effect: after rho_J most consecutive pairs change the number of never-dying "
+                "classes (rattlers joining, defect loops opening or closing as contacts form), and under P2's death "
+                "-1 each costs d_B >= 0.5, a floor the force changes alone (d_B ~ 0.03-0.1) stay far below; at paper "
+                f"size such changes are more frequent, not less ({_PAPER}).")
+#: why each claim may not hold on the quick default: {claim id: (cause, diagnostics measured on the data)}
+EXPLANATIONS: dict[str, tuple[str, tuple[Callable[[_Context], str], ...]]] = {
+    "III.D-1": (_AT_JAMMING, (_table_state_diagnostic,)),
+    "III.D-2": (_AT_JAMMING, (_table_state_diagnostic,)),
+    "III.D-3": (_AT_JAMMING + " At the transition the (a,b) changes are system-wide, not in one quadrant.",
+                (_table_state_diagnostic,)),
+    "III.D-4": (_AT_JAMMING, (_table_state_diagnostic,)),
+    "IV.A-1": ("Few realizations: each realization's d_W1 peaks near its own rho_J, but the rho_J scatter and the "
+               f"peak of a mean of 3 blurs; one paper-size realization holds ({_PAPER}).",
+               (_argmax_per_realization(_frictional, 0, W1), _argmax_per_realization(_frictional, 1, W1))),
+    "IV.A-2": ("Small system: the largest single change before jamming grows with the number of contacts, d_B "
+               f"(beta0) ~ 3 <F> with 400 disks and 8.8 <F> with 2025 (holds at paper size; {_PAPER}).", ()),
+    "IV.A-3": ("Sampling: the ratio needs P2's rule (rattlers kept) and step; with rattlers removed d_B/d_W1 is "
+               "~0.5 and d_B/d_W2 ~0.8 (docs/p2_sampling.md, rattler rule).", ()),
+    "IV.A-4": ("Sampling and realizations: the ratio scatters from state to state (at paper size its median is "
+               f"0.17 but CV 0.64 > 0.5; {_PAPER}); with rattlers removed it is ~0.5 (docs/p2_sampling.md).", ()),
+    "IV.A-5": (f"Not a small-system effect (paper size: d_B 9.7 -> 6.8, needs a factor 2; {_PAPER}). It holds "
+               "at paper size if rho is measured in the box between the wall-particle centres (rho_J would read "
+               "0.767; docs/p2_sampling.md, rho scale): P2 does not say how it measures rho between rough walls.",
+               (_argmax_per_realization(_frictional, 0, B),)),
+    "IV.A-6": ("Not a small-system effect (paper size: Spearman 0.38; "
+               f"{_PAPER}): d_W1 rises from 0.75 but peaks up to 0.03 before rho_J and falls into it.",
+               (_argmax_per_realization(_frictional, 0, W1),)),
+    "IV.A-7": ("Few realizations: the plateau and the plunge hold at paper size (one realization; "
+               f"{_PAPER}).", ()),
+    "IV.A-8": ("Small system and slow compression: with 400 disks there are no loops before rho ~ 0.75 (beta1 "
+               "distances 0) and single events decide the trend; at paper size the early loops come and go without "
+               f"trend (Spearman ~0; {_PAPER}).", (_argmax_per_realization(_frictional, 1, B),)),
+    "IV.A-9": ("Few realizations: single early loop events can make the largest beta1 d_B of a 3-realization mean; "
+               f"paper size peaks at 0.791 (holds; {_PAPER}).", (_argmax_per_realization(_frictional, 1, B),)),
+    "IV.A-10": (f"Few realizations: holds at paper size ({_PAPER}).", ()),
+    "IV.A-11a": (_NEVER_DYING + " beta0 falls by > 10x; beta1 does not, also because loops hardly exist before "
+                 "jamming (beta1 distances 0 below rho ~ 0.75 with 400 disks).",
+                 (_never_dying_events(_frictional, 1, "after"),)),
+    "IV.A-11b": (_NEVER_DYING + " Without friction loops exist only from jamming on (beta1 distances 0 before "
+                 f"rho_J, also at paper size), and beta0 d_W1 falls only 2.5-3x ({_PAPER}).",
+                 (_never_dying_events(_frictionless, 0, "after"), _never_dying_events(_frictionless, 1, "after"))),
+    "IV.A-12a": (_NEVER_DYING + " d_B after jamming sits on that floor, so d_B/d_W1 cannot fall 3 decades.",
+                 (_never_dying_events(_frictional, 0, "after"),)),
+    "IV.A-12b": (_NEVER_DYING + " d_B after jamming sits on that floor, so d_B/d_W1 cannot fall 3 decades.",
+                 (_never_dying_events(_frictional, 1, "after"),)),
+    "IV.B-1": (f"Few realizations: holds at paper size ({_PAPER}).", ()),
+    "IV.B-2": ("Not a small-system effect: at paper size the tangential and normal curves differ as little near "
+               f"rho_J as elsewhere ({_PAPER}); not reproduced.", ()),
+    "IV.B-3": ("Not a small-system effect: at paper size tangential/normal d_W1 and d_W2 near rho_J are 1.0 "
+               f"({_PAPER}); not reproduced.", ()),
+    "IV.B-4": (f"Few realizations: holds at paper size ({_PAPER}).", ()),
+    "IV.C-1": (f"Holds at every size and speed measured ({_PAPER}).", ()),
+    "IV.C-2": ("Sampling: below rho = 0.65 there are 7 states with almost no contacts (Z < 0.4), so the distances "
+               "count single collisions and rattlers joining and leaving; also fails at paper size (d_B 1.7, d_W1 "
+               f"0.36, d_W2 1.1; {_PAPER}).", ()),
+    "IV.C-3": ("Not a small-system effect: at paper size d_B/d_W1 is larger without friction at 43 % of the "
+               f"points, as here ({_PAPER}); not reproduced.", ()),
+    "IV.C-4": ("Not a small-system effect: at paper size both systems' d_B and d_W2 peak 0.035 below their "
+               f"rho_J ({_PAPER}); not reproduced.",
+               (_argmax_per_realization(_frictional, 0, B), _argmax_per_realization(_frictionless, 0, B))),
+    "IV.C-5": ("Small system: with 400 disks neither system has loops well before jamming (beta1 distances 0: "
+               f"nothing to compare); holds at paper size ({_PAPER}).", ()),
+    "IV.C-6": ("Not a small-system effect: at paper size the largest beta1 changes near rho_J are alike with and "
+               f"without friction (0.93-1.3; {_PAPER}); not reproduced.", ()),
+    "IV.C-7": (_NEVER_DYING + " d_B after jamming is that floor in both systems, so its ratio is ~1; the d_W1 and "
+               f"d_W2 ratios are 2-3.4 (paper size 2.8 and 2.2; {_PAPER}).",
+               (_never_dying_events(_frictional, 1, "after"), _never_dying_events(_frictionless, 1, "after"))),
+    "V-1": (f"Few realizations: holds at paper size ({_PAPER}).", ()),
+    "V-2": ("Not a small-system effect: after jamming the frictionless packing keeps changing 2-4x more (d_W1, "
+            f"d_W2; paper size 3.1 and 2.2, d_B 1.0; {_PAPER}); not reproduced.",
+            (_never_dying_events(_frictional, 0, "after"), _never_dying_events(_frictionless, 0, "after"))),
+}
+
+
 def p2_validation(distances: Mapping[str, xr.Dataset], tables: Mapping[str, pd.DataFrame] | None = None, *,
                   frictional: str = FRICTIONAL, frictionless: str = FRICTIONLESS,
-                  tolerances: ValidationTolerances | None = None) -> pd.DataFrame:
+                  tolerances: ValidationTolerances | None = None, measures: Mapping[str, xr.Dataset] | None = None,
+                  states: pd.DataFrame | None = None) -> pd.DataFrame:
     """Judge each claim of P2 §III D–§IV (and §V's summary of them) on the measured data.
 
     Parameters
@@ -1132,17 +1539,20 @@ def p2_validation(distances: Mapping[str, xr.Dataset], tables: Mapping[str, pd.D
         claims "not evaluated".
     tables : ``{"table1": …, "table2": …, "table3": …}`` from `p2_tables` or `read_table` (frictional system).
     tolerances : how "≈", "roughly constant", "dramatically" … are tested (`ValidationTolerances`).
+    measures : ``{system: network_measures.nc dataset}`` (never-dying class counts) and `states` (the
+        `table_state_candidates` of Tables I–III): what the explanations of failed claims measure (optional).
 
     Returns
     -------
     DataFrame with columns ``VALIDATION_COLUMNS``: claim id, section, system, claim, P2's reference, the
-    criterion, the measured evidence, and the verdict ("holds", "does not hold", "not evaluated"). Curves are
-    realization means; ρ_J is where the mean Z(ρ) first reaches d + 1 (P2 §IV A).
+    criterion, the measured evidence, the verdict ("holds", "does not hold", "not evaluated") and, for a claim
+    that does not hold, the explanation (`EXPLANATIONS`: why, measured on these data where it can be). Curves
+    are realization means; ρ_J is where the mean Z(ρ) first reaches d + 1 (P2 §IV A).
     """
     tol = tolerances or ValidationTolerances()
     curves = {name: _Curves(name, ds, _dimension(ds), tol) for name, ds in distances.items()
               if name in (frictional, frictionless)}
-    ctx = _Context(curves, tables, tol, frictional, frictionless)
+    ctx = _Context(curves, tables, tol, frictional, frictionless, dict(measures or {}), states)
     systems = {"frictional": frictional, "frictionless": frictionless, "both": f"{frictional} vs {frictionless}",
                "tables": f"{frictional} (one realization)"}
     rows = []
@@ -1154,12 +1564,14 @@ def p2_validation(distances: Mapping[str, xr.Dataset], tables: Mapping[str, pd.D
             measured, verdict = str(reason), NOT_EVALUATED
         rows.append({"claim_id": claim.claim_id, "section": claim.section, "system": systems[claim.system],
                      "claim": claim.text, "reference": claim.reference, "criterion": claim.criterion(tol),
-                     "measured": measured, "verdict": verdict})
+                     "measured": measured, "verdict": verdict,
+                     "explanation": explain(claim.claim_id, ctx) if verdict != HOLDS else ""})
     table = pd.DataFrame(rows, columns=list(VALIDATION_COLUMNS))
     table.attrs["systems"] = {name: {"rho_J": c.rho_j, "realizations": c.n_realizations,
                                      "rho_range": (float(c.ds["rho"].min()), float(c.ds["rho"].max())),
                                      "snapshot_pairs": int(c.ds.sizes["rho"]),
-                                     "essential_convention": c.ds.attrs.get("essential_convention", "")}
+                                     "essential_convention": c.ds.attrs.get("essential_convention", ""),
+                                     "rattler_rule": c.ds.attrs.get("rattler_rule", "")}
                               for name, c in curves.items()}
     table.attrs["tolerances"] = tol
     return table
@@ -1179,12 +1591,13 @@ def p2_validation_markdown(table: pd.DataFrame) -> str:
     systems = table.attrs.get("systems", {})
     if systems:
         lines += ["## Systems", "",
-                  "| system | realizations | snapshot pairs | rho range | rho_J | never-dying classes |",
-                  "|---|---|---|---|---|---|"]
+                  "| system | realizations | snapshot pairs | rho range | rho_J | never-dying classes | rattler rule |",
+                  "|---|---|---|---|---|---|---|"]
         for name, info in systems.items():
             lo, hi = info["rho_range"]
             lines.append(f"| {name} | {info['realizations']} | {info['snapshot_pairs']} | {lo:.3f}–{hi:.3f} | "
-                         f"{_format(info['rho_J'], 4)} | {info['essential_convention']} |")
+                         f"{_format(info['rho_J'], 4)} | {info['essential_convention']} | "
+                         f"{info.get('rattler_rule', '')} |")
         lines.append("")
     tol = table.attrs.get("tolerances")
     if tol is not None:
