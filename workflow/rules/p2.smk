@@ -17,7 +17,10 @@ def p2_table_labels():
 
 def p2_table_candidates(path=snapshot_path, states="abc"):
     """Files of the states a, b, c (or those named by `states`) of every realization, realization-major: the
-    candidates among which p2_table_states picks one realization (forcenet.report.p2.TABLE_STATE_CRITERION)."""
+    candidates among which p2_table_states picks one realization (forcenet.report.p2.TABLE_STATE_CRITERION); none
+    when the config has no P2 study."""
+    if not P2_FRICTIONAL:
+        return []
     labels = [label for letter, label in zip("abc", p2_table_labels()) if letter in states]
     return [path(P2_FRICTIONAL, r, rho) for r in REALIZATIONS for rho in labels]
 
