@@ -33,7 +33,7 @@ def test_p2_worked_example():
     result = diagram_distances(f, g, 0, essential="minus_one")
     assert result["bottleneck"] == 2.0
     assert result["wasserstein_1"] == pytest.approx(5.5, abs=1e-12)  # 2 + 7 × 0.5
-    # the paper prints ≈ 2.6; under L∞ it is √(2² + 7 × 0.5²) = √5.75 = 2.398 (DESIGN.md)
+    # the paper prints ≈ 2.6; under L∞ it is √(2² + 7 × 0.5²) = √5.75 = 2.398 (docs/decisions.md)
     assert result["wasserstein_2"] == pytest.approx(math.sqrt(5.75), abs=1e-12)
     assert result["wasserstein_2"] == pytest.approx(2.398, abs=5e-4)
 

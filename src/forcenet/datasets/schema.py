@@ -1,6 +1,6 @@
 """The netCDF data model: the one place that knows variable names, dimensions, units and long names.
 
-Dimension names are fixed (DESIGN.md): particle, contact, wall_contact, spatial, rho, realization,
+Dimension names are fixed: particle, contact, wall_contact, spatial, rho, realization,
 threshold, homology_dim, point, force_bin, plus a few for aggregated products. Every variable written by
 forcenet has `units` and `long_name`; every file has the global attributes in `REQUIRED_GLOBAL_ATTRS`.
 
