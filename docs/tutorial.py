@@ -36,8 +36,7 @@ import numpy as np
 import xarray as xr
 from matplotlib.collections import LineCollection
 
-from forcenet.datasets import open_dataset
-from forcenet.datasets.schema import FORCE_KINDS
+from forcenet.datasets import diagram_points, open_dataset
 from forcenet.topology import PersistenceDiagrams, diagram_distances
 
 RESULTS = Path(os.environ.get("FORCENET_RESULTS", "results"))
@@ -116,20 +115,19 @@ assert abs(relative.mean() - 1) < 1e-12
 # ## 4. A persistence diagram
 #
 # `results/{system}/diagrams.nc` stores every diagram as one flat `point` dimension: each point has its force
-# kind (`diagram_force_kind`, an index into `FORCE_KINDS`), homology dimension, birth, death (−inf for classes that never die),
-# realization and ρ. Forces decrease along the filtration (super-level sets), so birth ≥ death.
+# kind (`diagram_force_kind`, an index into the `force_kind` coordinate), homology dimension, birth, death (−inf for
+# classes that never die), realization and grid ρ. Forces decrease along the filtration (super-level sets), so
+# birth ≥ death. `forcenet.datasets.diagram_points` selects one snapshot's diagram of one force kind.
 
 # %%
 diagrams = xr.open_dataset(RESULTS / system / "diagrams.nc")
-kinds = list(FORCE_KINDS)  # ("total", "normal", "tangential"): what diagram_force_kind indexes
+print("force kinds:", list(diagrams["force_kind"].values))  # total (P1), normal and tangential (P2)
 
 
 def diagram_at(rho: float, kind: str = "total", realization: int = 0) -> PersistenceDiagrams:
-    """All homology dimensions of one snapshot's diagram, as forcenet's PersistenceDiagrams."""
-    chosen = ((diagrams["diagram_force_kind"] == kinds.index(kind)) & (diagrams["point_realization"] == realization)
-              & np.isclose(diagrams["point_rho"], rho)).values
-    return PersistenceDiagrams(homology_dim=diagrams["diagram_homology_dim"].values[chosen],
-                               birth=diagrams["birth"].values[chosen], death=diagrams["death"].values[chosen])
+    """All homology dimensions of one snapshot's diagram (`rho` on the config's grid), as PersistenceDiagrams."""
+    points = diagram_points(diagrams, kind, realization=realization, rho=rho)
+    return PersistenceDiagrams(homology_dim=points.homology_dim, birth=points.birth, death=points.death)
 
 
 pd_here = diagram_at(snapshot_rho)

@@ -5,8 +5,8 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from forcenet.datasets import (SchemaError, open_dataset, provenance_attrs, read_snapshot, validate_dataset,
-                               write_netcdf, write_snapshot)
+from forcenet.datasets import (SchemaError, diagram_points, open_dataset, provenance_attrs, read_dataset,
+                               read_snapshot, validate_dataset, write_netcdf, write_snapshot)
 from forcenet.datasets.aggregate import stack_diagrams, stack_network_measures
 from forcenet.datasets.analysis import analysis_dataset
 from forcenet.measures.snapshot import compute_snapshot_measures
@@ -49,7 +49,7 @@ def test_snapshot_round_trip_keeps_values_units_and_provenance(tmp_path):
 
 def test_analysis_round_trip_and_stacking(tmp_path):
     snapshots = [two_triangles_snapshot(rho) for rho in (0.80, 0.82)]
-    analyses = []
+    analyses, written = [], []
     for k, snap in enumerate(snapshots):
         measures = {kind: compute_snapshot_measures(build_force_network(
             snap["position"], snap["contact_i"], snap["contact_j"], snap["force_normal"], snap["force_tangential"],
@@ -60,18 +60,30 @@ def test_analysis_round_trip_and_stacking(tmp_path):
         back = open_dataset(path)
         xr.testing.assert_identical(back, ds)
         analyses.append(back)
+        written.append(measures)
     first = analyses[0]
     # two triangles sharing an edge: one component at F_th = 0, no loop (3-particle loops never count)
     assert int(first.betti.sel(force_kind="total", homology_dim=0, threshold=0.0)) == 1
     assert int(first.betti.sel(force_kind="total", homology_dim=1).max()) == 0
-    total = first.where(first.diagram_force_kind == 0, drop=True)
-    assert int(total.essential.sum()) == 1 and np.isneginf(total.death.values[total.essential.values == 1]).all()
+    total = diagram_points(first, "total")
+    assert int(total.essential.sum()) == 1 and np.isneginf(total.death[total.essential]).all()
+    for kind, measures in written[0].items():  # the reader gives back what the analysis wrote, point for point
+        stored, computed = diagram_points(first, kind), measures.diagrams
+        np.testing.assert_array_equal(stored.homology_dim, computed.homology_dim)
+        np.testing.assert_array_equal(stored.birth, computed.birth)
+        np.testing.assert_array_equal(stored.death, computed.death)
+        np.testing.assert_array_equal(stored.essential, computed.essential)
     stacked = stack_network_measures(analyses, [0, 0], [0.80, 0.82], attrs())
     assert stacked.betti.dims == ("realization", "rho", "force_kind", "homology_dim", "threshold")
     validate_dataset(stacked)
     points = stack_diagrams(analyses, [0, 0], [0.80, 0.82], attrs())
     assert points.sizes["point"] == sum(a.sizes["point"] for a in analyses)
     validate_dataset(points)
+    for analysis, rho in zip(analyses, (0.80, 0.82)):  # each snapshot's points, selected from the stacked file
+        for kind in ("total", "normal", "tangential"):
+            selected = diagram_points(points, kind, realization=0, rho=rho)
+            for stored, alone in zip(selected, diagram_points(analysis, kind)):
+                np.testing.assert_array_equal(stored, alone)
 
 
 def test_validation_names_what_is_missing(tmp_path):
@@ -82,3 +94,68 @@ def test_validation_names_what_is_missing(tmp_path):
     ds = xr.Dataset({"x": ("particle", np.zeros(3), {"units": "d_ave", "long_name": "x"})})
     with pytest.raises(SchemaError, match="global attribute 'seed' missing"):
         validate_dataset(ds)
+
+
+def points_analysis(rho: float, points: list[tuple[str, int, float, float]]) -> xr.Dataset:
+    """An analysis-like dataset holding only diagram points: (force kind, k, birth, death) each, death −inf for a
+    never-dying class (its `essential` flag follows)."""
+    kinds = ["total", "normal", "tangential"]
+    kind, dim, birth, death = (list(column) for column in zip(*points)) if points else ([], [], [], [])
+    spec = {"units": "1", "long_name": "test"}
+    return xr.Dataset({
+        "diagram_force_kind": ("point", np.array([kinds.index(k) for k in kind], dtype=np.int8), spec),
+        "diagram_homology_dim": ("point", np.array(dim, dtype=np.int8), spec),
+        "birth": ("point", np.array(birth, dtype=float), spec),
+        "death": ("point", np.array(death, dtype=float), spec),
+        "essential": ("point", np.isneginf(np.array(death, dtype=float)).astype(np.int8), spec),
+        "rho": ((), rho, spec),
+    }, coords={"force_kind": ("force_kind", kinds, spec), "homology_dim": ("homology_dim", [0, 1], spec)},
+        attrs=attrs())
+
+
+def test_diagram_points_selects_one_kind_dimension_and_snapshot(tmp_path):
+    a = points_analysis(0.80, [("total", 0, 2.0, -np.inf), ("normal", 0, 3.0, -np.inf), ("normal", 0, 1.5, 0.5),
+                               ("normal", 1, 1.2, 0.9), ("tangential", 0, 0.7, 0.1)])
+    b = points_analysis(0.82, [("normal", 0, 2.5, -np.inf), ("normal", 1, 1.1, 0.4)])
+    c = points_analysis(0.80, [("normal", 1, 4.0, 3.0)])
+    normal = diagram_points(a, "normal")
+    np.testing.assert_array_equal(normal.homology_dim, [0, 0, 1])
+    np.testing.assert_array_equal(normal.birth, [3.0, 1.5, 1.2])
+    np.testing.assert_array_equal(normal.death, [-np.inf, 0.5, 0.9])
+    np.testing.assert_array_equal(normal.essential, [True, False, False])
+    assert normal.birth.dtype == np.float64 and normal.homology_dim.dtype == np.int64
+    np.testing.assert_array_equal(diagram_points(a, "normal", 1).birth, [1.2])
+    assert diagram_points(a, "total", 1).birth.size == 0 and diagram_points(a, "tangential", 0).death.tolist() == [0.1]
+    # a stacked file: realization 0 at ρ 0.80 (a) and 0.82 (b), realization 1 at 0.80 (c); read back validated
+    path = write_netcdf(stack_diagrams([a, b, c], [0, 0, 1], [0.80, 0.82, 0.80], attrs()), tmp_path / "diagrams.nc",
+                        kind="diagrams")
+    stacked = read_dataset(path, "diagrams")
+    np.testing.assert_array_equal(diagram_points(stacked, "normal", realization=0, rho=0.82).birth, [2.5, 1.1])
+    np.testing.assert_array_equal(diagram_points(stacked, "normal", 1, realization=0, rho=0.80).birth, [1.2])
+    np.testing.assert_array_equal(diagram_points(stacked, "normal", 1, realization=1, rho=0.80).birth, [4.0])
+    assert diagram_points(stacked, "normal", realization=1, rho=0.82).birth.size == 0  # no such snapshot point
+    assert diagram_points(stacked, "total", realization=0, rho=0.80).essential.tolist() == [True]
+
+
+def test_diagram_points_treats_a_flagged_or_infinite_death_as_never_dying():
+    ds = points_analysis(0.80, [("total", 0, 2.0, -1.0), ("total", 0, 1.0, 0.5), ("total", 0, 3.0, -np.inf)])
+    ds["essential"].values[:] = [1, 0, 0]  # a file giving a never-dying class P2's death −1, flagged essential
+    points = diagram_points(ds, "total")
+    np.testing.assert_array_equal(points.essential, [True, False, True])
+    np.testing.assert_array_equal(points.death, [-np.inf, 0.5, -np.inf])
+
+
+@pytest.mark.parametrize("call, message", [
+    (lambda a, s: diagram_points(a, "shear"), "force kind 'shear' not in this file"),
+    (lambda a, s: diagram_points(a, "total", 2), "homology dimension 2 not in this file"),
+    (lambda a, s: diagram_points(a, "total", realization=0, rho=0.8), "an analysis file holds one snapshot"),
+    (lambda a, s: diagram_points(s, "total", rho=0.8), "give both realization and rho"),
+    (lambda a, s: diagram_points(s, "total", realization=0), "give both realization and rho"),
+    (lambda a, s: diagram_points(s, "total", realization=5, rho=0.8),
+     r"realization 5 not in this file; it holds \[0\]"),
+])
+def test_diagram_points_names_a_selection_the_file_cannot_answer(call, message):
+    analysis = points_analysis(0.80, [("total", 0, 2.0, -np.inf), ("total", 1, 1.2, 0.9)])
+    stacked = stack_diagrams([analysis], [0], [0.80], attrs())
+    with pytest.raises(ValueError, match=message):
+        call(analysis, stacked)

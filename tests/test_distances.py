@@ -12,7 +12,7 @@ from forcenet.topology import (
     matchable_points,
     wasserstein_distance,
 )
-from forcenet.topology import _kernels, distances
+from forcenet.topology import _matching, distances
 from naive_topology import optimal_matching_costs
 
 
@@ -33,7 +33,7 @@ def test_p2_worked_example():
     result = diagram_distances(f, g, 0, essential="minus_one")
     assert result["bottleneck"] == 2.0
     assert result["wasserstein_1"] == pytest.approx(5.5, abs=1e-12)  # 2 + 7 × 0.5
-    # the paper prints ≈ 2.6; under L∞ it is √(2² + 7 × 0.5²) = √5.75 = 2.398 (DESIGN.md)
+    # the paper prints ≈ 2.6; under L∞ it is √(2² + 7 × 0.5²) = √5.75 = 2.398 (docs/decisions.md)
     assert result["wasserstein_2"] == pytest.approx(math.sqrt(5.75), abs=1e-12)
     assert result["wasserstein_2"] == pytest.approx(2.398, abs=5e-4)
 
@@ -95,7 +95,7 @@ def full_graph_cost(a, b, q):
     index_a, index_b = np.divmod(np.arange(len(a) * len(b)), len(b))
     distance = np.max(np.abs(a[index_a] - b[index_b]), axis=1)
     delta_a, delta_b = 0.5 * (a[:, 0] - a[:, 1]), 0.5 * (b[:, 0] - b[:, 1])
-    flow, _ = _kernels.diagram_transport(len(a), len(b), index_a, index_b, distance ** q, delta_a ** q,
+    flow, _ = _matching.diagram_transport(len(a), len(b), index_a, index_b, distance ** q, delta_a ** q,
                                          delta_b ** q, np.empty(0, np.int64), np.empty(0))
     cost = np.concatenate([distance ** q, delta_a ** q, delta_b ** q, [0.0]])
     return float(np.sum(flow * cost))
@@ -165,7 +165,7 @@ def test_line_matching_is_optimal_for_points_on_one_death_line(q):
     for _ in range(30):
         birth_a = np.sort(rng.choice([0.2, 0.5, 0.6, 1.1, 1.4], int(rng.integers(1, 4))))
         birth_b = np.sort(rng.choice([0.2, 0.5, 0.7, 1.1, 1.5], int(rng.integers(1, 4))))
-        partner = _kernels.line_matching(birth_a, birth_b, -1.0, q)
+        partner = _matching.line_matching(birth_a, birth_b, -1.0, q)
         matched = partner[partner >= 0]
         assert np.unique(matched).size == matched.size  # a matching
         total = np.sum(np.abs(birth_a[partner >= 0] - birth_b[matched]) ** q)

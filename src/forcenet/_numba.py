@@ -1,4 +1,4 @@
-"""The one place for numba compilation options (STYLE.md): every kernel is `@numba.njit(**NJIT)`, except the DEM
+"""The one place for numba compilation options: every kernel is `@numba.njit(**NJIT)`, except the DEM
 engine's (`forcenet.dem._kernels`), which are `@numba.njit(**NJIT_DEM)`.
 
 `fastmath` stays off in NJIT: it would let LLVM assume no NaN/inf, which breaks the DEM's blow-up checks and

@@ -46,7 +46,8 @@ def git_commit() -> str:
 
 def provenance_attrs(*, system: str, realization: int, seed: int, config: Mapping[str, Any] | None,
                      title: str) -> dict[str, Any]:
-    """Global attributes every forcenet file carries (DESIGN.md, data model)."""
+    """Global attributes every forcenet file carries (`schema.REQUIRED_GLOBAL_ATTRS`): its config, seed, version
+    and commit."""
     from forcenet import __version__
     from forcenet.systems import config_sha256
 

@@ -1,6 +1,6 @@
 """The netCDF data model: the one place that knows variable names, dimensions, units and long names.
 
-Dimension names are fixed (DESIGN.md): particle, contact, wall_contact, spatial, rho, realization,
+Dimension names are fixed: particle, contact, wall_contact, spatial, rho, realization,
 threshold, homology_dim, point, force_bin, plus a few for aggregated products. Every variable written by
 forcenet has `units` and `long_name`; every file has the global attributes in `REQUIRED_GLOBAL_ATTRS`.
 
@@ -71,9 +71,8 @@ INDEX_FILL = -1  # fill value for integer index variables (never used for valid 
 #
 # Persistence diagrams are ragged; they are stored as one flat `point` dimension (CF "indexed ragged array"
 # style): each point carries its force kind and homology dimension, birth ≥ death (super-level filtration,
-# in units of ⟨F⟩), and never-dying classes have death = −inf and essential = 1. Select one diagram with
-# ds.where((ds.diagram_force_kind == k) & (ds.diagram_homology_dim == h), drop=True) or
-# forcenet.datasets.diagram_points(ds, kind, dim).
+# in units of ⟨F⟩), and never-dying classes have death = −inf and essential = 1. Read one diagram with
+# forcenet.datasets.diagram_points(ds, kind, homology_dim) (stacked diagrams.nc: also realization=, rho=).
 
 # the one definition of both: forcenet.network and forcenet.measures import them from here
 FORCE_KINDS = ("total", "normal", "tangential")  # P1 uses total; P2 normal and tangential

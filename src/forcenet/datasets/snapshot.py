@@ -1,4 +1,4 @@
-"""Snapshot files: one per (system, realization, ρ), written by the DEM driver (DESIGN.md data model)."""
+"""Snapshot files: one per (system, realization, ρ), written by the DEM driver (variables in `schema.SNAPSHOT_VARIABLES`)."""
 from __future__ import annotations
 
 import os

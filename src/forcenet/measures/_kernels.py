@@ -1,6 +1,6 @@
 """numba kernels for cluster statistics over a threshold sweep (driven by `measures.clusters`).
 
-Only numpy, numba and math are imported here (STYLE.md). Vertices are compact ids 0..V−1.
+Only numpy, numba and math are imported here (kernels live apart from their drivers). Vertices are compact ids 0..V−1.
 """
 from __future__ import annotations
 

@@ -5,7 +5,7 @@ particle–particle contacts that carry a positive force (edges), each edge weig
 units of that network's mean force ⟨F⟩. Walls are not vertices; which particles touch which wall is kept so
 that percolation (a cluster touching two opposite walls, P1 §4) can be decided.
 
-Decisions (DESIGN.md "Topology decisions", written out here because the papers leave them open):
+Decisions the papers leave open (recorded with the others in docs/decisions.md, "Analysis"):
 
 - A *contact* is a particle–particle pair whose total force |F_n + F_t| is positive. Rattlers and the
   coordination number are decided on contacts, whatever force kind the network is weighted by, so that the

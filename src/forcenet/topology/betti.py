@@ -1,4 +1,4 @@
-"""Betti curves B_k(θ) read off persistence diagrams (DESIGN.md "Topology decisions").
+"""Betti curves B_k(θ) read off persistence diagrams.
 
 In the super-level filtration a class with (birth, death) is alive in the force network FN(θ) = {f ≥ θ}
 (P2 Eq. 1) exactly when birth ≥ θ > death, so B_k(θ) = #{points of PD_k with birth ≥ θ > death}; never-dying

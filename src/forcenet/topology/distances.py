@@ -12,16 +12,16 @@ diagonal and cost nothing.
 Backends
 --------
 ``"exact"`` (default): float64, exact optimum, always terminates (no iteration count depends on
-tolerances). Only pairs that can beat the diagonal are ever matched (`_kernels._useful`).
+tolerances). Only pairs that can beat the diagonal are ever matched (`_matching._useful`).
 Wasserstein: a transportation problem with the diagonal collapsed into one source and one sink node
-(`_kernels.diagram_transport`: Jonker–Volgenant start, then shortest augmenting paths, many per Dijkstra
+(`_matching.diagram_transport`: Jonker–Volgenant start, then shortest augmenting paths, many per Dijkstra
 run), solved on a sparse graph — each point's `N_NEAREST` nearest useful partners, plus, where many points
 share one death line (2D PD1: the never-dying loops at −1), a band around the optimal matching of that
-line alone (`_kernels.line_matching`, exact by dynamic programming: it never crosses) — and re-solved with
+line alone (`_matching.line_matching`, exact by dynamic programming: it never crosses) — and re-solved with
 the pairs its optimal prices say are missing until they certify optimality on every useful pair.
 Bottleneck: one perfect-matching test just below the largest distance of the W1/W2 matchings (often the
 answer), else binary search over the candidate distances below it, each step a warm-started Hopcroft–Karp
-test on the threshold graph (`_kernels.threshold_graph`; diagonal copies kept on transposed pairs:
+test on the threshold graph (`_matching.threshold_graph`; diagonal copies kept on transposed pairs:
 a_i ↔ b_j leaves exactly their two copies to pair). On the 2D benchmark (`bench/analysis.py`, PD0 and PD1,
 all three distances) it takes ~140 ms (median; the version before the line band and multi-path phases took
 ~600 ms on the same machine); PD1's W2 solve (~50 ms) and bottleneck graph (~40 ms) are the largest parts.
@@ -41,7 +41,7 @@ from typing import Sequence
 
 import numpy as np
 
-from forcenet.topology import _kernels
+from forcenet.topology import _matching
 from forcenet.topology.persistence import PersistenceDiagrams
 
 ESSENTIAL_CONVENTIONS = ("minus_one", "zero", "drop")
@@ -86,7 +86,7 @@ N_NEAREST = 16  # partners per point in the first sparse Wasserstein graph (with
 N_WORST = 32  # most violating pairs per point added after each optimality check
 WARM_START_FRACTION = 0.05  # re-solve from the last optimum when fewer pairs than this fraction are added
 LINE_BAND = 3  # B partners on each side of an A point's place in the optimal matching along a shared line
-MAX_LINE_CELLS = 16_000_000  # largest line for `_kernels.line_matching` (its n m bytes)
+MAX_LINE_CELLS = 16_000_000  # largest line for `_matching.line_matching` (its n m bytes)
 
 
 def _line_pairs(points_a: np.ndarray, points_b: np.ndarray, q: float) -> tuple[np.ndarray, np.ndarray]:
@@ -94,7 +94,7 @@ def _line_pairs(points_a: np.ndarray, points_b: np.ndarray, q: float) -> tuple[n
 
     Many points on one death line (2D PD1: hundreds of never-dying loops at death −1) make a degenerate,
     one-dimensional block that nearest-partner lists cover badly: its optimal matching shifts long chains
-    of points by a few places. `_kernels.line_matching` solves the block alone; its matching, widened by
+    of points by a few places. `_matching.line_matching` solves the block alone; its matching, widened by
     `LINE_BAND` places on each side, joins the first sparse graph. Only a hint: optimality is still
     certified on every pair (`_optimal_matching`). Returns (index_a, index_b), possibly empty.
     """
@@ -110,7 +110,7 @@ def _line_pairs(points_a: np.ndarray, points_b: np.ndarray, q: float) -> tuple[n
     on_a = on_a[np.argsort(points_a[on_a, 0], kind="stable")]
     on_b = on_b[np.argsort(points_b[on_b, 0], kind="stable")]
     birth_a, birth_b = np.ascontiguousarray(points_a[on_a, 0]), np.ascontiguousarray(points_b[on_b, 0])
-    partner = _kernels.line_matching(birth_a, birth_b, float(death), float(q))
+    partner = _matching.line_matching(birth_a, birth_b, float(death), float(q))
     place = np.where(partner >= 0, partner, np.searchsorted(birth_b, birth_a))
     band = np.clip(place[:, None] + np.arange(-LINE_BAND, LINE_BAND + 1), 0, on_b.size - 1)
     return np.repeat(on_a, band.shape[1]), on_b[band.ravel()]
@@ -119,10 +119,10 @@ def _line_pairs(points_a: np.ndarray, points_b: np.ndarray, q: float) -> tuple[n
 def _optimal_matching(points_a: np.ndarray, points_b: np.ndarray, q: float) -> tuple[float, float]:
     """Exact degree-q Wasserstein matching: (Σ cost^q, largest L∞ distance in the matching).
 
-    Sparsify and verify: solve the transport problem (`_kernels.diagram_transport`) on each point's
+    Sparsify and verify: solve the transport problem (`_matching.diagram_transport`) on each point's
     `N_NEAREST` closest useful partners and the shared death line's band (`_line_pairs`), then check its
     optimal potentials against every useful pair
-    (`_kernels.dual_violations`); add the most violating pairs and solve again until none is left. The flow
+    (`_matching.dual_violations`); add the most violating pairs and solve again until none is left. The flow
     is then optimal for the complete problem (LP duality: a feasible flow and potentials with all reduced
     costs ≥ 0 that are tight on the flow).
     """
@@ -131,22 +131,22 @@ def _optimal_matching(points_a: np.ndarray, points_b: np.ndarray, q: float) -> t
     birth_b, death_b = np.ascontiguousarray(points_b[:, 0]), np.ascontiguousarray(points_b[:, 1])
     delta_a, delta_b = 0.5 * (birth_a - death_a), 0.5 * (birth_b - death_b)
     present = np.zeros((n, m), bool)  # pairs in the sparse graph
-    first_a, first_b = _kernels.nearest_useful_pairs(birth_a, death_a, birth_b, death_b, float(q), N_NEAREST)
+    first_a, first_b = _matching.nearest_useful_pairs(birth_a, death_a, birth_b, death_b, float(q), N_NEAREST)
     line_a, line_b = _line_pairs(points_a, points_b, q)
-    index_a, index_b, distance = _kernels.new_pairs(birth_a, death_a, birth_b, death_b,
+    index_a, index_b, distance = _matching.new_pairs(birth_a, death_a, birth_b, death_b,
                                                     np.concatenate([line_a, first_a]),
                                                     np.concatenate([line_b, first_b]), present)
     scale = max(float(np.abs(points_a).max(initial=0.0)), float(np.abs(points_b).max(initial=0.0)), 1.0) ** q
     flow, potential = np.empty(0, np.int64), np.empty(0)
     while True:
-        flow, potential = _kernels.diagram_transport(n, m, index_a, index_b, distance ** q, delta_a ** q,
+        flow, potential = _matching.diagram_transport(n, m, index_a, index_b, distance ** q, delta_a ** q,
                                                      delta_b ** q, flow, potential)
         if flow.size and flow[0] < 0:  # cannot happen: everything can go to the diagonal
             raise RuntimeError("the diagram transport problem has no feasible flow")
         # pairs already in the graph are settled (a used arc may have negative reduced cost: it is full)
-        missing_a, missing_b, missing_distance = _kernels.new_pairs(
+        missing_a, missing_b, missing_distance = _matching.new_pairs(
             birth_a, death_a, birth_b, death_b,
-            *_kernels.dual_violations(birth_a, death_a, birth_b, death_b, float(q), potential, 1e-12 * scale,
+            *_matching.dual_violations(birth_a, death_a, birth_b, death_b, float(q), potential, 1e-12 * scale,
                                       N_WORST), present)
         if missing_a.size == 0:
             break
@@ -183,11 +183,11 @@ def wasserstein_distance(points_a, points_b, q: float = 1.0) -> float:
 def bottleneck_distance(points_a, points_b, *, upper_bound: float | None = None) -> float:
     """Exact bottleneck distance, L∞ ground metric, between finite super-level diagrams.
 
-    The answer is one of the edge weights of `_kernels.threshold_graph`: first a test just below an upper
+    The answer is one of the edge weights of `_matching.threshold_graph`: first a test just below an upper
     bound (the largest distance of any perfect matching — by default the degree-2 Wasserstein one; often
     the answer), then binary search over the weights between a lower bound (every row and column needs an
     edge) and it, each step a warm-started Hopcroft–Karp perfect-matching test.
-    Only pairs closer than the farther of their two diagonal distances can matter (`_kernels._useful`).
+    Only pairs closer than the farther of their two diagonal distances can matter (`_matching._useful`).
 
     Parameters
     ----------
@@ -201,20 +201,20 @@ def bottleneck_distance(points_a, points_b, *, upper_bound: float | None = None)
     if upper_bound is None:
         _, upper_bound = _optimal_matching(points_a, points_b, 2.0)
     upper_bound = float(upper_bound)
-    row_start, column, weight, lower = _kernels.threshold_graph(
+    row_start, column, weight, lower = _matching.threshold_graph(
         points_a[:, 0].copy(), points_a[:, 1].copy(), points_b[:, 0].copy(), points_b[:, 1].copy(), upper_bound)
     edge_of_row = np.full(size, -1, dtype=np.int64)  # matching carried between the steps (warm start)
     row_of_col = np.full(size, -1, dtype=np.int64)
     # the bound itself is often the answer: try the next lighter weight first
     below = weight[weight < upper_bound]
-    if below.size == 0 or below.max() < lower or not _kernels.has_perfect_matching(
+    if below.size == 0 or below.max() < lower or not _matching.has_perfect_matching(
             row_start, column, weight, size, below.max(), edge_of_row, row_of_col):
         return upper_bound
     values = np.unique(below[below >= lower])  # values[-1] is feasible
     low, high = 0, values.size - 1
     while low < high:
         middle = (low + high) // 2
-        if _kernels.has_perfect_matching(row_start, column, weight, size, values[middle], edge_of_row, row_of_col):
+        if _matching.has_perfect_matching(row_start, column, weight, size, values[middle], edge_of_row, row_of_col):
             high = middle
         else:
             low = middle + 1

@@ -1,7 +1,7 @@
 """Persistence diagrams of the super-level filtration of a force network's flag complex (P2 §III A–C).
 
 dionysus computes persistence of a *sub*-level (increasing) filtration and stores filtration values as
-float32. Both pitfalls are handled here (DESIGN.md "Topology decisions"):
+float32. Both pitfalls are handled here:
 
 - the complex is ordered by NEGATED value, ties broken faces-first by dimension (a vertex's value is ≥ its
   edges', a triangle's ≤ its edges', so this order is a filtration), and handed to dionysus with each
@@ -9,7 +9,7 @@ float32. Both pitfalls are handled here (DESIGN.md "Topology decisions"):
 - birth and death ranks are then mapped back to the original float64 values, so every birth and death is
   exactly a force of the network (no float32 rounding).
 
-Conventions of the stored diagrams (DESIGN.md "Data model"): super-level, birth ≥ death, in units of ⟨F⟩;
+Conventions of the stored diagrams (`datasets/schema.py`): super-level, birth ≥ death, in units of ⟨F⟩;
 never-dying classes have death = −inf and ``essential = True``; zero-length points (birth == death: a
 feature born and killed at the same force) are not stored — they depend on how ties are broken, and P1/P2's
 bins and counts ignore them.
@@ -95,7 +95,8 @@ def filtration_order(complex_: FlagComplex, max_simplex_dim: int) -> tuple[list,
     blocks = [complex_.simplices(k) for k in range(max_simplex_dim + 1)]
     value = np.concatenate([v for _, v in blocks])
     dimension = np.concatenate([np.full(len(v), k, dtype=np.int64) for k, (_, v) in enumerate(blocks)])
-    # negated value ascending, faces first on ties (DESIGN.md: never let cofaces precede faces)
+    # negated value ascending, faces first on ties: dionysus accepts a coface before its face silently and
+    # then computes wrong diagrams
     order = np.lexsort((dimension, -value))
     as_lists = [item for s, _ in blocks for item in s.tolist()]
     return [as_lists[k] for k in order.tolist()], value[order], dimension[order]

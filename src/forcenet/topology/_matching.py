@@ -1,7 +1,9 @@
-"""numba kernels for exact distances between persistence diagrams (driven by `topology.distances`).
+"""The diagram-matching solver: numba kernels for the optimal matchings behind the exact bottleneck and
+Wasserstein distances between persistence diagrams (driven by `topology.distances`).
 
-Only numpy, numba and math are imported here (STYLE.md). Bipartite graphs are in CSR form: row r has
-columns ``column[row_start[r]:row_start[r + 1]]`` with weights ``weight[...]``.
+Kernels live apart from their drivers and import only numpy, numba and math (and the numba options of
+`forcenet._numba`). Bipartite graphs are in CSR form: row r has columns ``column[row_start[r]:row_start[r + 1]]``
+with weights ``weight[...]``.
 """
 from __future__ import annotations
 

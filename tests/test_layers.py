@@ -1,0 +1,130 @@
+"""The layers of docs/architecture.md hold: each part of `src/forcenet/` imports only the layers listed before it (one
+named exception), and numba kernels live apart from their drivers, importing only numpy, numba and math.
+
+Every import counts, including the lazy ones inside functions. A new top-level module or package must be placed in
+`LAYERS` (and in the layer table of docs/architecture.md) before this passes.
+"""
+from __future__ import annotations
+
+import ast
+from pathlib import Path
+
+import pytest
+
+PACKAGE = Path(__file__).resolve().parents[1] / "src" / "forcenet"
+
+#: docs/architecture.md, "Layers", top to bottom: the top-level modules and packages of each layer
+LAYERS = (
+    ("foundations", {"__init__", "errors", "_numba", "units"}),
+    ("configuration", {"systems", "checks", "cost", "workflow_io"}),
+    ("data model", {"datasets"}),
+    ("DEM engine", {"dem"}),
+    ("network", {"network"}),
+    ("topology", {"topology"}),
+    ("measures", {"measures"}),
+    ("report", {"report"}),
+    ("plotting", {"plotting"}),
+    ("workflow", {"pipeline", "survey"}),
+)
+#: a config is judged by the engine's own formulas: the initial lattice (dem.packing) and the damping bound
+#: (dem.stability), imported lazily
+EXCEPTIONS = {("checks", "dem"), ("cost", "dem")}
+KERNEL_IMPORTS = {"__future__", "math", "numba", "numpy", "forcenet._numba"}
+
+
+def part_of(path: Path) -> str:
+    """The top-level module or package of `src/forcenet/` a file belongs to ('dem', 'units', …)."""
+    relative = path.relative_to(PACKAGE)
+    return relative.parts[0] if len(relative.parts) > 1 else relative.stem
+
+
+def imported_modules(source: str) -> list[str]:
+    """Every module a file imports, at any depth (`from forcenet import units` gives 'forcenet.units')."""
+    found = []
+    for node in ast.walk(ast.parse(source)):
+        if isinstance(node, ast.Import):
+            found += [alias.name for alias in node.names]
+        elif isinstance(node, ast.ImportFrom) and node.module:
+            found.append(node.module)
+            if node.module == "forcenet":
+                found += [f"forcenet.{alias.name}" for alias in node.names]
+    return found
+
+
+def layering_problems(files: dict[str, str]) -> list[str]:
+    """'part → imported part' for every import from a later layer (or of a part no layer lists); `files` maps a
+    path below src/forcenet to its source."""
+    rank = {part: index for index, (_, parts) in enumerate(LAYERS) for part in parts}
+    problems = []
+    for name, source in files.items():
+        me = part_of(PACKAGE / name)
+        if me not in rank:
+            problems.append(f"{name}: '{me}' is in no layer (add it to LAYERS and docs/architecture.md)")
+            continue
+        for module in imported_modules(source):
+            parts = module.split(".")
+            if parts[0] != "forcenet" or len(parts) == 1:
+                continue
+            other = parts[1]
+            if other not in rank and not (PACKAGE / other).is_dir() and not (PACKAGE / f"{other}.py").exists():
+                other = "__init__"  # a name defined in forcenet/__init__.py (`from forcenet import __version__`)
+            if other == me or (me, other) in EXCEPTIONS:
+                continue
+            if other not in rank or rank[other] > rank[me]:
+                problems.append(f"{name}: {me} imports {module}")
+    return problems
+
+
+def kernel_problems(files: dict[str, str]) -> list[str]:
+    """Modules that import numba must import nothing but numpy, numba, math and forcenet._numba."""
+    problems = []
+    for name, source in files.items():
+        modules = imported_modules(source)
+        if any(m.split(".")[0] == "numba" for m in modules):
+            problems += [f"{name}: a kernel module imports {m}" for m in modules
+                         if m not in KERNEL_IMPORTS and m.split(".")[0] not in {"numba", "numpy"}]
+    return problems
+
+
+def package_sources() -> dict[str, str]:
+    return {str(path.relative_to(PACKAGE)): path.read_text(encoding="utf-8") for path in sorted(PACKAGE.rglob("*.py"))}
+
+
+def test_each_layer_imports_only_the_layers_before_it():
+    sources = package_sources()
+    assert {"dem/engine.py", "plotting/p1.py", "datasets/schema.py"} <= set(sources)
+    assert layering_problems(sources) == []
+
+
+def test_numba_kernels_import_only_numpy_numba_and_math():
+    sources = package_sources()
+    kernels = [name for name, source in sources.items()
+               if any(m.split(".")[0] == "numba" for m in imported_modules(source))]
+    assert {"dem/_kernels.py", "measures/_kernels.py", "topology/_matching.py"} <= set(kernels)
+    assert kernel_problems(sources) == []
+
+
+@pytest.mark.parametrize("name, source, problem", [
+    ("network/force_network.py", "from forcenet.datasets.schema import FORCE_KINDS\n", None),
+    ("network/force_network.py", "def f():\n    from forcenet.measures import clusters\n",
+     "network/force_network.py: network imports forcenet.measures"),
+    ("datasets/io.py", "from forcenet import units, plotting\n", "datasets/io.py: datasets imports forcenet.plotting"),
+    ("checks.py", "from forcenet.dem import packing\n", None),  # the named exception
+    ("datasets/io.py", "from forcenet import __version__\n", None),  # a name of the package root
+    ("systems.py", "from forcenet.dem import packing\n", "systems.py: systems imports forcenet.dem"),
+    ("figures.py", "import numpy\n", "figures.py: 'figures' is in no layer"),
+])
+def test_the_layer_check_flags_an_upward_import(name, source, problem):
+    problems = layering_problems({name: source})
+    assert problems == [] if problem is None else (len(problems) == 1 and problems[0].startswith(problem))
+
+
+@pytest.mark.parametrize("source, problem", [
+    ("import math\n\nimport numba\nimport numpy as np\n\nfrom forcenet._numba import NJIT\n", None),
+    ("import numba\nfrom numba import types\n", None),
+    ("import numba\nimport xarray as xr\n", "k.py: a kernel module imports xarray"),
+    ("import numba\nfrom forcenet.network import ForceNetwork\n", "k.py: a kernel module imports forcenet.network"),
+    ("import xarray as xr\nfrom forcenet.network import ForceNetwork\n", None),  # a driver: no numba
+])
+def test_the_kernel_check_flags_a_kernel_importing_more_than_numpy_numba_math(source, problem):
+    assert kernel_problems({"k.py": source}) == ([] if problem is None else [problem])
