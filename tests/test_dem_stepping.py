@@ -1,7 +1,7 @@
-"""The stepping loop (`advance`) and the recording kernels (`pair_forces_2d/3d`, `flat_wall_forces`, used for the
-snapshots) compute the same forces, torques and springs, bit for bit, on random 2D and 3D states with flat or rough
-walls, for every branch of the contact law (linear, Hertz, Hertz × √R_eff, another β) and with sticking and
-Coulomb-capped (sliding) contacts alike.
+"""The stepping loop (`advance`) and the recording of a snapshot (`Simulation.record`) compute the same forces,
+torques and springs, bit for bit, on random 2D and 3D states with flat or rough walls, for every branch of the
+contact law (linear, Hertz, Hertz × √R_eff, another β) and with sticking and Coulomb-capped (sliding) contacts
+alike: both run the same kernels (`pair_forces_2d/3d`, `flat_wall_forces`), the step with record = None.
 
 Two checks: (1) the forces of one step as `advance` computes them against the recording kernels on the same input;
 (2) `Simulation.advance` over a few steps against the same steps written out with the recording kernels (Gear
@@ -13,8 +13,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from forcenet.dem import _kernels
+from forcenet.dem._kernels import contacts, stepping
+from forcenet.dem._kernels import gear as gear_kernels
 from forcenet.dem.engine import ContactLaw, Simulation
+from forcenet.dem.kernel_arguments import Loads, Motion, PairRecord, WallRecord
 from forcenet.dem.packing import rough_walls
 
 LAWS = {
@@ -28,11 +30,6 @@ LAWS = {
 TIME_STEP = 2.0 ** -7
 WALL_SPEED = 2.0 ** -4
 N_STEPS = 6
-#: the pair loops are two hand-kept copies today (`pair_forces_2d/3d`, `_pair_loop_2d/3d`): under NJIT_DEM's FMA
-#: contraction LLVM fuses different multiply-adds in each, and their forces differ by up to 1e-13 relative (768 ulp
-#: on a particle whose contact forces nearly cancel). With the contraction switched off they agree bit for bit.
-TWO_PAIR_LOOPS = pytest.mark.xfail(strict=True, raises=AssertionError,
-                                   reason="two copies of the pair loop, contracted differently by LLVM")
 
 
 def bits(array) -> np.ndarray:
@@ -58,29 +55,31 @@ def random_state(dim: int, law: ContactLaw, walls: str, seed: int) -> Simulation
                      wall_particles=rough_walls(box_lo, box_hi) if walls == "rough" else None)
     sim.spring[:] = rng.normal(0.0, 0.03, sim.spring.shape)  # open pairs too: their springs must be dropped
     sim.wall_spring[:] = rng.normal(0.0, 0.03, sim.wall_spring.shape)
-    for gear in (sim.gear_position, sim.gear_rotation):
-        gear[3:, :n] = rng.normal(0.0, 1e-6, gear[3:, :n].shape)
+    for derivatives in (sim.gear_position, sim.gear_rotation):
+        derivatives[3:, :n] = rng.normal(0.0, 1e-6, derivatives[3:, :n].shape)
     sim.set_walls(WALL_SPEED)
     return sim
+
+
+def with_wall_speed(walls, wall_speed: float):
+    """The walls with the speed of the last step set to wall_speed (the kernels read it from state[3])."""
+    state = walls.state.copy()
+    state[3] = wall_speed
+    return walls._replace(state=state)
 
 
 def stepping_forces(sim: Simulation, velocity, spin, wall_speed: float):
     """Force, torque and the updated springs of one step as `advance` computes them (velocities: the scaled
     derivatives the step's forces see), on copies of the springs."""
     spring, wall_spring = sim.spring.copy(), sim.wall_spring.copy()
-    force, torque = np.zeros_like(sim.force), np.zeros_like(sim.torque)
-    dim, dt, law = sim.dimension, sim.time_step, sim.law
+    loads = Loads(np.zeros_like(sim.force), np.zeros_like(sim.torque))
+    motion = Motion(sim.gear_position[0], velocity, spin, 1.0 / sim.time_step)
     if sim.flat_walls:
-        _kernels.flat_wall_forces_of(sim.wall_entry_particle, sim.wall_entry_wall, sim.gear_position[0], velocity,
-                                     spin, 1.0 / dt, sim.radius, sim.inv_mass, sim.walls_lo, sim.walls_hi, wall_speed,
-                                     wall_spring, law, dt, force, torque, False, np.empty((0, 2 * dim)),
-                                     np.empty((0, 2 * dim, dim)), sim.skin)
-    pair_loop = _kernels._pair_loop_2d if dim == 2 else _kernels._pair_loop_3d
-    pair_loop(sim.gear_position[0], velocity, spin, 1.0 / dt, sim.radius, sim.inv_mass, sim.pair_i, sim.n_pairs,
-              sim.pair_j, spring.reshape(-1), law[_kernels.LAW_K_N], law[_kernels.LAW_K_T], law[_kernels.LAW_GAMMA_N],
-              law[_kernels.LAW_GAMMA_T], law[_kernels.LAW_MU], _kernels.law_mode(law[_kernels.LAW_BETA]),
-              law[_kernels.LAW_BETA], law[_kernels.LAW_RADIUS_SCALED] != 0.0, dt, force, torque)
-    return force, torque, spring, wall_spring
+        contacts.flat_wall_forces(motion, sim._bodies(), with_wall_speed(sim._walls(wall_spring), wall_speed),
+                                  sim.walls_lo, sim.walls_hi, sim.law, sim.time_step, loads, None)
+    pair_kernel = contacts.pair_forces_2d if sim.dimension == 2 else contacts.pair_forces_3d
+    pair_kernel(motion, sim._bodies(), sim._pairs(spring), sim.law_values(), sim.time_step, loads, None)
+    return loads.force, loads.torque, spring, wall_spring
 
 
 def recording_forces(sim: Simulation, position, velocity, spin, lo, hi, wall_speed: float, spring, wall_spring,
@@ -88,17 +87,19 @@ def recording_forces(sim: Simulation, position, velocity, spin, lo, hi, wall_spe
     """The recording kernels on the given positions, velocities and walls (planes lo, hi moving at wall_speed),
     accumulating into force, torque and updating the springs in place (spring_dt = Δt and a release band of one
     skin, as in a step). Returns (pair overlaps, normal and tangential pair forces, wall overlaps, wall forces)."""
-    dim, dt, law, n = sim.dimension, sim.time_step, sim.law, sim.n_mobile
-    wall_overlap, wall_force = np.zeros((n, 2 * dim)), np.zeros((n, 2 * dim, dim))
+    dim, dt, n = sim.dimension, sim.time_step, sim.n_mobile
+    loads = Loads(force, torque)
+    motion = Motion(position, velocity, spin, 1.0 / dt)
+    wall_record = WallRecord(np.zeros((n, 2 * dim)), np.zeros((n, 2 * dim, dim)))
     if sim.flat_walls:
-        _kernels.flat_wall_forces(position, velocity, spin, 1.0 / dt, sim.radius, sim.inv_mass, n, lo, hi, wall_speed,
-                                  wall_spring, law, dt, force, torque, True, wall_overlap, wall_force, sim.skin)
-    overlap, normal, tangential = np.zeros(sim.n_pairs), np.zeros((sim.n_pairs, dim)), np.zeros((sim.n_pairs, dim))
-    pair_mass, pair_scale = _kernels.pair_constants(sim.pair_i, sim.pair_j, sim.radius, sim.inv_mass, law)
-    pair_kernel = _kernels.pair_forces_2d if dim == 2 else _kernels.pair_forces_3d
-    pair_kernel(position, velocity, spin, 1.0 / dt, sim.radius, pair_mass, pair_scale, sim.pair_i,
-                sim.pair_j, sim.n_pairs, spring, law, dt, force, torque, True, overlap, normal, tangential)
-    return overlap, normal, tangential, wall_overlap, wall_force
+        walls = with_wall_speed(sim._walls(wall_spring, every_entry=True), wall_speed)._replace(release_band=sim.skin)
+        contacts.flat_wall_forces(motion, sim._bodies(), walls, lo, hi, sim.law, dt, loads, wall_record)
+    record = PairRecord(np.zeros(sim.n_pairs), np.zeros(sim.n_pairs), np.zeros((sim.n_pairs, dim)),
+                        np.zeros((sim.n_pairs, dim)))
+    pair_kernel = contacts.pair_forces_2d if dim == 2 else contacts.pair_forces_3d
+    pair_kernel(motion, sim._bodies(), sim._pairs(spring), sim.law_values(), dt, loads, record)
+    return (record.overlap, record.normal_force[:, None] * record.normal, record.tangential, wall_record.overlap,
+            wall_record.force)
 
 
 CASES = [(dim, walls, law) for dim in (2, 3) for walls in ("flat", "rough") for law in LAWS]
@@ -134,7 +135,6 @@ def test_random_states_exercise_every_branch(dim, walls, law_name):
     assert np.all(spring[~touching] == 0.0) and np.all(sim.spring[~touching] != 0.0)
 
 
-@TWO_PAIR_LOOPS
 @pytest.mark.parametrize("dim, walls, law_name", CASES)
 def test_step_forces_equal_the_recording_kernels_bit_for_bit(dim, walls, law_name):
     _, stepped, recorded, _ = one_step_of_both(dim, walls, law_name)
@@ -152,34 +152,32 @@ def steps_with_recording_kernels(sim: Simulation, n_steps: int):
     n, dt = sim.n_mobile, sim.time_step
     shift = float(sim.wall_state[0])
     energies = []
-    _kernels.gear_predict(gear_position, n, velocity, force)
-    _kernels.gear_predict(gear_rotation, n, spin, torque)
+    gear_kernels.gear_predict(gear_position, n, velocity, force)
+    gear_kernels.gear_predict(gear_rotation, n, spin, torque)
     for _ in range(n_steps):
         new_shift = shift + WALL_SPEED * dt  # exact (dyadic)
         wall_speed = (new_shift - shift) * (1.0 / dt)
         shift = new_shift
         if len(sim.wall_anchor):
-            _kernels.place_wall_particles(gear_position, velocity, n, sim.wall_anchor, sim.wall_axis, sim.wall_sign,
-                                          sim.box_lo, sim.box_hi, shift, wall_speed * dt)
+            stepping.place_wall_particles(gear_position, velocity, n, sim._walls(), shift, wall_speed * dt)
         force[n:], torque[n:] = 0.0, 0.0
         recording_forces(sim, gear_position[0], velocity, spin, sim.box_lo + shift, sim.box_hi - shift, wall_speed,
                          spring, wall_spring, force, torque)
-        energies.append((_kernels.gear_correct_predict(gear_position, force, sim.accel_position, sim.half_mass, n,
-                                                       velocity)
-                         + _kernels.gear_correct_predict(gear_rotation, torque, sim.accel_rotation, sim.half_inertia, n,
-                                                         spin)) * (1.0 / dt) * (1.0 / dt))
-    _kernels.gear_unpredict(gear_position, n)
-    _kernels.gear_unpredict(gear_rotation, n)
+        energy = (gear_kernels.gear_correct_predict(gear_position, force, sim.accel_position, sim.half_mass, n, velocity)
+                  + gear_kernels.gear_correct_predict(gear_rotation, torque, sim.accel_rotation, sim.half_inertia, n,
+                                                      spin))
+        energies.append(energy * (1.0 / dt) * (1.0 / dt))
+    gear_kernels.gear_unpredict(gear_position, n)
+    gear_kernels.gear_unpredict(gear_rotation, n)
     return gear_position, gear_rotation, spring, wall_spring, force, torque, np.array(energies)
 
 
-@TWO_PAIR_LOOPS
 @pytest.mark.parametrize("dim, walls, law_name", CASES)
 def test_advance_is_the_recording_kernels_step_by_step(dim, walls, law_name):
     sim = random_state(dim, LAWS[law_name], walls, seed=dim * 10 + len(law_name))
     expected = steps_with_recording_kernels(sim, N_STEPS)
     energy = sim.advance(N_STEPS)
-    assert sim.step == N_STEPS and sim.status[0] == _kernels.STATUS_DONE  # no rebuild in between
+    assert sim.step == N_STEPS and sim.status[0] == stepping.STATUS_DONE  # no rebuild in between
     n = sim.n_mobile
     got = (sim.gear_position, sim.gear_rotation, sim.spring, sim.wall_spring, sim.force[n:], sim.torque[n:], energy)
     names = ("gear_position", "gear_rotation", "spring", "wall_spring", "force on wall particles",
