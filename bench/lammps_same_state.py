@@ -58,7 +58,6 @@ from pathlib import Path
 import numpy as np
 import yaml
 
-from forcenet.dem import _kernels
 from forcenet.dem.engine import ContactLaw, Simulation
 from forcenet.dem.protocol import build_simulation, contact_law_for_system, wall_shift_for
 from forcenet.systems import system_from_config
@@ -130,28 +129,19 @@ def probe_law(state: dict, probe: str) -> ContactLaw:
 # --- our engine -----------------------------------------------------------------------------------------------
 def ours(state: dict, law: ContactLaw, steps: int) -> tuple[Forces, np.ndarray, float, int]:
     """Forces after `steps` spring increments at fixed positions and velocities (ω = 0), as LAMMPS does without an
-    integrator: the engine's own force kernels, called `steps` times with spring_dt = Δt. Returns the forces,
-    our torques with LAMMPS's lever arm r_i, the number of contacts at the Coulomb cap |F_t| = μ F_n, and the largest x/(2 r_i − x) of the pair contacts and x/(r_i − x)
-    of the wall contacts (the relative difference the lever arm makes to one contact's torque)."""
+    integrator: the engine's own force kernels (`Simulation.record`, those of the time step), called `steps` times
+    with spring_dt = Δt. Returns the forces, our torques with LAMMPS's lever arm r_i, the number of contacts at the
+    Coulomb cap |F_t| = μ F_n, and the largest x/(2 r_i − x) of the pair contacts and x/(r_i − x) of the wall
+    contacts (the relative difference the lever arm makes to one contact's torque)."""
     dim = state["dim"]
     sim = Simulation(position=state["positions"], radius=state["radii"], mass=state["masses"], law=law,
                      time_step=state["dt"], box_lo=state["box_lo"], box_hi=state["box_hi"],
                      velocity=state["velocities"], walls="flat")
-    n, inv_dt = sim.n_mobile, 1.0 / sim.time_step
-    pair_kernel = _kernels.pair_forces_2d if dim == 2 else _kernels.pair_forces_3d
-    pair_mass, pair_scale = _kernels.pair_constants(sim.pair_i, sim.pair_j, sim.radius, sim.inv_mass, sim.law)
-    spring, wall_spring = np.zeros_like(sim.spring), np.zeros_like(sim.wall_spring)
-    n_pairs = len(sim.pair_i)
+    n = sim.n_mobile
+    spring, wall_spring = np.zeros_like(sim.spring), np.zeros_like(sim.wall_spring)  # advanced in place
     for _ in range(steps):
-        force, torque = np.zeros_like(sim.force), np.zeros_like(sim.torque)
-        overlap, normal, tangential = np.zeros(n_pairs), np.zeros((n_pairs, dim)), np.zeros((n_pairs, dim))
-        wall_overlap, wall_force = np.zeros((n, 2 * dim)), np.zeros((n, 2 * dim, dim))
-        _kernels.flat_wall_forces(sim.gear_position[0], sim.gear_position[1], sim.gear_rotation[1], inv_dt,
-                                  sim.radius, sim.inv_mass, n, sim.walls_lo, sim.walls_hi, 0.0, wall_spring, sim.law,
-                                  sim.time_step, force, torque, True, wall_overlap, wall_force, np.inf)
-        pair_kernel(sim.gear_position[0], sim.gear_position[1], sim.gear_rotation[1], inv_dt, sim.radius, pair_mass,
-                    pair_scale, sim.pair_i, sim.pair_j, n_pairs, spring, sim.law, sim.time_step, force, torque, True,
-                    overlap, normal, tangential)
+        recorded = sim.record(spring_dt=sim.time_step, spring=spring, wall_spring=wall_spring)
+    force, torque, overlap, normal, tangential, wall_overlap, wall_force = recorded
     torque3 = np.zeros((n, 3))
     torque3[:, 2 if dim == 2 else slice(None)] = torque[:n, 0] if dim == 2 else torque[:n]
     # LAMMPS's lever r_i: move each tangential force from our lever (r − x/2 for pairs, r − x at walls) to r

@@ -5,8 +5,10 @@ import numpy as np
 import pytest
 
 import naive_dem
-from forcenet.dem import _kernels
+from forcenet.dem._kernels import contacts, neighbours
+from forcenet.dem._kernels import gear as gear_kernels
 from forcenet.dem.engine import ContactLaw, Simulation
+from forcenet.dem.kernel_arguments import Bodies, Loads, Motion, PairRecord, Pairs, Walls
 
 LAWS = {
     "linear": dict(k_n=9.87, k_t=8.46, gamma_n=2.3, gamma_t=2.3, mu=0.5, beta=0.0),
@@ -44,12 +46,12 @@ def test_pair_forces_match_naive_reference(dim, law_name):
     spring = np.array([springs[p] for p in pairs])
     force = np.zeros((60, dim))
     torque = np.zeros((60, 1 if dim == 2 else 3))
-    kernel = _kernels.pair_forces_2d if dim == 2 else _kernels.pair_forces_3d
-    omega_arr = omega.reshape(60, -1)
-    overlap = np.zeros(len(pairs))
-    pair_mass, pair_scale = _kernels.pair_constants(pair_i, pair_j, radius, 1.0 / mass, law_array(law))
-    kernel(position, velocity, omega_arr, 1.0, radius, pair_mass, pair_scale, pair_i, pair_j, len(pairs), spring,
-           law_array(law), dt, force, torque, True, overlap, np.zeros((len(pairs), dim)), np.zeros((len(pairs), dim)))
+    kernel = contacts.pair_forces_2d if dim == 2 else contacts.pair_forces_3d
+    record = PairRecord(np.zeros(len(pairs)), np.zeros(len(pairs)), np.zeros((len(pairs), dim)),
+                        np.zeros((len(pairs), dim)))
+    kernel(Motion(position, velocity, omega.reshape(60, -1), 1.0), Bodies(radius, 1.0 / mass, 60),
+           Pairs(pair_i, pair_j, len(pairs), spring), tuple(law_array(law)), dt, Loads(force, torque), record)
+    overlap = record.overlap
     ref_force, ref_torque, ref_springs, ref_contacts = naive_dem.pair_forces(
         position, velocity, omega, radius, mass, springs, law, dt)
     assert len(ref_contacts) > 40, "the configuration should have many contacts"
@@ -80,9 +82,12 @@ def test_flat_walls_match_naive_reference(dim, law_name):
     springs = {(i, w): wall_spring[i, w].copy() for i in range(n) for w in range(2 * dim)}
     force = np.zeros((n, dim))
     torque = np.zeros((n, 1 if dim == 2 else 3))
-    _kernels.flat_wall_forces(position, velocity, omega.reshape(n, -1), 1.0, radius, 1.0 / mass, n, lo, hi, speed,
-                              wall_spring, law_array(law), dt, force, torque, False, np.zeros((0, 2 * dim)),
-                              np.zeros((0, 2 * dim, dim)), np.inf)
+    walls = Walls(flat=True, box_lo=lo, box_hi=hi, state=np.array([0.0, speed, np.inf, speed]), spring=wall_spring,
+                  entry_particle=np.repeat(np.arange(n), 2 * dim), entry_wall=np.tile(np.arange(2 * dim), n),
+                  release_band=np.inf, escape_margin=0.0, anchor=np.zeros((0, dim)), axis=np.zeros(0, dtype=np.int64),
+                  sign=np.zeros(0))
+    contacts.flat_wall_forces(Motion(position, velocity, omega.reshape(n, -1), 1.0), Bodies(radius, 1.0 / mass, n),
+                              walls, lo, hi, law_array(law), dt, Loads(force, torque), None)
     ref_force, ref_torque, ref_springs = naive_dem.flat_wall_forces(position, velocity, omega, radius, mass, lo, hi,
                                                                     speed, springs, law, dt)
     assert len(ref_springs) > 10
@@ -101,7 +106,7 @@ def test_verlet_list_finds_every_pair_within_reach(dim):
     cell = 2 * radius.max() + skin
     n_cells = np.ones(3, dtype=np.int64)
     n_cells[:dim] = np.floor((position.max(axis=0) - origin) / cell).astype(np.int64) + 1
-    pair_i, pair_j = _kernels.build_pair_list(position, radius, 200, 200, skin, origin, cell, n_cells)
+    pair_i, pair_j = neighbours.build_pair_list(position, radius, 200, 200, skin, origin, cell, n_cells)
     found = set(zip(pair_i.tolist(), pair_j.tolist()))
     expected = {(i, j) for i in range(200) for j in range(i + 1, 200)
                 if np.linalg.norm(position[i] - position[j]) < radius[i] + radius[j] + skin}
@@ -177,10 +182,10 @@ def test_fused_gear_pass_matches_corrector_then_predictor(components):
     velocity = corrected[1] + 2.0 * corrected[2]
     flat[:] = PASCAL @ corrected
     force_velocity = np.zeros((n_total, components))
-    result = _kernels.gear_correct_predict(gear, load, accel_scale, half_weight, n_mobile, force_velocity)
+    result = gear_kernels.gear_correct_predict(gear, load, accel_scale, half_weight, n_mobile, force_velocity)
     np.testing.assert_allclose(gear, expected, rtol=1e-13, atol=1e-18)
     np.testing.assert_allclose(force_velocity[:n_mobile].ravel(), velocity, rtol=1e-13, atol=1e-18)
     assert result == pytest.approx(energy, rel=1e-13)
     assert not load[:n_mobile].any() and load[n_mobile:].all()
-    _kernels.gear_unpredict(gear, n_mobile)  # and back to the corrected state
+    gear_kernels.gear_unpredict(gear, n_mobile)  # and back to the corrected state
     np.testing.assert_allclose(gear[:, :n_mobile].reshape(5, -1), corrected, rtol=1e-9, atol=1e-15)

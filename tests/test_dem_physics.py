@@ -8,7 +8,9 @@ import numpy as np
 import pytest
 
 from forcenet import units
-from forcenet.dem import _kernels, calibration, stability
+from forcenet.dem import calibration, stability
+from forcenet.dem._kernels import gear as gear_kernels
+from forcenet.dem._kernels.law import contact_2d, contact_3d
 from forcenet.dem.engine import ContactLaw, Simulation
 
 P1_HERTZ_K = units.reduced_normal_stiffness(units.Material(), 0.5)
@@ -117,13 +119,13 @@ def damped_oscillator_amplitude(omega_dt: float, damping_dt: float, steps: int =
     force_velocity = np.zeros((1, 1))
     accel_scale = np.full((1, 1), 0.5)  # Δt²/2 · 1/m
     half_mass = np.full((1, 1), 0.5)
-    _kernels.gear_predict(gear, 1, force_velocity, load)  # as `_kernels.advance` does
+    gear_kernels.gear_predict(gear, 1, force_velocity, load)  # as `advance` does
     for _ in range(steps):
         load[0, 0] = -omega_dt ** 2 * gear[0, 0, 0] - damping_dt * force_velocity[0, 0]
-        _kernels.gear_correct_predict(gear, load, accel_scale, half_mass, 1, force_velocity)
+        gear_kernels.gear_correct_predict(gear, load, accel_scale, half_mass, 1, force_velocity)
         if not abs(gear[1, 0, 0]) < 1e6:  # grown: stop before it overflows
             break
-    _kernels.gear_unpredict(gear, 1)
+    gear_kernels.gear_unpredict(gear, 1)
     return abs(gear[1, 0, 0]) + abs(gear[2, 0, 0])
 
 
@@ -140,7 +142,7 @@ def test_spring_is_projected_onto_the_tangent_plane():
     law = ContactLaw(100.0, 80.0, 0.0, 0.0, 10.0, 0.0).as_array()
     n = np.array([0.6, 0.8, 0.0])
     xi = np.array([0.01, 0.02, 0.005])  # has a normal part n·ξ = 0.022
-    f_n, fx, fy, fz, sx, sy, sz = _kernels.contact_force_3d(*n, 0.01, 0.0, 0.0, 0.0, 0.0, 0.5, 1.0, *xi, law, 0.0)
+    f_n, fx, fy, fz, sx, sy, sz = contact_3d(law, *n, 0.01, 0.0, 0.0, 0.0, 0.0, 0.5, 1.0, *xi, 0.0)
     projected = xi - n * np.dot(n, xi)
     np.testing.assert_allclose([sx, sy, sz], projected, atol=1e-15)
     np.testing.assert_allclose([fx, fy, fz], -80.0 * projected, atol=1e-13)
@@ -152,20 +154,20 @@ def test_spring_is_projected_onto_the_tangent_plane():
 def test_coulomb_cap_limits_the_force_and_rescales_the_spring(beta):
     mu, overlap = 0.3, 0.02
     law = ContactLaw(100.0, 80.0, 0.0, 0.0, mu, beta).as_array()
-    f_n, fx, fy, sx, sy = _kernels.contact_force_2d(1.0, 0.0, overlap, 0.0, 0.0, 0.0, 0.5, 1.0, 0.0, 0.05, law, 0.0)
+    f_n, fx, fy, sx, sy = contact_2d(law, 1.0, 0.0, overlap, 0.0, 0.0, 0.0, 0.5, 1.0, 0.0, 0.05, 0.0)
     assert f_n == pytest.approx(100.0 * overlap ** (1 + beta))
     assert math.hypot(fx, fy) == pytest.approx(mu * f_n)           # P1 Eq. 3
     assert fy < 0 and fx == 0.0                                     # opposes the spring
     trial = 80.0 * overlap ** beta * 0.05
     assert sy == pytest.approx(0.05 * mu * f_n / trial)              # ξ rescaled by the same factor
     # a small spring sticks: the force is the spring force itself
-    f_n, fx, fy, sx, sy = _kernels.contact_force_2d(1.0, 0.0, overlap, 0.0, 0.0, 0.0, 0.5, 1.0, 0.0, 1e-5, law, 0.0)
+    f_n, fx, fy, sx, sy = contact_2d(law, 1.0, 0.0, overlap, 0.0, 0.0, 0.0, 0.5, 1.0, 0.0, 1e-5, 0.0)
     assert fy == pytest.approx(-80.0 * overlap ** beta * 1e-5) and sy == 1e-5
 
 
 def test_normal_force_is_never_attractive():
     law = ContactLaw(100.0, 80.0, 50.0, 0.0, 0.5, 0.0).as_array()
-    f_n, *_ = _kernels.contact_force_2d(1.0, 0.0, 0.001, 1.0, 0.0, 0.0, 1.0, 1.0, 0.0, 0.0, law, 0.0)
+    f_n, *_ = contact_2d(law, 1.0, 0.0, 0.001, 1.0, 0.0, 0.0, 1.0, 1.0, 0.0, 0.0, 0.0)
     assert f_n == 0.0  # separating fast: damping exceeds the spring
 
 

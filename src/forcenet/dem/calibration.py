@@ -19,7 +19,7 @@ Two damping models, chosen per system by `systems.<name>.damping_model` (docs/de
   The collision is integrated at the system's compression speed (`SystemSpec.wall_speed`: P1's v0, the
   "characteristic velocity" at which P1 Eq. 4 defines τ_c).
 
-The collision is integrated with RK4 at 4000 steps per collision (`_kernels.head_on_collision`); the
+The collision is integrated with RK4 at 4000 steps per collision (`_kernels.law.head_on_collision`); the
 bisection stops at a relative tolerance of 1e-10 on γ_n.
 """
 from __future__ import annotations
@@ -27,7 +27,7 @@ from __future__ import annotations
 import functools
 
 from forcenet import units
-from forcenet.dem import _kernels
+from forcenet.dem._kernels.law import head_on_collision
 
 #: reduced mass of two mean particles [m̄]: the calibration collision
 MEAN_PAIR_EFFECTIVE_MASS = 0.5
@@ -37,16 +37,16 @@ STEPS_PER_COLLISION = 4000
 def collision_restitution(normal_stiffness: float, beta: float, normal_damping: float, effective_mass: float,
                           impact_speed: float) -> float:
     """Restitution e_n of a head-on collision (exact law, RK4) [-]."""
-    e, _ = _kernels.head_on_collision(normal_stiffness, beta, normal_damping, effective_mass, impact_speed,
-                                      STEPS_PER_COLLISION)
+    e, _ = head_on_collision(normal_stiffness, beta, normal_damping, effective_mass, impact_speed,
+                             STEPS_PER_COLLISION)
     return float(e)
 
 
 def collision_duration(normal_stiffness: float, beta: float, normal_damping: float, effective_mass: float,
                        impact_speed: float) -> float:
     """Contact duration of a head-on collision [τ_c]; undamped it is P1 Eq. 4 (`units.undamped_collision_time`)."""
-    _, duration = _kernels.head_on_collision(normal_stiffness, beta, normal_damping, effective_mass, impact_speed,
-                                             STEPS_PER_COLLISION)
+    _, duration = head_on_collision(normal_stiffness, beta, normal_damping, effective_mass, impact_speed,
+                                    STEPS_PER_COLLISION)
     return float(duration)
 
 

@@ -1,22 +1,31 @@
-"""The DEM engine: state arrays, neighbour list and time stepping around the numba kernels (`_kernels.py`).
+"""The DEM engine: state arrays, neighbour list and time stepping around the numba kernels (`_kernels/`).
 
 `Simulation` holds one system (mobile particles, flat or rough walls, Verlet list with tangential history)
 and advances it; `protocol.py` drives it through a compression. Everything is in reduced units (length
 d_ave, mass m̄, time τ_c) unless a caller passes other numbers (the LAMMPS benchmark does).
 
+The kernels take their arguments grouped in the named tuples of `kernel_arguments.py` (`Motion`, `Bodies`,
+`Pairs`, …), views of the Simulation's arrays made afresh for every kernel call, so a rebuild that replaces an
+array needs no bookkeeping.
+
 Neighbour list: Verlet list of all pairs closer than r_i + r_j + skin, built through a cell list; it is
 rebuilt when a particle (or a wall) has moved more than skin/2 since the last build. At each rebuild the
 mobile particles are re-ordered by cell (memory locality) and the tangential springs are carried over to
-the new list (`_kernels.transfer_springs`), so contacts never lose their history; the pairs touching at the
-rebuild are listed first (see `rebuild`).
+the new list (`_kernels.neighbours.transfer_springs`), so contacts never lose their history; the pairs touching at
+the rebuild are listed first (see `rebuild`).
 """
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
-from forcenet.dem import _kernels
+from forcenet.dem._kernels import contacts, neighbours, stepping
+from forcenet.dem._kernels.law import (LAW_BETA, LAW_GAMMA_N, LAW_GAMMA_T, LAW_K_N, LAW_K_T, LAW_MU,
+                                       LAW_RADIUS_SCALED, LAW_SIZE)
+from forcenet.dem.kernel_arguments import (Bodies, Integrator, Loads, Motion, PairRecord, Pairs, RebuildWatch,
+                                           WallRecord, Walls)
 from forcenet.dem.packing import WallParticles, packing_fraction
 from forcenet.errors import ForcenetError
 
@@ -60,22 +69,23 @@ class ContactLaw:
     radius_scaled: bool = False
 
     def as_array(self) -> np.ndarray:
-        law = np.zeros(_kernels.LAW_SIZE)
-        law[_kernels.LAW_K_N] = self.normal_stiffness
-        law[_kernels.LAW_K_T] = self.tangential_stiffness
-        law[_kernels.LAW_GAMMA_N] = self.normal_damping
-        law[_kernels.LAW_GAMMA_T] = self.tangential_damping
-        law[_kernels.LAW_MU] = self.friction
-        law[_kernels.LAW_BETA] = self.beta
-        law[_kernels.LAW_RADIUS_SCALED] = 1.0 if self.radius_scaled else 0.0
+        """The LAW_* layout (checkpoints)."""
+        law = np.zeros(LAW_SIZE)
+        law[LAW_K_N] = self.normal_stiffness
+        law[LAW_K_T] = self.tangential_stiffness
+        law[LAW_GAMMA_N] = self.normal_damping
+        law[LAW_GAMMA_T] = self.tangential_damping
+        law[LAW_MU] = self.friction
+        law[LAW_BETA] = self.beta
+        law[LAW_RADIUS_SCALED] = 1.0 if self.radius_scaled else 0.0
         return law
 
     @classmethod
     def from_array(cls, law: np.ndarray) -> "ContactLaw":
-        return cls(normal_stiffness=float(law[_kernels.LAW_K_N]), tangential_stiffness=float(law[_kernels.LAW_K_T]),
-                   normal_damping=float(law[_kernels.LAW_GAMMA_N]), tangential_damping=float(law[_kernels.LAW_GAMMA_T]),
-                   friction=float(law[_kernels.LAW_MU]), beta=float(law[_kernels.LAW_BETA]),
-                   radius_scaled=bool(law[_kernels.LAW_RADIUS_SCALED]))
+        return cls(normal_stiffness=float(law[LAW_K_N]), tangential_stiffness=float(law[LAW_K_T]),
+                   normal_damping=float(law[LAW_GAMMA_N]), tangential_damping=float(law[LAW_GAMMA_T]),
+                   friction=float(law[LAW_MU]), beta=float(law[LAW_BETA]),
+                   radius_scaled=bool(law[LAW_RADIUS_SCALED]))
 
 
 @dataclass(frozen=True)
@@ -96,6 +106,19 @@ class ContactForces:
     wall_contact_wall: np.ndarray
     wall_contact_force: np.ndarray
     wall_normal_load: np.ndarray
+
+
+class RecordedForces(NamedTuple):
+    """`Simulation.record`, in slot order: force (N_slots, d) and torque (N_slots, 1|3) sums; per listed pair
+    overlap (P,) [d_ave] (0 if apart), normal and tangential force on i (P, d) (0 if apart); per mobile particle
+    and flat wall overlap (N, 2d) and force on the particle (N, 2d, d)."""
+    force: np.ndarray
+    torque: np.ndarray
+    overlap: np.ndarray
+    normal: np.ndarray
+    tangential: np.ndarray
+    wall_overlap: np.ndarray
+    wall_force: np.ndarray
 
 
 _STATE_ARRAYS = ("gear_position", "gear_rotation", "radius", "mass", "inv_mass", "inv_inertia", "particle_id",
@@ -194,9 +217,8 @@ class Simulation:
 
     def _place_walls(self):
         if len(self.wall_anchor):
-            _kernels.place_wall_particles(self.gear_position, self.force_velocity, self.n_mobile, self.wall_anchor,
-                                          self.wall_axis, self.wall_sign, self.box_lo, self.box_hi,
-                                          self.wall_state[0], 0.0)
+            stepping.place_wall_particles(self.gear_position, self.force_velocity, self.n_mobile,
+                                          self._walls(every_entry=True), self.wall_state[0], 0.0)
 
     def _start_gear_accelerations(self):
         """Gear's second scaled derivative from the forces at t = 0 (springs all zero, velocities as given)."""
@@ -286,7 +308,7 @@ class Simulation:
         cell_size = max(cutoff, float(extent.max()) / MAX_CELLS_PER_AXIS[dim])
         n_cells = np.ones(3, dtype=np.int64)
         n_cells[:dim] = np.maximum(1, np.floor(extent / cell_size).astype(np.int64) + 1)
-        cells = _kernels.cell_index(position, n, origin, cell_size, n_cells)
+        cells = neighbours.cell_index(position, n, origin, cell_size, n_cells)
         order = np.argsort(cells, kind="stable")
         new_slot = np.arange(n_total, dtype=np.int64)
         new_slot[order] = np.arange(n, dtype=np.int64)
@@ -299,11 +321,11 @@ class Simulation:
         self.mass = self.mass[order]
         self.particle_id = self.particle_id[order]
         self.wall_spring = np.ascontiguousarray(self.wall_spring[order])
-        pair_i, pair_j = _kernels.build_pair_list(self.gear_position[0], self.radius, n, n_total, self.skin,
-                                                  origin, cell_size, n_cells)
+        pair_i, pair_j = neighbours.build_pair_list(self.gear_position[0], self.radius, n, n_total, self.skin,
+                                                    origin, cell_size, n_cells)
         spring = np.zeros((len(pair_i), dim))
-        _kernels.transfer_springs(self.pair_i, self.pair_j, self.spring, len(self.pair_i), new_slot,
-                                  pair_i, pair_j, spring, n_total)
+        neighbours.transfer_springs(self.pair_i, self.pair_j, self.spring, len(self.pair_i), new_slot,
+                                    pair_i, pair_j, spring, n_total)
         # touching pairs first, each group still sorted by i then j: the pair loop's contact test then mispredicts
         # only where a contact opened or closed since the rebuild, not at every pair that is merely near
         # (measured: −12 to −17 % on the 3D pair loop)
@@ -313,7 +335,7 @@ class Simulation:
         # the (particle, wall) entries that can touch before the next rebuild: within the spring-release band (the
         # skin) of that wall now, plus the skin (both they and the walls move less than half a skin until then),
         # plus a margin for the step that crosses the rebuild threshold
-        self.wall_entry_particle, self.wall_entry_wall = _kernels.wall_candidates(
+        self.wall_entry_particle, self.wall_entry_wall = contacts.wall_candidates(
             position, self.radius, n, self.walls_lo, self.walls_hi, WALL_REACH_IN_SKINS * self.skin)
         half_dt_sq = 0.5 * self.time_step ** 2
         self.accel_position = np.repeat(half_dt_sq * self.inv_mass[:, None], dim, axis=1)
@@ -337,69 +359,101 @@ class Simulation:
             kinetic_energy = np.empty(n_steps)
         done = 0
         while done < n_steps:
-            steps = _kernels.advance(
-                self.gear_position, self.gear_rotation, self.n_mobile, self.radius, self.inv_mass, self.half_mass,
-                self.half_inertia, self.accel_position, self.accel_rotation, self.pair_i, self.pair_j,
-                len(self.pair_i), self.spring, self.wall_spring, self.wall_entry_particle, self.wall_entry_wall,
-                self.law, self.time_step, self.flat_walls, self.box_lo, self.box_hi, self.wall_state, self.wall_anchor,
-                self.wall_axis, self.wall_sign, self.escape_margin, self.reference_position, self.reference_shift,
-                0.5 * self.skin, n_steps - done, kinetic_energy[done:], self.force, self.torque, self.force_velocity,
-                self.force_spin, self.status)
+            dt = self.time_step
+            gear = Integrator(self.gear_position, self.gear_rotation, self.accel_position, self.accel_rotation,
+                              self.half_mass, self.half_inertia, dt)
+            motion = Motion(self.gear_position[0], self.force_velocity, self.force_spin, 1.0 / dt)
+            watch = RebuildWatch(self.reference_position, self.reference_shift, 0.5 * self.skin)
+            steps = stepping.advance(gear, motion, Loads(self.force, self.torque), self._bodies(), self._pairs(),
+                                     self._walls(), self.law, watch, n_steps - done, kinetic_energy[done:],
+                                     self.status)
             done += steps
             self.step += steps
             code = int(self.status[0])
-            if code == _kernels.STATUS_REBUILD:
+            if code == stepping.STATUS_REBUILD:
                 self.rebuild()
-            elif code != _kernels.STATUS_DONE:
+            elif code != stepping.STATUS_DONE:
                 self._raise_blow_up(code, int(self.status[1]))
         return kinetic_energy[:n_steps]
 
     def _raise_blow_up(self, code: int, slot: int) -> None:
         particle = int(self.particle_id[slot]) if 0 <= slot < self.n_mobile else -1
-        reason = {_kernels.STATUS_NOT_FINITE: "non-finite position or velocity",
-                  _kernels.STATUS_OVERLAP: f"overlap above {_kernels.MAX_OVERLAP_FRACTION:.0%} of a diameter",
-                  _kernels.STATUS_ESCAPED: "particle centre outside the walls"}.get(code, f"status {code}")
-        cause = {_kernels.STATUS_NOT_FINITE: "not_finite", _kernels.STATUS_OVERLAP: "overlap",
-                 _kernels.STATUS_ESCAPED: "escaped"}.get(code, "")
+        reason = {stepping.STATUS_NOT_FINITE: "non-finite position or velocity",
+                  stepping.STATUS_OVERLAP: f"overlap above {contacts.MAX_OVERLAP_FRACTION:.0%} of a diameter",
+                  stepping.STATUS_ESCAPED: "particle centre outside the walls"}.get(code, f"status {code}")
+        cause = {stepping.STATUS_NOT_FINITE: "not_finite", stepping.STATUS_OVERLAP: "overlap",
+                 stepping.STATUS_ESCAPED: "escaped"}.get(code, "")
         if 0 <= slot < self.n_mobile:
             reason += f" (position {self.gear_position[0, slot].tolist()})"
         raise SimulationBlowUp(reason, step=self.step, particle=particle, rho=self.packing_fraction, cause=cause)
 
+    # --- the kernels' arguments ---------------------------------------------------------------------------
+    @property
+    def contact_law(self) -> ContactLaw:
+        return ContactLaw.from_array(self.law)
+
+    def law_values(self) -> tuple[float, ...]:
+        """The law as the pair kernels take it: a tuple of the LAW_* values (as `advance` makes it)."""
+        return tuple(float(value) for value in self.law)
+
+    def _bodies(self) -> Bodies:
+        return Bodies(self.radius, self.inv_mass, self.n_mobile)
+
+    def _pairs(self, spring: np.ndarray | None = None) -> Pairs:
+        return Pairs(self.pair_i, self.pair_j, len(self.pair_i), self.spring if spring is None else spring)
+
+    def _walls(self, spring: np.ndarray | None = None, every_entry: bool = False) -> Walls:
+        """The walls as the time step sees them: the flat-wall entries that can touch before the next rebuild,
+        springs released within one skin; or, with every_entry, every (particle, wall) entry and every spring
+        of a wall that does not touch released (for recording)."""
+        if every_entry:
+            n_walls = 2 * self.dimension
+            entry_particle = np.repeat(np.arange(self.n_mobile, dtype=np.int64), n_walls)
+            entry_wall = np.tile(np.arange(n_walls, dtype=np.int64), self.n_mobile)
+        else:
+            entry_particle, entry_wall = self.wall_entry_particle, self.wall_entry_wall
+        return Walls(flat=self.flat_walls, box_lo=self.box_lo, box_hi=self.box_hi, state=self.wall_state,
+                     spring=self.wall_spring if spring is None else spring, entry_particle=entry_particle,
+                     entry_wall=entry_wall, release_band=np.inf if every_entry else self.skin,
+                     escape_margin=self.escape_margin, anchor=self.wall_anchor, axis=self.wall_axis,
+                     sign=self.wall_sign)
+
     # --- forces at one instant -----------------------------------------------------------------------------
-    def _record(self):
-        """Evaluate every contact at the current state without advancing the springs."""
+    def record(self, spring_dt: float = 0.0, spring: np.ndarray | None = None,
+               wall_spring: np.ndarray | None = None) -> RecordedForces:
+        """Evaluate every contact at the current (corrected) state with the kernels of the time step.
+
+        The springs advance by spring_dt [τ_c] (0: evaluated as they are) in the given arrays spring
+        (n_pairs, d) and wall_spring (N, 2d, d), updated in place; by default in copies of the Simulation's,
+        which stay unchanged."""
         n, dim = self.n_mobile, self.dimension
-        force = np.zeros_like(self.force)
-        torque = np.zeros_like(self.torque)
         n_pairs = len(self.pair_i)
-        overlap = np.zeros(n_pairs)
-        normal = np.zeros((n_pairs, dim))
-        tangential = np.zeros((n_pairs, dim))
-        wall_overlap = np.zeros((n, 2 * dim))
-        wall_force = np.zeros((n, 2 * dim, dim))
-        inv_dt = 1.0 / self.time_step
-        wall_speed = self.wall_state[3]
+        loads = Loads(np.zeros_like(self.force), np.zeros_like(self.torque))
+        motion = Motion(self.gear_position[0], self.gear_position[1], self.gear_rotation[1], 1.0 / self.time_step)
+        wall_record = WallRecord(np.zeros((n, 2 * dim)), np.zeros((n, 2 * dim, dim)))
         if self.flat_walls:
-            _kernels.flat_wall_forces(self.gear_position[0], self.gear_position[1], self.gear_rotation[1], inv_dt,
-                                      self.radius, self.inv_mass, n, self.walls_lo, self.walls_hi, wall_speed,
-                                      self.wall_spring.copy(), self.law, 0.0, force, torque, True, wall_overlap,
-                                      wall_force, np.inf)
-        pair_kernel = _kernels.pair_forces_2d if dim == 2 else _kernels.pair_forces_3d
-        pair_mass, pair_scale = _kernels.pair_constants(self.pair_i, self.pair_j, self.radius, self.inv_mass, self.law)
-        pair_kernel(self.gear_position[0], self.gear_position[1], self.gear_rotation[1], inv_dt, self.radius,
-                    pair_mass, pair_scale, self.pair_i, self.pair_j, n_pairs, self.spring.copy(), self.law, 0.0, force,
-                    torque, True, overlap, normal, tangential)
-        return force, torque, overlap, normal, tangential, wall_overlap, wall_force
+            walls = self._walls(self.wall_spring.copy() if wall_spring is None else wall_spring, every_entry=True)
+            contacts.flat_wall_forces(motion, self._bodies(), walls, self.walls_lo, self.walls_hi, self.law,
+                                      spring_dt, loads, wall_record)
+        pair_record = PairRecord(np.zeros(n_pairs), np.zeros(n_pairs), np.zeros((n_pairs, dim)),
+                                 np.zeros((n_pairs, dim)))
+        pair_kernel = contacts.pair_forces_2d if dim == 2 else contacts.pair_forces_3d
+        pair_kernel(motion, self._bodies(), self._pairs(self.spring.copy() if spring is None else spring),
+                    self.law_values(), spring_dt, loads, pair_record)
+        return RecordedForces(force=loads.force, torque=loads.torque, overlap=pair_record.overlap,
+                              normal=pair_record.normal_force[:, None] * pair_record.normal,
+                              tangential=pair_record.tangential, wall_overlap=wall_record.overlap,
+                              wall_force=wall_record.force)
 
     def evaluate_forces(self):
         """Total force (N_slots, d) and torque (N_slots, 1|3) at the current state, springs unchanged."""
-        force, torque, *_ = self._record()
-        return force, torque
+        recorded = self.record()
+        return recorded.force, recorded.torque
 
     def contact_forces(self) -> ContactForces:
         """Every contact (overlap > 0) and its force, in input particle order (see `ContactForces`)."""
         n, dim = self.n_mobile, self.dimension
-        _, _, overlap, normal, tangential, wall_overlap, wall_force = self._record()
+        _, _, overlap, normal, tangential, wall_overlap, wall_force = self.record()
         touching = overlap > 0.0
         slot_i, slot_j = self.pair_i[touching].astype(np.int64), self.pair_j[touching].astype(np.int64)
         f_n, f_t = normal[touching], tangential[touching]

@@ -16,10 +16,11 @@ momentum); angular velocities 0. Every random draw comes from one `numpy.random.
 Rough walls (P2): each wall is a square grid (a row in 2D) of touching wall particles of diameter
 `WALL_PARTICLE_DIAMETER` (monodisperse), centred `WALL_PARTICLE_DIAMETER/2` outside the wall plane, so the wall
 plane (box_lo/box_hi) is tangent to them and ρ is measured in the same box as for flat walls. A wall's grid
-spans the initial box plus one wall particle on each side (the corners stay closed); the grid moves with
-its wall along the wall normal and contracts affinely with the box along the wall (`_kernels.place_wall_particles`):
-with a rigid grid, a frictional particle wedged in a corner between two walls' particles gets crushed as the
-corner pocket closes at the wall speed (measured: 20 % overlap at ρ ≈ 0.58 with μ = 0.5).
+spans the initial box plus one wall particle on each side (the corners stay closed); the grid moves with its
+wall along the wall normal and contracts affinely with the box along the wall
+(`_kernels.stepping.place_wall_particles`): with a rigid grid, a frictional particle wedged in a corner between
+two walls' particles gets crushed as the corner pocket closes at the wall speed (measured: 20 % overlap at
+ρ ≈ 0.58 with μ = 0.5).
 """
 from __future__ import annotations
 

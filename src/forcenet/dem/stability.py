@@ -129,13 +129,13 @@ def fastest_damping_rate(contacts: DampingContacts, mass: np.ndarray, inertia: n
 def damping_contacts(sim) -> DampingContacts:
     """The touching contacts of a `forcenet.dem.engine.Simulation` in its current (corrected) state: pairs of
     the Verlet list (a rough-wall particle is an immobile partner, j = −1) and flat-wall contacts."""
-    from forcenet.dem import _kernels
+    from forcenet.dem._kernels.contacts import pair_constants
 
-    law = sim.law
-    beta, gamma_n, gamma_t = law[_kernels.LAW_BETA], law[_kernels.LAW_GAMMA_N], law[_kernels.LAW_GAMMA_T]
+    law = sim.contact_law
+    beta, gamma_n, gamma_t = law.beta, law.normal_damping, law.tangential_damping
     n, dim = sim.n_mobile, sim.dimension
     position, radius = sim.gear_position[0], sim.radius
-    pair_mass, pair_scale = _kernels.pair_constants(sim.pair_i, sim.pair_j, radius, sim.inv_mass, law)
+    pair_mass, pair_scale = pair_constants(sim.pair_i, sim.pair_j, radius, sim.inv_mass, law.radius_scaled)
     pi, pj = sim.pair_i.astype(np.int64), sim.pair_j.astype(np.int64)
     separation = position[pi] - position[pj]
     distance = np.sqrt(np.einsum("pk,pk->p", separation, separation))

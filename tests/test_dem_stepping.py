@@ -1,0 +1,188 @@
+"""The stepping loop (`advance`) and the recording of a snapshot (`Simulation.record`) compute the same forces,
+torques and springs, bit for bit, on random 2D and 3D states with flat or rough walls, for every branch of the
+contact law (linear, Hertz, Hertz × √R_eff, another β) and with sticking and Coulomb-capped (sliding) contacts
+alike: both run the same kernels (`pair_forces_2d/3d`, `flat_wall_forces`), the step with record = None.
+
+Two checks: (1) the forces of one step as `advance` computes them against the recording kernels on the same input;
+(2) `Simulation.advance` over a few steps against the same steps written out with the recording kernels (Gear
+prediction, wall motion, forces, Gear correction): the whole state, the rough-wall particles' force rows and the
+kinetic energies must be identical, so `advance` really computes its forces as (1) checks.
+"""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from forcenet.dem._kernels import contacts, stepping
+from forcenet.dem._kernels import gear as gear_kernels
+from forcenet.dem.engine import ContactLaw, Simulation
+from forcenet.dem.kernel_arguments import Loads, Motion, PairRecord, WallRecord
+from forcenet.dem.packing import rough_walls
+
+LAWS = {
+    "linear": ContactLaw(9.87, 8.46, 2.3, 2.3, 0.5, 0.0),
+    "hertz": ContactLaw(845.0, 724.0, 40.0, 40.0, 0.3, 0.5),
+    "hertz_scaled": ContactLaw(845.0, 724.0, 40.0, 40.0, 0.3, 0.5, radius_scaled=True),  # LAMMPS convention
+    "beta_quarter": ContactLaw(200.0, 170.0, 10.0, 10.0, 0.4, 0.25),  # x^β by pow
+}
+#: a dyadic time step and wall speed: the wall shift after k steps is exact, so writing the steps out in numpy
+#: (`steps_with_recording_kernels`) reproduces the wall motion of `advance` to the bit on any CPU
+TIME_STEP = 2.0 ** -7
+WALL_SPEED = 2.0 ** -4
+N_STEPS = 6
+
+
+def bits(array) -> np.ndarray:
+    """The bit patterns of a float64 array (equal bits, not merely equal values: −0.0 ≠ 0.0)."""
+    return np.ascontiguousarray(array, dtype=np.float64).view(np.uint64)
+
+
+def random_state(dim: int, law: ContactLaw, walls: str, seed: int) -> Simulation:
+    """A jittered square/cubic lattice of spacing 1 with radii 0.47–0.54 (pair overlaps up to 12 % of a
+    diameter, some neighbours apart), walls 0.45 from the outer centres (so the outer particles press on them),
+    random velocities, spins, springs (pairs and flat walls) and higher Gear derivatives, walls moving inward."""
+    rng = np.random.default_rng(seed)
+    n_side = 6 if dim == 2 else 4
+    sites = np.arange(n_side, dtype=float)
+    position = np.stack(np.meshgrid(*[sites] * dim, indexing="ij"), -1).reshape(-1, dim)
+    n = len(position)
+    position += rng.uniform(-0.02, 0.02, position.shape)
+    radius = rng.uniform(0.47, 0.54, n)
+    box_lo, box_hi = np.full(dim, -0.45), np.full(dim, n_side - 1 + 0.45)
+    sim = Simulation(position=position, radius=radius, mass=(2.0 * radius) ** dim, law=law, time_step=TIME_STEP,
+                     box_lo=box_lo, box_hi=box_hi, velocity=rng.normal(0.0, 0.05, (n, dim)),
+                     angular_velocity=rng.normal(0.0, 0.1, n if dim == 2 else (n, 3)), walls=walls,
+                     wall_particles=rough_walls(box_lo, box_hi) if walls == "rough" else None)
+    sim.spring[:] = rng.normal(0.0, 0.03, sim.spring.shape)  # open pairs too: their springs must be dropped
+    sim.wall_spring[:] = rng.normal(0.0, 0.03, sim.wall_spring.shape)
+    for derivatives in (sim.gear_position, sim.gear_rotation):
+        derivatives[3:, :n] = rng.normal(0.0, 1e-6, derivatives[3:, :n].shape)
+    sim.set_walls(WALL_SPEED)
+    return sim
+
+
+def with_wall_speed(walls, wall_speed: float):
+    """The walls with the speed of the last step set to wall_speed (the kernels read it from state[3])."""
+    state = walls.state.copy()
+    state[3] = wall_speed
+    return walls._replace(state=state)
+
+
+def stepping_forces(sim: Simulation, velocity, spin, wall_speed: float):
+    """Force, torque and the updated springs of one step as `advance` computes them (velocities: the scaled
+    derivatives the step's forces see), on copies of the springs."""
+    spring, wall_spring = sim.spring.copy(), sim.wall_spring.copy()
+    loads = Loads(np.zeros_like(sim.force), np.zeros_like(sim.torque))
+    motion = Motion(sim.gear_position[0], velocity, spin, 1.0 / sim.time_step)
+    if sim.flat_walls:
+        contacts.flat_wall_forces(motion, sim._bodies(), with_wall_speed(sim._walls(wall_spring), wall_speed),
+                                  sim.walls_lo, sim.walls_hi, sim.law, sim.time_step, loads, None)
+    pair_kernel = contacts.pair_forces_2d if sim.dimension == 2 else contacts.pair_forces_3d
+    pair_kernel(motion, sim._bodies(), sim._pairs(spring), sim.law_values(), sim.time_step, loads, None)
+    return loads.force, loads.torque, spring, wall_spring
+
+
+def recording_forces(sim: Simulation, position, velocity, spin, lo, hi, wall_speed: float, spring, wall_spring,
+                     force, torque):
+    """The recording kernels on the given positions, velocities and walls (planes lo, hi moving at wall_speed),
+    accumulating into force, torque and updating the springs in place (spring_dt = Δt and a release band of one
+    skin, as in a step). Returns (pair overlaps, normal and tangential pair forces, wall overlaps, wall forces)."""
+    dim, dt, n = sim.dimension, sim.time_step, sim.n_mobile
+    loads = Loads(force, torque)
+    motion = Motion(position, velocity, spin, 1.0 / dt)
+    wall_record = WallRecord(np.zeros((n, 2 * dim)), np.zeros((n, 2 * dim, dim)))
+    if sim.flat_walls:
+        walls = with_wall_speed(sim._walls(wall_spring, every_entry=True), wall_speed)._replace(release_band=sim.skin)
+        contacts.flat_wall_forces(motion, sim._bodies(), walls, lo, hi, sim.law, dt, loads, wall_record)
+    record = PairRecord(np.zeros(sim.n_pairs), np.zeros(sim.n_pairs), np.zeros((sim.n_pairs, dim)),
+                        np.zeros((sim.n_pairs, dim)))
+    pair_kernel = contacts.pair_forces_2d if dim == 2 else contacts.pair_forces_3d
+    pair_kernel(motion, sim._bodies(), sim._pairs(spring), sim.law_values(), dt, loads, record)
+    return (record.overlap, record.normal_force[:, None] * record.normal, record.tangential, wall_record.overlap,
+            wall_record.force)
+
+
+CASES = [(dim, walls, law) for dim in (2, 3) for walls in ("flat", "rough") for law in LAWS]
+
+
+def one_step_of_both(dim: int, walls: str, law_name: str):
+    """A random state, and the forces of one step on it by `stepping_forces` and by `recording_forces`."""
+    sim = random_state(dim, LAWS[law_name], walls, seed=dim * 10 + len(law_name))
+    rng = np.random.default_rng(1)
+    velocity = sim.gear_position[1] + rng.normal(0.0, 1e-4, sim.gear_position[1].shape)
+    spin = sim.gear_rotation[1].copy()
+    stepped = stepping_forces(sim, velocity, spin, WALL_SPEED)
+    spring, wall_spring = sim.spring.copy(), sim.wall_spring.copy()
+    force, torque = np.zeros_like(sim.force), np.zeros_like(sim.torque)
+    recorded = recording_forces(sim, sim.gear_position[0], velocity, spin, sim.walls_lo, sim.walls_hi, WALL_SPEED,
+                                spring, wall_spring, force, torque)
+    return sim, stepped, (force, torque, spring, wall_spring), recorded
+
+
+@pytest.mark.parametrize("dim, walls, law_name", CASES)
+def test_random_states_exercise_every_branch(dim, walls, law_name):
+    """Contacts between particles and with the walls, open pairs (their springs dropped), and both sides of the
+    Coulomb cap (P1 Eq. 3: |F_t| = μ F_n when sliding, below when sticking)."""
+    sim, _, (_, _, spring, _), (overlap, normal, tangential, wall_overlap, _) = one_step_of_both(dim, walls, law_name)
+    touching = overlap > 0.0
+    f_n, f_t = np.linalg.norm(normal[touching], axis=1), np.linalg.norm(tangential[touching], axis=1)
+    sliding = np.isclose(f_t, LAWS[law_name].friction * f_n, rtol=1e-12)
+    assert 0 < np.count_nonzero(sliding) < np.count_nonzero(touching) < sim.n_pairs
+    assert np.all(f_t <= LAWS[law_name].friction * f_n * (1 + 1e-12))
+    on_walls = np.count_nonzero(wall_overlap) if walls == "flat" else np.count_nonzero(sim.pair_j[touching]
+                                                                                      >= sim.n_mobile)
+    assert on_walls >= (4 if dim == 2 else 8)
+    assert np.all(spring[~touching] == 0.0) and np.all(sim.spring[~touching] != 0.0)
+
+
+@pytest.mark.parametrize("dim, walls, law_name", CASES)
+def test_step_forces_equal_the_recording_kernels_bit_for_bit(dim, walls, law_name):
+    _, stepped, recorded, _ = one_step_of_both(dim, walls, law_name)
+    for name, value, reference in zip(("force", "torque", "spring", "wall spring"), stepped, recorded):
+        np.testing.assert_array_equal(bits(value), bits(reference), err_msg=name)
+
+
+def steps_with_recording_kernels(sim: Simulation, n_steps: int):
+    """`advance` written out step by step with the recording kernels: predict, move the walls, forces, correct
+    (on copies). Returns (gear_position, gear_rotation, spring, wall_spring, force, torque, kinetic energies)."""
+    gear_position, gear_rotation = sim.gear_position.copy(), sim.gear_rotation.copy()
+    spring, wall_spring = sim.spring.copy(), sim.wall_spring.copy()
+    force, torque = np.zeros_like(sim.force), np.zeros_like(sim.torque)
+    velocity, spin = np.zeros_like(sim.force_velocity), np.zeros_like(sim.force_spin)
+    n, dt = sim.n_mobile, sim.time_step
+    shift = float(sim.wall_state[0])
+    energies = []
+    gear_kernels.gear_predict(gear_position, n, velocity, force)
+    gear_kernels.gear_predict(gear_rotation, n, spin, torque)
+    for _ in range(n_steps):
+        new_shift = shift + WALL_SPEED * dt  # exact (dyadic)
+        wall_speed = (new_shift - shift) * (1.0 / dt)
+        shift = new_shift
+        if len(sim.wall_anchor):
+            stepping.place_wall_particles(gear_position, velocity, n, sim._walls(), shift, wall_speed * dt)
+        force[n:], torque[n:] = 0.0, 0.0
+        recording_forces(sim, gear_position[0], velocity, spin, sim.box_lo + shift, sim.box_hi - shift, wall_speed,
+                         spring, wall_spring, force, torque)
+        energy = (gear_kernels.gear_correct_predict(gear_position, force, sim.accel_position, sim.half_mass, n, velocity)
+                  + gear_kernels.gear_correct_predict(gear_rotation, torque, sim.accel_rotation, sim.half_inertia, n,
+                                                      spin))
+        energies.append(energy * (1.0 / dt) * (1.0 / dt))
+    gear_kernels.gear_unpredict(gear_position, n)
+    gear_kernels.gear_unpredict(gear_rotation, n)
+    return gear_position, gear_rotation, spring, wall_spring, force, torque, np.array(energies)
+
+
+@pytest.mark.parametrize("dim, walls, law_name", CASES)
+def test_advance_is_the_recording_kernels_step_by_step(dim, walls, law_name):
+    sim = random_state(dim, LAWS[law_name], walls, seed=dim * 10 + len(law_name))
+    expected = steps_with_recording_kernels(sim, N_STEPS)
+    energy = sim.advance(N_STEPS)
+    assert sim.step == N_STEPS and sim.status[0] == stepping.STATUS_DONE  # no rebuild in between
+    n = sim.n_mobile
+    got = (sim.gear_position, sim.gear_rotation, sim.spring, sim.wall_spring, sim.force[n:], sim.torque[n:], energy)
+    names = ("gear_position", "gear_rotation", "spring", "wall_spring", "force on wall particles",
+             "torque on wall particles", "kinetic energy")
+    for name, value, reference in zip(names, got, expected[:4] + (expected[4][n:], expected[5][n:], expected[6])):
+        np.testing.assert_array_equal(bits(value), bits(reference), err_msg=name)
+    if walls == "rough":
+        assert np.any(sim.force[n:] != 0.0), "the wall particles should carry forces"
