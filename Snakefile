@@ -12,8 +12,8 @@ include: "workflow/rules/common.smk"
 include: "workflow/rules/setup.smk"
 include: "workflow/rules/simulate.smk"
 include: "workflow/rules/analyze.smk"
-include: "workflow/rules/figures.smk"
 include: "workflow/rules/p2.smk"
+include: "workflow/rules/figures.smk"  # after p2.smk: the P2 figures read its states a, b, c
 include: "workflow/rules/validation.smk"
 
 

@@ -13,10 +13,11 @@ import pytest  # noqa: E402
 from matplotlib.collections import LineCollection, PathCollection, QuadMesh  # noqa: E402
 
 from forcenet.plotting import figure_data as cols  # noqa: E402
-from forcenet.plotting import p1, p2  # noqa: E402
+from forcenet.plotting import networks, p1, p2  # noqa: E402
+from forcenet.plotting.registry import draw_figure, figure_data  # noqa: E402
 from forcenet.plotting.figure_data import FigureData, write_csv  # noqa: E402
 from forcenet.report import p2 as report  # noqa: E402
-from test_plotting_p1 import make_diagrams, make_snapshot  # noqa: E402
+from test_plotting_p1 import make_diagrams, make_p1_figure, make_snapshot, p1_figure_data  # noqa: E402
 from test_plotting_p2 import DIAGRAMS, analysis_factory  # noqa: E402
 from test_report_p1 import make_p1_measures  # noqa: E402
 from test_report_p2 import lattice_forces_and_quadrants, lattice_snapshot, p2_shaped, permuted  # noqa: E402
@@ -73,11 +74,11 @@ def assert_curves_match(fig, table: pd.DataFrame, x: str, family: str) -> None:
 
 
 def test_line_family_csv_holds_the_plotted_curves(measures, tmp_path):
-    data = p1.p1_figure_data("p1_fig04_cluster_size", measures)
+    data = p1_figure_data("p1_fig04_cluster_size", measures)
     table = round_trip(data, tmp_path)
     assert {cols.SYSTEM, cols.RHO, cols.THRESHOLD, cols.QUANTITY, cols.MEAN, cols.LOW, cols.HIGH} <= set(table)
     assert set(table[cols.QUANTITY]) == {"<S>/N"}
-    fig = p1.make_p1_figure("p1_fig04_cluster_size", measures)
+    fig = make_p1_figure("p1_fig04_cluster_size", measures)
     assert_curves_match(fig, table, cols.RHO, cols.THRESHOLD)
     # the ρ_J line of each panel is the CSV's
     for panel, ax in enumerate(data_axes(fig)):
@@ -89,24 +90,24 @@ def test_line_family_csv_holds_the_plotted_curves(measures, tmp_path):
 def test_a_changed_table_is_what_gets_drawn_and_a_mismatch_is_caught(measures, tmp_path):
     """The drawing reads only the table: alter one value and the figure shows it, and the comparison above fails
     against the unaltered CSV (so it can fail)."""
-    data = p1.p1_figure_data("p1_fig12_total_persistence", measures)
+    data = p1_figure_data("p1_fig12_total_persistence", measures)
     original = round_trip(data, tmp_path)
     changed = FigureData(data.table.copy(), data.layout)
     changed.table.loc[0, cols.MEAN] += 1.0
-    fig = p1.draw_p1_figure("p1_fig12_total_persistence", changed)
+    fig = draw_figure("p1_fig12_total_persistence", changed)
     assert_curves_match(fig, changed.table, cols.RHO, p1.HOMOLOGY_K)
     with pytest.raises(AssertionError):
         assert_curves_match(fig, original, cols.RHO, p1.HOMOLOGY_K)
 
 
 def test_force_pdf_csv_holds_one_curve_per_rho(measures, tmp_path):
-    table = round_trip(p1.p1_figure_data("p1_fig03_force_pdf", measures), tmp_path)
-    assert_curves_match(p1.make_p1_figure("p1_fig03_force_pdf", measures), table, cols.FORCE, cols.RHO)
+    table = round_trip(p1_figure_data("p1_fig03_force_pdf", measures), tmp_path)
+    assert_curves_match(make_p1_figure("p1_fig03_force_pdf", measures), table, cols.FORCE, cols.RHO)
 
 
 def test_heat_map_csv_holds_the_map(measures, tmp_path):
-    table = round_trip(p1.p1_figure_data("p1_fig02_betti0_surface", measures), tmp_path)
-    fig = p1.make_p1_figure("p1_fig02_betti0_surface", measures)
+    table = round_trip(p1_figure_data("p1_fig02_betti0_surface", measures), tmp_path)
+    fig = make_p1_figure("p1_fig02_betti0_surface", measures)
     for panel, ax in enumerate(data_axes(fig)):
         (mesh,) = [c for c in ax.collections if isinstance(c, QuadMesh)]
         rows = table[table[cols.PANEL] == panel]
@@ -120,25 +121,26 @@ def test_heat_map_csv_holds_the_map(measures, tmp_path):
 
 def test_network_csv_holds_every_drawn_contact(tmp_path):
     snapshots = {"2d_hertz": make_snapshot(2), "3d_hertz": make_snapshot(3)}
-    table = round_trip(p1.p1_figure_data("p1_fig01_networks", snapshots=snapshots), tmp_path)
-    fig = p1.make_p1_figure("p1_fig01_networks", snapshots=snapshots)
+    table = round_trip(p1_figure_data("p1_fig01_networks", snapshots=snapshots), tmp_path)
+    fig = make_p1_figure("p1_fig01_networks", snapshots=snapshots)
     ax2d = data_axes(fig)[0]
     (lines,) = [c for c in ax2d.collections if isinstance(c, LineCollection)]
     contacts = table[(table[cols.PANEL] == 0) & (table["element"] == "contact")]
     np.testing.assert_allclose(lines.get_array(), contacts[cols.FORCE].to_numpy())
     ends = np.array([seg for seg in lines.get_segments()]).reshape(len(contacts), 4)
-    np.testing.assert_allclose(ends, contacts[[p1.END_I[0], p1.END_I[1], p1.END_J[0], p1.END_J[1]]].to_numpy())
+    end_columns = [networks.END_I[0], networks.END_I[1], networks.END_J[0], networks.END_J[1]]
+    np.testing.assert_allclose(ends, contacts[end_columns].to_numpy())
     particles = table[(table[cols.PANEL] == 0) & (table["element"] == "particle")]
     assert len(particles) == snapshots["2d_hertz"].sizes["particle"]
     three = table[(table[cols.PANEL] == 1) & (table["element"] == "contact")]
-    assert three[list(p1.END_J)].notna().all().all()  # 3D rows carry z
+    assert three[list(networks.END_J)].notna().all().all()  # 3D rows carry z
 
 
 def test_persistence_diagram_csv_holds_the_points(measures, tmp_path):
     diagrams = {name: make_diagrams(ds) for name, ds in measures.items()}
-    data = p1.p1_figure_data("p1_fig10_persistence_diagram", measures, diagrams, rho=0.85, realization=1)
+    data = p1_figure_data("p1_fig10_persistence_diagram", measures, diagrams, rho=0.85, realization=1)
     table = round_trip(data, tmp_path)
-    (ax,) = data_axes(p1.draw_p1_figure("p1_fig10_persistence_diagram", data))
+    (ax,) = data_axes(draw_figure("p1_fig10_persistence_diagram", data))
     drawn = {c.get_gid(): c for c in ax.collections if isinstance(c, PathCollection)}
     finite = table[~table["essential"]]
     np.testing.assert_allclose(drawn["points"].get_offsets(), finite[[cols.BIRTH, cols.DEATH]].to_numpy())
@@ -148,9 +150,9 @@ def test_persistence_diagram_csv_holds_the_points(measures, tmp_path):
 
 def test_p2_distance_csv_holds_the_curves_and_z(tmp_path):
     ds = p2_shaped()
-    data = p2.p2_figure_data("p2_fig08_distances_tangential_mu05", ds, system=report.FRICTIONAL)
+    data = figure_data("p2_fig08_distances_tangential_mu05", ds, system=report.FRICTIONAL)
     table = round_trip(data, tmp_path)
-    fig = p2.draw_p2_figure("p2_fig08_distances_tangential_mu05", data)
+    fig = draw_figure("p2_fig08_distances_tangential_mu05", data)
     assert set(table["force_kind"]) == {"tangential"}
     panels, twins = fig.axes[:2], fig.axes[2:4]  # the two panels, then the Z twin of each
     for h, ax, twin in zip(report.P2_HOMOLOGY_DIMS, panels, twins):
@@ -168,9 +170,9 @@ def test_p2_distance_csv_holds_the_curves_and_z(tmp_path):
 
 def test_p2_ratio_csv_holds_the_ratio_curves(tmp_path):
     ds = p2_shaped(frictionless=True)
-    data = p2.p2_figure_data("p2_fig10_ratios_mu0", ds, system=report.FRICTIONLESS)
+    data = figure_data("p2_fig10_ratios_mu0", ds, system=report.FRICTIONLESS)
     table = round_trip(data, tmp_path)
-    fig = p2.draw_p2_figure("p2_fig10_ratios_mu0", data)
+    fig = draw_figure("p2_fig10_ratios_mu0", data)
     for h, ax in zip(report.P2_HOMOLOGY_DIMS, fig.axes):
         for line, den in zip(ax.lines, ("wasserstein_1", "wasserstein_2")):
             curve = table[(table[cols.PANEL] == h) & (table[cols.QUANTITY] == p2.RATIO_QUANTITY[den])]
@@ -181,9 +183,10 @@ def test_p2_network_and_diagram_csvs_hold_the_drawn_edges_and_points(tmp_path):
     forces, quadrant = lattice_forces_and_quadrants()
     snapshots = [lattice_snapshot(forces, 0.78), lattice_snapshot(permuted(forces, quadrant, ["bottom left"]), 0.79),
                  lattice_snapshot(permuted(forces, quadrant, report.QUADRANTS), 0.80)]
-    data = p2.p2_figure_data("p2_fig01_snapshots_differences", snapshots, system=report.FRICTIONAL)
+    data = figure_data("p2_fig01_snapshots_differences", snapshots, system=report.FRICTIONAL,
+                       rattler_rule="none")
     table = round_trip(data, tmp_path)
-    fig = p2.draw_p2_figure("p2_fig01_snapshots_differences", data)
+    fig = draw_figure("p2_fig01_snapshots_differences", data)
     for panel, ax in enumerate(fig.axes[:5]):
         rows = table[table[cols.PANEL] == panel]
         drawn = np.sort(np.asarray(ax.collections[0].get_array(), float))
@@ -192,9 +195,9 @@ def test_p2_network_and_diagram_csvs_hold_the_drawn_edges_and_points(tmp_path):
     np.testing.assert_allclose(np.sort(table.loc[table[cols.PANEL] == 4, cols.VALUE]), np.sort(diff.force))
 
     analysis = analysis_factory(0.79, 3.1, DIAGRAMS)
-    data = p2.p2_figure_data("p2_fig03_diagrams", analysis, system=report.FRICTIONAL)
+    data = figure_data("p2_fig03_diagrams", analysis, system=report.FRICTIONAL)
     table = round_trip(data, tmp_path)
-    fig = p2.draw_p2_figure("p2_fig03_diagrams", data)
+    fig = draw_figure("p2_fig03_diagrams", data)
     for h, ax in zip(report.P2_HOMOLOGY_DIMS, fig.axes):
         rows = table[table[cols.PANEL] == h]
         finite, essential = ax.collections[:2]

@@ -38,7 +38,7 @@ def frame_count(path) -> int:
 def test_network_movie_has_one_labelled_frame_per_snapshot(dimension, tmp_path, frames_seen):
     snapshots = [make_snapshot(dimension, seed=seed).assign(rho=0.80 + 0.01 * seed) for seed in range(4)]
     output = tmp_path / "network.mp4"
-    assert movies.network_movie(snapshots, output) == 4
+    assert movies.network_movie(snapshots, output, rattler_rule="once") == 4
     assert frame_count(output) == 4
     assert len(frames_seen) == 4
     for (n_axes, titles, bars), snapshot in zip(frames_seen, snapshots):
@@ -65,12 +65,12 @@ def test_a_failed_movie_leaves_no_file_under_its_name(tmp_path, monkeypatch):
             raise RuntimeError("drawing failed")
         return draw(*args)
 
-    draw = movies.p1.draw_network_panel
-    monkeypatch.setattr(movies.p1, "draw_network_panel", fail_second)
+    draw = movies.networks.draw_network_panel
+    monkeypatch.setattr(movies.networks, "draw_network_panel", fail_second)
     output = tmp_path / "network.mp4"
     with pytest.raises(RuntimeError, match="drawing failed"):
-        movies.network_movie([make_snapshot(2), make_snapshot(2)], output)
+        movies.network_movie([make_snapshot(2), make_snapshot(2)], output, rattler_rule="once")
     plt.close("all")
     assert not output.exists()
     with pytest.raises(ValueError, match="at least one snapshot"):
-        movies.network_movie([], output)
+        movies.network_movie([], output, rattler_rule="once")

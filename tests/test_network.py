@@ -1,4 +1,5 @@
-"""Contacts → force network: magnitudes, normalisation, rattlers, wall contacts, quadrants."""
+"""Contacts → force network: magnitudes, normalisation, rattlers, wall contacts, quadrants, and the one adapter from a
+snapshot dataset."""
 from dataclasses import replace
 
 import numpy as np
@@ -13,6 +14,7 @@ from forcenet.network import (
     rattler_free_mask,
     restrict_to_quadrant,
     restrict_to_region,
+    snapshot_network,
 )
 
 
@@ -172,3 +174,54 @@ def test_compact_graph_renumbers_the_network_particles_in_edge_order():
     unsorted = replace(network, edge_i=network.edge_i[::-1], edge_j=network.edge_j[::-1], force=network.force[::-1])
     with pytest.raises(ValueError, match="sorted"):
         unsorted.compact
+
+
+def rattler_snapshot():
+    """A 2D snapshot: a square of four touching disks 0–3 (a loop, two contacts each) and disk 4 touching only disk 0
+    and the left wall (wall 0), so disk 4 is a rattler (P1 §3) unless its wall contact counts. Total (= normal)
+    forces 1, 2, 3, 4, 5 on the contacts (0,1), (0,3), (0,4), (1,2), (2,3): ⟨F⟩ = 3; no tangential force."""
+    from forcenet.datasets.snapshot import snapshot_dataset
+
+    position = np.array([[1.0, 1.0], [2.0, 1.0], [2.0, 2.0], [1.0, 2.0], [0.0, 0.5]])
+    contact_i, contact_j = np.array([0, 0, 0, 1, 2]), np.array([1, 3, 4, 2, 3])
+    direction = position[contact_j] - position[contact_i]
+    force = np.array([1.0, 2.0, 3.0, 4.0, 5.0])[:, None] * direction / np.linalg.norm(direction, axis=1)[:, None]
+    n = len(position)
+    return snapshot_dataset(
+        attrs={"system": "2d_hertz"}, position=position, radius=np.full(n, 0.5), velocity=np.zeros((n, 2)),
+        angular_velocity=np.zeros(n), contact_i=contact_i, contact_j=contact_j, force_normal=force,
+        force_tangential=np.zeros_like(force), wall_contact_particle=[4], wall_contact_wall=[0],
+        wall_contact_force=[[0.5, 0.0]], box_lo=np.array([-0.5, 0.0]), box_hi=np.array([3.0, 3.0]), rho=0.8, Z=2.0,
+        kinetic_energy=0.0, pressure=1.0, time=0.0, step=0, relaxation_steps=-1)
+
+
+SQUARE = [(0, 1), (0, 3), (1, 2), (2, 3)]
+
+
+@pytest.mark.parametrize("rule, walls, edges, wall_contacts", [
+    ("none", "ignored", SQUARE + [(0, 4)], []),
+    ("none", "kept", SQUARE + [(0, 4)], [(4, 0)]),
+    ("none", "counted", SQUARE + [(0, 4)], [(4, 0)]),
+    ("once", "ignored", SQUARE, []),
+    ("once", "kept", SQUARE, []),  # the rattler's wall contact leaves with it
+    ("once", "counted", SQUARE + [(0, 4)], [(4, 0)]),  # one particle contact + one wall contact: no rattler
+    ("iterative", "kept", SQUARE, []),
+])
+def test_snapshot_network_has_the_hand_counted_edges(rule, walls, edges, wall_contacts):
+    network = snapshot_network(rattler_snapshot(), "total", rattler_rule=rule, wall_contacts=walls)
+    assert sorted(zip(network.edge_i.tolist(), network.edge_j.tolist())) == sorted(edges)
+    assert list(zip(network.wall_particle.tolist(), network.wall_id.tolist())) == wall_contacts
+    assert network.mean_force == pytest.approx(3.0)  # over every particle contact, the rattler's included
+    force = dict(zip(zip(network.edge_i.tolist(), network.edge_j.tolist()), network.force))
+    assert force[(1, 2)] == pytest.approx(4.0 / 3.0)
+    assert network.particle_mask[4] == ((0, 4) in edges)
+
+
+def test_snapshot_network_weights_the_requested_force_kind():
+    snapshot = rattler_snapshot()
+    normal = snapshot_network(snapshot, "normal", rattler_rule="none")
+    assert normal.n_edges == 5 and normal.kind == "normal"
+    assert snapshot_network(snapshot, "tangential", rattler_rule="none").n_edges == 0  # no tangential force
+    with pytest.raises(ValueError, match="wall_contacts"):
+        snapshot_network(snapshot, "total", rattler_rule="none", wall_contacts="sometimes")
+

@@ -14,14 +14,35 @@ from matplotlib.collections import LineCollection, PathCollection, QuadMesh  # n
 from matplotlib.figure import Figure  # noqa: E402
 
 from forcenet.datasets.schema import FORCE_KINDS  # noqa: E402
+from forcenet.network import snapshot_network  # noqa: E402
+from forcenet.plotting import figure_data as cols  # noqa: E402
+from forcenet.plotting import registry  # noqa: E402
 from forcenet.plotting import p1 as figures  # noqa: E402
 from forcenet.plotting.style import save_figure, system_color  # noqa: E402
 from forcenet.report import p1 as report_p1  # noqa: E402
 from forcenet.report.p1 import f_max_cut  # noqa: E402
+from test_network import rattler_snapshot  # noqa: E402  (one rattler, one wall contact)
 from test_report_p1 import make_p1_measures  # noqa: E402  (synthetic aggregated datasets)
 
 
 # --- synthetic diagrams and snapshots -----------------------------------------------------------------------
+def p1_inputs(name: str, measures=None, diagrams=None, snapshots=None) -> list:
+    """The inputs of P1 figure `name` in its registry entry's order."""
+    given = {"measures": measures, "diagrams": diagrams, "example_snapshots": snapshots}
+    return [given[kind] for kind in registry.figure_entry(name).inputs]
+
+
+def make_p1_figure(name: str, measures=None, diagrams=None, snapshots=None, **options):
+    """Prepare and draw P1 figure `name` through the registry, networks made by P1's rattler rule ("once")."""
+    options.setdefault("rattler_rule", "once")
+    return registry.make_figure(name, *p1_inputs(name, measures, diagrams, snapshots), **options)
+
+
+def p1_figure_data(name: str, measures=None, diagrams=None, snapshots=None, **options):
+    options.setdefault("rattler_rule", "once")
+    return registry.figure_data(name, *p1_inputs(name, measures, diagrams, snapshots), **options)
+
+
 def make_diagrams(measures: xr.Dataset, points_per_diagram: int = 12, seed: int = 0) -> xr.Dataset:
     """Ragged persistence points for every (realization, ρ, force kind, homology dim); one essential PD0 point."""
     rng = np.random.default_rng(seed)
@@ -121,14 +142,12 @@ EXPECTED = {
 
 
 def test_the_registry_covers_every_p1_figure():
-    assert set(figures.P1_FIGURES) == set(EXPECTED)
-    for name, spec in figures.P1_FIGURES.items():
-        assert spec.caption and set(spec.needs) <= {"measures", "diagrams", "snapshots"}
+    assert {entry.id for entry in registry.FIGURES if entry.study == "p1"} == set(EXPECTED)
 
 
 @pytest.mark.parametrize("name", sorted(EXPECTED))
 def test_figure_draws_labelled_panels(name, measures, diagrams, snapshots):
-    fig = figures.make_p1_figure(name, measures, diagrams, snapshots)
+    fig = make_p1_figure(name, measures, diagrams, snapshots)
     assert isinstance(fig, Figure)
     axes = data_axes(fig)
     n_panels, n_curves = EXPECTED[name]
@@ -141,7 +160,7 @@ def test_figure_draws_labelled_panels(name, measures, diagrams, snapshots):
 
 
 def test_line_figures_use_the_system_colour(measures):
-    fig = figures.make_p1_figure("p1_fig12_total_persistence", measures)
+    fig = make_p1_figure("p1_fig12_total_persistence", measures)
     for ax, name in zip(data_axes(fig), ["2d_hertz", "2d_linear", "3d_hertz"]):  # P1's panel order
         assert {line.get_color() for line in mean_lines(ax)} == {system_color(name)}
 
@@ -152,7 +171,7 @@ def rho_max_marks(ax) -> list[float]:
 
 def test_curves_span_every_rho_and_mark_rho_max(measures):
     rho_max = f_max_cut(measures).rho_max  # dyn: 2D Hertz 0.94, 2D linear 0.95 (its top), 3D 0.67
-    fig = figures.make_p1_figure("p1_fig04_cluster_size", measures)
+    fig = make_p1_figure("p1_fig04_cluster_size", measures)
     for ax, name in zip(data_axes(fig), ["2d_hertz", "2d_linear", "3d_hertz"]):
         for line in mean_lines(ax):
             np.testing.assert_allclose(line.get_xdata(), measures[name]["rho"].values)  # nothing cut
@@ -160,19 +179,19 @@ def test_curves_span_every_rho_and_mark_rho_max(measures):
         shaded = [p for p in ax.patches if p.get_gid() == "beyond_rho_max"]
         assert len(shaded) == (1 if rho_max[name] < measures[name]["rho"].max() else 0)
     assert "rho_{max}" in data_axes(fig)[0].get_legend_handles_labels()[1][-1]
-    fig = figures.make_p1_figure("p1_fig02_betti0_surface", measures)
+    fig = make_p1_figure("p1_fig02_betti0_surface", measures)
     mesh = [c for c in data_axes(fig)[2].collections if isinstance(c, QuadMesh)]
     assert len(mesh) == 1 and mesh[0].get_array().shape[1] == measures["3d_hertz"].sizes["rho"]
     assert rho_max_marks(data_axes(fig)[2]) == pytest.approx([rho_max["3d_hertz"]])
     # the unit of the F_max rule moves the mark: in reduced units 2D Hertz is cut at 0.88
-    fig = figures.make_p1_figure("p1_fig04_cluster_size", measures, force_unit="reduced")
+    fig = make_p1_figure("p1_fig04_cluster_size", measures, force_unit="reduced")
     assert rho_max_marks(data_axes(fig)[0]) == pytest.approx([0.88])
 
 
 def test_rho_max_below_the_grid_shades_every_rho():
     measures = make_p1_measures(**{"2d_linear": {"mean_force": np.full(18, 10.0)}})  # 40 dyn > F_max = 1.38
     assert report_p1.f_max_cut(measures).below_grid("2d_linear")
-    ax = data_axes(figures.make_p1_figure("p1_fig04_cluster_size", measures))[1]
+    ax = data_axes(make_p1_figure("p1_fig04_cluster_size", measures))[1]
     shaded = [p for p in ax.patches if p.get_gid() == "beyond_rho_max"]
     assert not rho_max_marks(ax) and len(shaded) == 1
     np.testing.assert_allclose(shaded[0].get_x(), 0.78) and np.testing.assert_allclose(shaded[0].get_width(), 0.17)
@@ -186,7 +205,7 @@ RHO_AXIS_FIGURES = sorted(set(EXPECTED) - {"p1_fig01_networks", "p1_fig03_force_
 
 @pytest.mark.parametrize("name", RHO_AXIS_FIGURES)
 def test_every_rho_panel_is_populated_and_marks_rho_max(name, measures, diagrams):
-    fig = figures.make_p1_figure(name, measures, diagrams)
+    fig = make_p1_figure(name, measures, diagrams)
     for ax in data_axes(fig):
         assert rho_max_marks(ax), (name, ax.get_title())
         if mean_lines(ax):  # line panels: some curve has at least two points (heat maps: a full mesh)
@@ -194,7 +213,7 @@ def test_every_rho_panel_is_populated_and_marks_rho_max(name, measures, diagrams
 
 
 def test_force_pdfs_beyond_rho_max_are_dashed(measures):
-    fig = figures.make_p1_figure("p1_fig03_force_pdf", measures)
+    fig = make_p1_figure("p1_fig03_force_pdf", measures)
     ax = data_axes(fig)[0]  # 2D Hertz, ρ_max 0.94: the largest ρ drawn (0.95) lies beyond it
     last = mean_lines(ax)[-1]
     assert last.get_linestyle() == "--" and "rho_{max}" in last.get_label()
@@ -202,7 +221,7 @@ def test_force_pdfs_beyond_rho_max_are_dashed(measures):
 
 
 def test_percolating_size_is_hidden_where_most_realizations_do_not_percolate(measures):
-    fig = figures.make_p1_figure("p1_fig05_percolating_cluster", measures)
+    fig = make_p1_figure("p1_fig05_percolating_cluster", measures)
     ax = data_axes(fig)[0]  # 2D Hertzian, percolation from ρ_J = 0.845
     rho, value = (np.asarray(v, dtype=float) for v in mean_lines(ax)[0].get_data())  # F_th = 0
     assert np.isnan(value[rho < 0.845]).all() and np.isfinite(value[rho >= 0.85]).all()  # 1 of 3 at 0.84
@@ -211,26 +230,43 @@ def test_percolating_size_is_hidden_where_most_realizations_do_not_percolate(mea
 
 
 def test_z_figure_marks_the_jamming_points(measures):
-    fig = figures.make_p1_figure("p1_z_jamming", measures)
+    fig = make_p1_figure("p1_z_jamming", measures)
     (ax,) = data_axes(fig)
     markers = [line for line in ax.get_lines() if line.get_gid() == figures.RHO_J_GID]
     assert sorted(float(m.get_xdata()[0]) for m in markers) == pytest.approx([0.575, 0.83, 0.845], abs=0.004)
 
 
-def test_network_figure_draws_every_loaded_contact(snapshots):
-    fig = figures.make_p1_figure("p1_fig01_networks", snapshots=snapshots)
+@pytest.mark.parametrize("rule", ["none", "once"])
+def test_network_figure_draws_every_edge_of_the_analysed_network(snapshots, rule):
+    fig = make_p1_figure("p1_fig01_networks", snapshots=snapshots, rattler_rule=rule)
     ax2d, ax3d = data_axes(fig)
     assert ax3d.name == "3d" and ax3d.get_zlabel()
     lines = [c for c in ax2d.collections if isinstance(c, LineCollection)]
     ds = snapshots["2d_hertz"]
     loaded = np.linalg.norm(ds["force_normal"].values + ds["force_tangential"].values, axis=1) > 0
-    assert len(lines) == 1 and len(lines[0].get_segments()) == loaded.sum()
-    np.testing.assert_allclose(lines[0].get_array().mean(), 1.0)  # coloured by F/⟨F⟩
+    # particle 1 keeps one loaded contact (its others are two of the three unloaded ones): a rattler under "once"
+    expected = loaded.sum() - (1 if rule == "once" else 0)
+    assert len(lines) == 1 and len(lines[0].get_segments()) == expected
+    network = snapshot_network(ds, "total", rattler_rule=rule, wall_contacts="ignored")
+    np.testing.assert_allclose(np.sort(lines[0].get_array()), np.sort(network.force))  # coloured by F/⟨F⟩
     assert len(fig.axes) == 3  # two panels and one colour bar
 
 
+def test_network_figure_holds_no_edge_of_a_removed_rattler():
+    """Fig. 1 draws the analysis' network: with P1's rule the rattler (disk 4) and its one edge are gone from the
+    figure data (its disk stays drawn); with rattlers kept its edge is there."""
+    snapshots = {"2d_hertz": rattler_snapshot()}
+    table = p1_figure_data("p1_fig01_networks", snapshots=snapshots, rattler_rule="once").table
+    contacts = table[table["element"] == "contact"]
+    assert sorted(zip(contacts["i"], contacts["j"])) == [(0, 1), (0, 3), (1, 2), (2, 3)]
+    assert len(table[table["element"] == "particle"]) == 5
+    np.testing.assert_allclose(contacts[cols.FORCE], np.array([1.0, 2.0, 4.0, 5.0]) / 3.0)  # F/⟨F⟩, ⟨F⟩ = 3
+    kept = p1_figure_data("p1_fig01_networks", snapshots=snapshots, rattler_rule="none").table
+    assert (0, 4) in set(zip(kept["i"], kept["j"]))
+
+
 def test_persistence_diagram_shows_the_chosen_points(measures, diagrams):
-    fig = figures.make_p1_figure("p1_fig10_persistence_diagram", measures, diagrams, rho=0.85, realization=1)
+    fig = make_p1_figure("p1_fig10_persistence_diagram", measures, diagrams, rho=0.85, realization=1)
     (ax,) = data_axes(fig)
     points = diagrams["2d_hertz"]
     chosen = ((points["diagram_force_kind"] == 0) & (points["diagram_homology_dim"] == 0)
@@ -244,9 +280,9 @@ def test_persistence_diagram_shows_the_chosen_points(measures, diagrams):
 
 def test_figures_cope_with_a_missing_system(measures, diagrams):
     two = {name: ds for name, ds in measures.items() if name != "3d_hertz"}
-    assert len(data_axes(figures.make_p1_figure("p1_fig06_betti0", two))) == 2  # no 3D close-up
-    assert len(data_axes(figures.make_p1_figure("p1_fig07_betti1", two))) == 2  # no B2 panel
-    assert len(data_axes(figures.make_p1_figure("p1_fig11_persistence_bins", two))) == 4  # 2D column only
+    assert len(data_axes(make_p1_figure("p1_fig06_betti0", two))) == 2  # no 3D close-up
+    assert len(data_axes(make_p1_figure("p1_fig07_betti1", two))) == 2  # no B2 panel
+    assert len(data_axes(make_p1_figure("p1_fig11_persistence_bins", two))) == 4  # 2D column only
 
 
 @pytest.fixture(scope="module")
@@ -261,18 +297,18 @@ def smoke_like():
 @pytest.mark.parametrize("name", sorted(EXPECTED))
 def test_figures_draw_from_a_smoke_sized_run(name, smoke_like, snapshots):
     measures, diagrams = smoke_like
-    fig = figures.make_p1_figure(name, measures, diagrams, snapshots)
+    fig = make_p1_figure(name, measures, diagrams, snapshots)
     assert len(data_axes(fig)) == EXPECTED[name][0]
 
 
 def test_registry_errors(measures):
-    with pytest.raises(KeyError, match="unknown P1 figure"):
-        figures.make_p1_figure("p1_fig99", measures)
+    with pytest.raises(KeyError, match="unknown figure"):
+        registry.make_figure("p1_fig99", measures)
     with pytest.raises(ValueError, match="diagrams"):
-        figures.make_p1_figure("p1_fig10_persistence_diagram", measures)
+        make_p1_figure("p1_fig10_persistence_diagram", measures)
 
 
 def test_saved_as_pdf_and_png(tmp_path, measures):
-    fig = figures.make_p1_figure("p1_z_jamming", measures)
+    fig = make_p1_figure("p1_z_jamming", measures)
     save_figure(fig, tmp_path / "f.pdf", tmp_path / "f.png")
     assert (tmp_path / "f.pdf").stat().st_size > 1000 and (tmp_path / "f.png").stat().st_size > 1000

@@ -1,20 +1,13 @@
-"""P2 figures: every figure function returns a Figure whose axes are labelled; the data reach the plot."""
+"""P2 figures: every registered P2 figure gives a Figure whose axes are labelled; the data reach the plot."""
 from __future__ import annotations
-
-import ast
-import inspect
-import re
-from pathlib import Path
 
 import matplotlib.pyplot as plt
 import numpy as np
 import pytest
 from matplotlib.figure import Figure
 
-from forcenet.plotting import p2 as figures
+from forcenet.plotting import registry
 from forcenet.report import p2 as report
-
-REPO = Path(__file__).resolve().parents[1]
 
 from test_report_p2 import (NEVER, analysis_factory, lattice_contacts, lattice_forces_and_quadrants,
                             lattice_snapshot, p2_shaped, permuted)
@@ -34,6 +27,18 @@ DIAGRAMS = {("normal", 0): [(3.0, NEVER), (0.0, NEVER), (2.5, 1.0), (1.8, 0.9)],
 @pytest.fixture(scope="module")
 def analysis():
     return analysis_factory(0.79, 3.1, DIAGRAMS)
+
+
+P2_IDS = sorted(entry.id for entry in registry.FIGURES if entry.study == "p2")
+SYSTEM_NAMES = {"frictional": report.FRICTIONAL, "frictionless": report.FRICTIONLESS}
+
+
+def make_p2_figure(name: str, *inputs, **options):
+    """Prepare and draw P2 figure `name` through the registry for its system, networks made by P2's rattler rule
+    ("none": P2 §III C keeps rattlers)."""
+    options.setdefault("system", SYSTEM_NAMES[registry.figure_entry(name).systems])
+    options.setdefault("rattler_rule", "none")
+    return registry.make_figure(name, *inputs, **options)
 
 
 def inputs(name, snapshots, analysis):
@@ -61,9 +66,9 @@ def labelled(fig: Figure) -> None:
         assert "$" in xlabel, f"x axis without a symbol in {ax.get_title()!r}: {xlabel!r}"
 
 
-@pytest.mark.parametrize("name", sorted(figures.P2_FIGURES))
+@pytest.mark.parametrize("name", P2_IDS)
 def test_every_figure_returns_a_labelled_figure(name, snapshots, analysis):
-    fig = figures.P2_FIGURES[name](*inputs(name, snapshots, analysis))
+    fig = make_p2_figure(name, *inputs(name, snapshots, analysis))
     try:
         assert isinstance(fig, Figure)
         labelled(fig)
@@ -71,32 +76,9 @@ def test_every_figure_returns_a_labelled_figure(name, snapshots, analysis):
         plt.close(fig)
 
 
-def workflow_dict(name: str) -> ast.Dict:
-    """The literal ``NAME = {...}`` of workflow/rules/p2.smk (a Snakemake file, so only that statement is parsed)."""
-    text = (REPO / "workflow" / "rules" / "p2.smk").read_text()
-    match = re.search(rf"^{name} = \{{.*?^\}}", text, re.MULTILINE | re.DOTALL)
-    assert match, f"{name} is not a top-level dict literal of workflow/rules/p2.smk"
-    node = ast.parse(match.group(0)).body[0].value
-    assert isinstance(node, ast.Dict)
-    return node
-
-
-def test_registry_matches_the_workflow():
-    """The workflow builds (rule all → P2_FIGURES ⊆ P2_FIGURE_INPUTS) and captions exactly the registered
-    figures, and hands each one the input its function takes first (snapshots, analysis or distances)."""
-    inputs_node = workflow_dict("P2_FIGURE_INPUTS")
-    names = [ast.literal_eval(k) for k in inputs_node.keys]
-    assert set(names) == set(figures.P2_FIGURES)
-    assert {ast.literal_eval(k) for k in workflow_dict("P2_CAPTIONS").keys} == set(figures.P2_FIGURES)
-    for name, value in zip(names, inputs_node.values):
-        kind = ast.literal_eval(value.elts[0])
-        first = next(iter(inspect.signature(figures.P2_FIGURES[name]).parameters))
-        assert first == kind, f"{name}: the workflow passes {kind!r}, the function takes {first!r}"
-
-
 def test_distance_figure_draws_realization_means_on_log_axes():
     ds = p2_shaped()
-    fig = figures.p2_fig06_distances_normal_mu05(ds)
+    fig = make_p2_figure("p2_fig06_distances_normal_mu05", ds)
     try:
         ax = fig.axes[0]
         assert ax.get_yscale() == "log"
@@ -109,7 +91,7 @@ def test_distance_figure_draws_realization_means_on_log_axes():
 
 def test_tangential_figure_plots_tangential_distances():
     ds = p2_shaped()
-    fig = figures.p2_fig08_distances_tangential_mu05(ds)
+    fig = make_p2_figure("p2_fig08_distances_tangential_mu05", ds)
     try:
         expected = report.realization_mean(ds["distance"].sel(force_kind="tangential", homology_dim=1,
                                                               metric="wasserstein_1"))
@@ -122,7 +104,7 @@ def test_tangential_figure_plots_tangential_distances():
                                           ("p2_fig10_ratios_mu0", report.FRICTIONLESS)])
 def test_ratio_figure_draws_the_ratio_of_mean_distances(name, system):
     ds = p2_shaped(frictionless=system == report.FRICTIONLESS)
-    fig = figures.P2_FIGURES[name](ds)
+    fig = make_p2_figure(name, ds)
     try:
         for h, ax in zip(report.P2_HOMOLOGY_DIMS, fig.axes):
             assert ax.get_yscale() == "log"
@@ -137,7 +119,7 @@ def test_ratio_figure_draws_the_ratio_of_mean_distances(name, system):
 
 
 def test_diagram_figure_plots_each_point_once(analysis):
-    fig = figures.p2_fig03_diagrams(analysis, essential_death=-1.0)
+    fig = make_p2_figure("p2_fig03_diagrams", analysis, essential_death=-1.0)
     try:
         for h, ax in zip(report.P2_HOMOLOGY_DIMS, fig.axes):
             points = DIAGRAMS["normal", h]
@@ -158,13 +140,13 @@ def edge_rows(collection) -> np.ndarray:
 
 
 def test_fig01_builds_each_network_once_and_draws_the_reported_differences(snapshots, monkeypatch):
-    import forcenet.network
+    import forcenet.network.snapshot
 
     built = []
-    original = forcenet.network.build_force_network
-    monkeypatch.setattr(forcenet.network, "build_force_network",
+    original = forcenet.network.snapshot.build_force_network
+    monkeypatch.setattr(forcenet.network.snapshot, "build_force_network",
                         lambda *args, **kwargs: built.append(1) or original(*args, **kwargs))
-    fig = figures.p2_fig01_snapshots_differences(snapshots)
+    fig = make_p2_figure("p2_fig01_snapshots_differences", snapshots)
     monkeypatch.undo()
     try:
         assert len(built) == len(snapshots)  # a, b, c: the difference panels reuse them
@@ -200,7 +182,7 @@ def quoted_segments(ax) -> list[tuple[float, float, float, str]]:
 
 def test_ratio_and_distance_figures_mark_p2_quoted_levels():
     ds = p2_shaped()  # rho 0.63 .. 0.90, rho_J = 0.78
-    fig = figures.p2_fig07_ratios_mu05(ds)
+    fig = make_p2_figure("p2_fig07_ratios_mu05", ds)
     try:
         beta0, beta1 = (quoted_segments(ax) for ax in fig.axes[:2])
         assert sorted(level for level, *_ in beta0) == [0.2, 0.75]  # P2 §IV A, rho < 0.75
@@ -208,14 +190,14 @@ def test_ratio_and_distance_figures_mark_p2_quoted_levels():
         assert beta1 == []  # P2 quotes no level for loops
     finally:
         plt.close(fig)
-    fig = figures.p2_fig06_distances_normal_mu05(ds)
+    fig = make_p2_figure("p2_fig06_distances_normal_mu05", ds)
     try:
         [(level, lo, hi, label)] = quoted_segments(fig.axes[0])
         rho_j = report.jamming_density(ds)
         assert level == 10.0 and hi == pytest.approx(rho_j) and r"\rho_J" in label
     finally:
         plt.close(fig)
-    fig = figures.p2_fig10_ratios_mu0(p2_shaped(frictionless=True))
+    fig = make_p2_figure("p2_fig10_ratios_mu0", p2_shaped(frictionless=True))
     try:
         assert all(quoted_segments(ax) == [] for ax in fig.axes)  # P2 gives no level for Fig. 10
     finally:

@@ -219,18 +219,15 @@ def snapshot_measures(snap, analysis: Mapping[str, Any]) -> dict[str, Any]:
     from forcenet.datasets.schema import FORCE_KINDS
     from forcenet.measures.forces import default_force_bin_edges
     from forcenet.measures.snapshot import compute_snapshot_measures
-    from forcenet.network import build_force_network
+    from forcenet.network import snapshot_network
     from forcenet.topology.betti import default_thresholds
 
     thresholds = default_thresholds(**analysis["thresholds"])
     edges = default_force_bin_edges(analysis["force_pdf"]["max"], analysis["force_pdf"]["bins"])
     measures = {}
     for kind in FORCE_KINDS:
-        network = build_force_network(
-            snap.position.values, snap.contact_i.values, snap.contact_j.values, snap.force_normal.values,
-            snap.force_tangential.values, kind=kind, remove_rattlers=analysis["remove_rattlers"],
-            wall_particle=snap.wall_contact_particle.values, wall_id=snap.wall_contact_wall.values,
-            wall_force=snap.wall_contact_force.values)
+        # wall contacts kept for percolation, not counted by the rattler rule (forcenet.network.snapshot)
+        network = snapshot_network(snap, kind, rattler_rule=analysis["remove_rattlers"], wall_contacts="kept")
         measures[kind] = compute_snapshot_measures(network, thresholds=thresholds, force_bin_edges=edges)
     return measures
 
@@ -272,34 +269,77 @@ def _open_by_system(paths: Sequence[str], kind: str) -> dict[str, Any]:
 
 
 def figure(*, name: str, systems: Sequence[str], inputs: Mapping[str, Sequence[str]], pdf: str, png: str, csv: str,
-           force_unit: str | None = None, log_path: str | None = None) -> None:
-    """Draw one P1 figure from the aggregated datasets (and example snapshots for figure 1), and write the
-    values it draws to `csv` (one preparation feeds both); `force_unit` (``analysis.p1_force_unit``) is the unit
-    of the F_max rule whose ρ_max the figures mark."""
+           force_unit: str | None = None, rattler_rule: bool | str | None = None,
+           log_path: str | None = None) -> None:
+    """Draw the figure `name` (an id of `forcenet.plotting.registry.FIGURES`) from its input files, and write the
+    values it draws to `csv` (one preparation feeds both).
+
+    `inputs` maps each input kind of the figure's entry to its files (and ``states`` to the table of chosen states
+    for the state kinds); `systems` are the figure's systems (one for a figure that reads one, given to its
+    preparation as `system`);
+    `force_unit` (``analysis.p1_force_unit``) is the unit of P1's F_max rule whose ρ_max the ρ-axis figures mark;
+    `rattler_rule` is the study's (figures that build networks from snapshots)."""
     from forcenet.plotting.figure_data import write_csv
-    from forcenet.plotting.p1 import draw_p1_figure, p1_figure_data
+    from forcenet.plotting.registry import draw_figure, figure_data, figure_entry
     from forcenet.plotting.style import apply_style, save_figure
 
     with job_logger(log_path, f"figure.{name}") as log:
         apply_style()
-        data = p1_figure_data(name, measures=_open_by_system(inputs.get("measures", []), "network_measures"),
-                              diagrams=_open_by_system(inputs.get("diagrams", []), "diagrams"),
-                              snapshots=_open_by_system(inputs.get("snapshots", []), "snapshot"),
-                              force_unit=force_unit)
-        save_figure(draw_p1_figure(name, data), pdf, png)
+        entry = figure_entry(name)
+        opened = [FIGURE_INPUT_READERS[kind](inputs[kind], inputs) for kind in entry.inputs]
+        one_system = systems[0] if entry.systems != "all" else None  # a P1 preparation's `system` is a choice
+        data = figure_data(name, *opened, system=one_system, force_unit=force_unit, rattler_rule=rattler_rule)
+        save_figure(draw_figure(name, data), pdf, png)
         write_csv(data, csv)
         log.info("%s drawn for %s (%d rows of source data)", name, ", ".join(systems), len(data.table))
 
 
-def movie(*, kind: str, system: str, inputs: Sequence[str], output: str, log_path: str | None = None) -> None:
+def _chosen_states(paths: Sequence[str], inputs: Mapping[str, Sequence[str]], reader) -> list:
+    """The files of the realization that ``inputs["states"]`` (rule p2_table_states) chose, opened by `reader`."""
+    return _chosen(paths, inputs["states"][0], reader)
+
+
+def _read_state_snapshots(paths, inputs):
+    from forcenet.datasets import read_snapshot
+
+    return _chosen_states(paths, inputs, read_snapshot)
+
+
+def _read_state_analysis(paths, inputs):
+    from forcenet.datasets import read_dataset
+
+    return _chosen_states(paths, inputs, lambda path: read_dataset(path, "analysis"))[0]
+
+
+def _read_distances(paths, inputs):
+    from forcenet.datasets import read_dataset
+
+    return read_dataset(paths[0], "distances")
+
+
+#: input kind of a figure (`forcenet.plotting.registry.INPUT_KINDS`) → how its files are opened:
+#: reader(files of that kind, every input of the rule)
+FIGURE_INPUT_READERS = {
+    "measures": lambda paths, inputs: _open_by_system(paths, "network_measures"),
+    "diagrams": lambda paths, inputs: _open_by_system(paths, "diagrams"),
+    "example_snapshots": lambda paths, inputs: _open_by_system(paths, "snapshot"),
+    "state_snapshots": _read_state_snapshots,
+    "state_analysis": _read_state_analysis,
+    "distances": _read_distances,
+}
+
+
+def movie(*, kind: str, system: str, inputs: Sequence[str], output: str, rattler_rule: bool | str,
+          log_path: str | None = None) -> None:
     """One compression movie of `system` (`forcenet.plotting.movies`): kind "network" from the snapshots of one
-    run in ρ order (`inputs`), kind "b0_surface" from the network_measures.nc of every P1 system."""
+    run in ρ order (`inputs`), networks made by the study's `rattler_rule`; kind "b0_surface" from the
+    network_measures.nc of every P1 system."""
     from forcenet.datasets import read_snapshot
     from forcenet.plotting import movies
 
     with job_logger(log_path, f"movie.{kind}.{system}") as log:
         if kind == "network":
-            frames = movies.network_movie([read_snapshot(p) for p in inputs], output)
+            frames = movies.network_movie([read_snapshot(p) for p in inputs], output, rattler_rule=rattler_rule)
         elif kind == "b0_surface":
             frames = movies.b0_surface_movie(_open_by_system(inputs, "network_measures"), system, output)
         else:
@@ -387,32 +427,6 @@ def p2_tables(*, snapshots: Sequence[str], states: str, csv: Sequence[str], md: 
             raise ValueError(f"P2 tables written as {[str(p) for p in written]}, expected {[str(p) for p in expected]}")
         log.info("P2 tables from realization %s, rho %s", chosen[0].attrs.get("realization"),
                  ", ".join(f"{float(s.rho):.4f}" for s in chosen))
-
-
-def p2_figure(*, name: str, system: str, inputs: Mapping[str, Sequence[str]], pdf: str, png: str, csv: str,
-              rattler_rule: bool | str = False, log_path: str | None = None) -> None:
-    """Draw one P2 figure: the snapshots a, b, c (Fig. 1, networks made with `rattler_rule`) or the analysis of
-    state a (Fig. 3) of the realization ``inputs["states"]`` chose, or one system's distances (Figs 6–10), and
-    write the values it draws to `csv` (one preparation feeds both)."""
-    from forcenet.datasets import read_dataset, read_snapshot
-    from forcenet.plotting.figure_data import write_csv
-    from forcenet.plotting.p2 import draw_p2_figure, p2_figure_data
-    from forcenet.plotting.style import apply_style, save_figure
-
-    with job_logger(log_path, f"figure.{name}") as log:
-        apply_style()
-        options = {}
-        if inputs.get("snapshots"):
-            source = _chosen(inputs["snapshots"], inputs["states"][0], read_snapshot)
-            options = {"remove_rattlers": rattler_rule}
-        elif inputs.get("analysis"):
-            source = _chosen(inputs["analysis"], inputs["states"][0], lambda path: read_dataset(path, "analysis"))[0]
-        else:
-            source = read_dataset(inputs["distances"][0], "distances")
-        data = p2_figure_data(name, source, system=system, **options)
-        save_figure(draw_p2_figure(name, data), pdf, png)
-        write_csv(data, csv)
-        log.info("%s drawn for %s (%d rows of source data)", name, system, len(data.table))
 
 
 def p2_validation_table(*, distances: Sequence[str], tables: Sequence[str], measures: Sequence[str], states: str,

@@ -101,12 +101,11 @@ def all_targets():
     """Everything `snakemake` builds by default: figures and tables of the studies in the config."""
     targets = [f"{RESULTS}/config/resolved.yaml"]
     targets += [f"{RESULTS}/{s}/network_measures.nc" for s in dict.fromkeys(P1_SYSTEMS + P2_SYSTEMS)]
+    targets += [f"{RESULTS}/figures/{name}.pdf" for name in BUILT_FIGURES]  # figures.smk, from the registry
     if P1_SYSTEMS:
-        targets += [f"{RESULTS}/figures/{name}.pdf" for name in P1_FIGURES]
         targets += [f"{RESULTS}/tables/p1_validation.md"]
         targets += [f"{RESULTS}/movies/{name}.mp4" for name in P1_MOVIES]
     if P2_SYSTEMS:
         targets += [f"{RESULTS}/{s}/distances.nc" for s in P2_SYSTEMS]
-        targets += [f"{RESULTS}/figures/{name}.pdf" for name in P2_FIGURES]
         targets += [f"{RESULTS}/tables/p2_table{i}.md" for i in (1, 2, 3)] + [f"{RESULTS}/tables/p2_validation.md"]
     return targets

@@ -1,53 +1,69 @@
-# P1 figures and validation table: one rule per figure, each reading the aggregated datasets.
-P1_FIGURES = {
-    "p1_fig01_networks": "Force networks of a 2D and a 3D snapshot near the largest ρ, edges coloured by F/⟨F⟩ (P1 Fig. 1).",
-    "p1_fig02_betti0_surface": "B0/N over packing fraction ρ and force threshold F_th for each system (P1 Fig. 2).",
-    "p1_fig03_force_pdf": "PDF of F/⟨F⟩ at several ρ for each system (P1 Fig. 3).",
-    "p1_fig04_cluster_size": "Mean size of non-percolating clusters ⟨S⟩/N vs ρ per F_th (P1 Fig. 4).",
-    "p1_fig05_percolating_cluster": "N_per/N vs ρ per F_th, where ≥ 50 % of realizations percolate (P1 Fig. 5).",
-    "p1_fig06_betti0": "B0/N vs ρ per F_th, with the 3D zoom (P1 Fig. 6).",
-    "p1_fig07_betti1": "B1/N (and B2/N in 3D) vs ρ per F_th (P1 Fig. 7).",
-    "p1_fig08_shape_heatmap": "Shape parameter S_p over (ρ, F_th) with P1's averaging rule (P1 Fig. 8).",
-    "p1_fig09_shape_sections": "S_p vs ρ for selected F_th (P1 Fig. 9).",
-    "p1_fig10_persistence_diagram": "An example PD0 with the persistence-bin regions (P1 Fig. 10).",
-    "p1_fig11_persistence_bins": "PD0 points per bin N0/N vs ρ (P1 Fig. 11).",
-    "p1_fig12_total_persistence": "Total persistence TP0/N and TP1/N vs ρ (P1 Fig. 12).",
-    "p1_z_jamming": "Coordination Z(ρ) with the jamming point ρ_J (inflection) marked.",
-}
+# Every figure of P1 and P2: one rule per entry of forcenet.plotting.registry.FIGURES (nothing to edit here to add a
+# figure), the P1 validation table and the compression movies. Included after p2.smk, whose states a, b, c and
+# system roles the P2 figures read.
+from forcenet.plotting.registry import FIGURES  # pure data: nothing heavy is imported at parse time
+from forcenet.systems import study_rattler_rule
+
+FORCE_UNIT = config["analysis"]["p1_force_unit"]  # P1's F_max rule: ρ_max marked on the ρ axes
 
 
 def p1_measures(wildcards=None):
     return [f"{RESULTS}/{s}/network_measures.nc" for s in P1_SYSTEMS]
 
 
-def p1_diagrams(wildcards=None):
-    return [f"{RESULTS}/{s}/diagrams.nc" for s in P1_SYSTEMS]
+def figure_systems(entry):
+    """The systems a figure reads (forcenet.plotting.registry.SYSTEM_CHOICES): every system of its study, or P2's
+    frictional or frictionless one; none when the config lacks them (the figure is then not built)."""
+    study = P1_SYSTEMS if entry.study == "p1" else P2_SYSTEMS
+    chosen = {"all": study, "frictional": [P2_FRICTIONAL], "frictionless": [P2_FRICTIONLESS]}[entry.systems]
+    return [s for s in chosen if s]
 
 
-def p1_example_snapshots(wildcards=None):
-    """The last grid point of realization 0 of each P1 system (figure 1)."""
-    return [snapshot_path(s, REALIZATIONS[0], SYSTEMS[s].rho_labels[-1]) for s in P1_SYSTEMS]
+def figure_input_files(kind, systems):
+    """The files of one input kind (forcenet.plotting.registry.INPUT_KINDS) of a figure reading `systems`."""
+    if kind == "measures":
+        return [f"{RESULTS}/{s}/network_measures.nc" for s in systems]
+    if kind == "diagrams":
+        return [f"{RESULTS}/{s}/diagrams.nc" for s in systems]
+    if kind == "example_snapshots":
+        return [snapshot_path(s, REALIZATIONS[0], SYSTEMS[s].rho_labels[-1]) for s in systems]
+    if kind == "state_snapshots":
+        return p2_table_candidates()
+    if kind == "state_analysis":
+        return p2_table_candidates(analysis_path, states="a")
+    if kind == "distances":
+        return [f"{RESULTS}/{systems[0]}/distances.nc"]
+    raise WorkflowError(f"figure input kind {kind!r} has no files in workflow/rules/figures.smk")
 
 
-for _figure, _caption in P1_FIGURES.items():
+def figure_inputs(entry, systems):
+    files = {kind: figure_input_files(kind, systems) for kind in entry.inputs}
+    if {"state_snapshots", "state_analysis"} & set(entry.inputs):
+        files["states"] = [P2_TABLE_STATES]  # which realization's states a, b, c
+    return files
+
+
+# the figures this config builds (every one of a study it lists), each with its systems: all_targets builds them all
+BUILT_FIGURES = {entry.id: (entry, figure_systems(entry)) for entry in FIGURES if figure_systems(entry)}
+
+for _figure, (_entry, _systems) in BUILT_FIGURES.items():
 
     rule:
         name:
             f"figure_{_figure}"
         localrule: True
         input:
-            measures=p1_measures(),
-            diagrams=p1_diagrams(),
-            snapshots=p1_example_snapshots() if _figure == "p1_fig01_networks" else [],
+            **figure_inputs(_entry, _systems),
         output:
-            **figure_outputs(_figure, "P1"),
+            **figure_outputs(_figure, _entry.study.upper()),
         log:
             f"{LOGS}/figures/{_figure}.log",
         params:
             figure=_figure,
-            caption=_caption,
-            systems=P1_SYSTEMS,
-            force_unit=config["analysis"]["p1_force_unit"],  # the F_max rule's unit: ρ_max marked on the figures
+            caption=_entry.report_caption,
+            systems=_systems,
+            force_unit=FORCE_UNIT,
+            rattler_rule=study_rattler_rule(config, _systems[0]),  # the networks the analysis measured
         script:
             "../scripts/figure.py"
 
@@ -64,14 +80,14 @@ rule p1_validation_table:
         f"{LOGS}/tables/p1_validation.log",
     params:
         systems=P1_SYSTEMS,
-        force_unit=config["analysis"]["p1_force_unit"],
+        force_unit=FORCE_UNIT,
     script:
         "../scripts/p1_validation.py"
 
 
 # Compression movies (MP4, ffmpeg from the imageio-ffmpeg wheel): per P1 system, its force network through the ρ
-# grid (realization 0) and one turn around its B0/N surface (the data of Fig. 2). Part of the default build;
-# `snakemake --cores 2 movies` builds only them.
+# grid (realization 0, rattlers removed by P1's rule as in the analysis) and one turn around its B0/N surface (the
+# data of Fig. 2). Part of the default build; `snakemake --cores 2 movies` builds only them.
 P1_MOVIES = {f"{kind}_{system}": (kind, system) for system in P1_SYSTEMS for kind in ("network", "b0_surface")}
 
 
@@ -96,6 +112,7 @@ for _movie, (_kind, _system) in P1_MOVIES.items():
         params:
             kind=_kind,
             system=_system,
+            rattler_rule=study_rattler_rule(config, _system),
         script:
             "../scripts/movie.py"
 

@@ -1,5 +1,6 @@
-# P2: distances between persistence diagrams of consecutive states, Tables I–III, figures 1, 3, 6–10 and the
-# validation of P2's claims. P2_SYSTEMS[0] is the frictional system (μ = 0.5), P2_SYSTEMS[1] the frictionless one.
+# P2: distances between persistence diagrams of consecutive states, Tables I–III and the validation of P2's claims
+# (P2's figures are made in figures.smk, from forcenet.plotting.registry). P2_SYSTEMS[0] is the frictional system
+# (μ = 0.5), P2_SYSTEMS[1] the frictionless one.
 from forcenet.systems import study_rattler_rule
 
 P2_FRICTIONAL = P2_SYSTEMS[0] if P2_SYSTEMS else None
@@ -28,29 +29,6 @@ def p2_table_candidates(path=snapshot_path, states="abc"):
 P2_TABLE_STATES = f"{RESULTS}/tables/p2_table_states.csv"
 # the P2 products read networks made by the P2 study's rattler rule (P2 §III C keeps rattlers)
 P2_RATTLER_RULE = study_rattler_rule(config, P2_FRICTIONAL) if P2_FRICTIONAL else None
-
-
-P2_FIGURE_INPUTS = {
-    "p2_fig01_snapshots_differences": ("snapshots", None),
-    "p2_fig03_diagrams": ("analysis", None),
-    "p2_fig06_distances_normal_mu05": ("distances", P2_FRICTIONAL),
-    "p2_fig07_ratios_mu05": ("distances", P2_FRICTIONAL),
-    "p2_fig08_distances_tangential_mu05": ("distances", P2_FRICTIONAL),
-    "p2_fig09_distances_normal_mu0": ("distances", P2_FRICTIONLESS),
-    "p2_fig10_ratios_mu0": ("distances", P2_FRICTIONLESS),
-}
-P2_CAPTIONS = {
-    "p2_fig01_snapshots_differences": "Three nearby snapshots a, b, c (normal forces) and maps of the force change ΔF between them (P2 Fig. 1).",
-    "p2_fig03_diagrams": "PD0 and PD1 of the normal-force network of snapshot a (P2 Fig. 3).",
-    "p2_fig06_distances_normal_mu05": "d_B, d_W1, d_W2 between consecutive PDs vs ρ for β0 and β1 with Z(ρ); μ = 0.5, normal forces (P2 Fig. 6).",
-    "p2_fig07_ratios_mu05": "Ratios d_B/d_W1 and d_B/d_W2; μ = 0.5, normal forces (P2 Fig. 7).",
-    "p2_fig08_distances_tangential_mu05": "As Fig. 6 for tangential forces (P2 Fig. 8).",
-    "p2_fig09_distances_normal_mu0": "As Fig. 6 for the frictionless system μ = 0 (P2 Fig. 9).",
-    "p2_fig10_ratios_mu0": "As Fig. 7 for μ = 0 (P2 Fig. 10).",
-}
-# figures of a system that the config does not list are not built
-P2_FIGURES = {name: (kind, system) for name, (kind, system) in P2_FIGURE_INPUTS.items()
-              if P2_FRICTIONAL and (kind != "distances" or system is not None)}
 
 
 rule p2_distances:
@@ -100,30 +78,6 @@ rule p2_tables:
         essential_convention=config["analysis"]["essential_convention"],
     script:
         "../scripts/p2_tables.py"
-
-
-for _figure, (_kind, _system) in P2_FIGURES.items():
-
-    rule:
-        name:
-            f"figure_{_figure}"
-        localrule: True
-        input:
-            snapshots=p2_table_candidates() if _kind == "snapshots" else [],
-            analysis=p2_table_candidates(analysis_path, states="a") if _kind == "analysis" else [],
-            states=[P2_TABLE_STATES] if _kind in ("snapshots", "analysis") else [],
-            distances=[f"{RESULTS}/{_system}/distances.nc"] if _kind == "distances" else [],
-        output:
-            **figure_outputs(_figure, "P2"),
-        log:
-            f"{LOGS}/figures/{_figure}.log",
-        params:
-            figure=_figure,
-            caption=P2_CAPTIONS[_figure],
-            systems=[_system or P2_FRICTIONAL],
-            rattler_rule=P2_RATTLER_RULE,
-        script:
-            "../scripts/p2_figure.py"
 
 
 rule p2_validation:

@@ -116,12 +116,26 @@ class ForceNetwork:
 
 
 @dataclass(frozen=True)
-class CompactGraph:
-    """A force network's graph on compact vertex ids 0..V−1 (the network particles in increasing id order).
+class CompactVertices:
+    """Vertices on compact ids 0..V−1, the network particles in increasing id order: the base of a network's graph
+    (`CompactGraph`) and of the complexes built on it (`forcenet.topology.FlagComplex`).
 
-    Attributes
-    ----------
     particle : ndarray, shape (V,), int64 — original particle id of each compact vertex.
+    """
+
+    particle: np.ndarray
+
+    @property
+    def n_vertices(self) -> int:
+        return int(self.particle.size)
+
+
+@dataclass(frozen=True)
+class CompactGraph(CompactVertices):
+    """A force network's graph on compact vertex ids (`CompactVertices`).
+
+    Attributes (after ``particle``)
+    -------------------------------
     index : ndarray, shape (N,), int64 — compact id of each original particle, −1 when not a vertex.
     edges : ndarray, shape (E, 2), int64 — compact end points, ``a < b``, lexicographically sorted (the order
         of the network's ``edge_i``, ``edge_j``).
@@ -130,15 +144,10 @@ class CompactGraph:
         (`vertex_values`).
     """
 
-    particle: np.ndarray
     index: np.ndarray
     edges: np.ndarray
     force: np.ndarray
     vertex_value: np.ndarray
-
-    @property
-    def n_vertices(self) -> int:
-        return int(self.particle.size)
 
 
 def vertex_values(n_vertices: int, edges: np.ndarray, edge_value: np.ndarray) -> np.ndarray:

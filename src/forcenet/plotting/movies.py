@@ -1,8 +1,9 @@
 """Compression movies (MP4, H.264): a system's force network through its ρ grid, and a rotating view of its B0/N
 surface over (ρ, F_th).
 
-Frames are drawn by the P1 figure code from the same prepared data as Figs. 1 and 2 (`forcenet.plotting.p1`), so
-a frame has that figure's axes, colour bar and ρ label. The encoder is the ffmpeg binary shipped in the
+Frames are drawn by the P1 figure code from the same prepared data as Figs. 1 and 2 (`forcenet.plotting.networks`,
+`forcenet.plotting.p1`), so a frame has that figure's axes, colour bar and ρ label, and its edges are those of the
+analysed network (the study's rattler rule). The encoder is the ffmpeg binary shipped in the
 ``imageio-ffmpeg`` wheel (pinned in environment.txt): no system package is needed.
 """
 from __future__ import annotations
@@ -15,7 +16,7 @@ import numpy as np
 import xarray as xr
 
 from forcenet.plotting import figure_data as cols
-from forcenet.plotting import p1
+from forcenet.plotting import networks, p1
 from forcenet.plotting.figure_data import concat
 from forcenet.plotting.style import LABELS, apply_style, system_color, system_label
 
@@ -41,13 +42,16 @@ def _publish(partial: Path, output: Path) -> None:
     os.replace(partial, output)  # a movie only gets its name once it is complete
 
 
-def network_movie(snapshots: Sequence[xr.Dataset], output: str | os.PathLike, *, fps: int = NETWORK_FPS) -> int:
+def network_movie(snapshots: Sequence[xr.Dataset], output: str | os.PathLike, *, rattler_rule: bool | str,
+                  fps: int = NETWORK_FPS) -> int:
     """The force network of one compression run, one frame per snapshot (in the given order, increasing ρ),
-    edges coloured by F/⟨F⟩ on one colour scale for the whole movie. Returns the number of frames."""
+    edges coloured by F/⟨F⟩ on one colour scale for the whole movie; rattlers removed by `rattler_rule` (the
+    study's, as in the analysis). Returns the number of frames."""
     if not snapshots:
         raise ValueError("a network movie needs at least one snapshot")
-    frames = [p1.prepare_fig01_networks({str(s.attrs.get("system", "system")): s}) for s in snapshots]
-    norm = p1.network_color_scale(concat([f.table for f in frames]))
+    frames = [networks.prepare_p1_fig01_networks({str(s.attrs.get("system", "system")): s}, rattler_rule=rattler_rule)
+              for s in snapshots]
+    norm = networks.network_color_scale(concat([f.table for f in frames]))
     dimension = int(snapshots[0].sizes["spatial"])
     output = Path(output)
     output.parent.mkdir(parents=True, exist_ok=True)
@@ -59,8 +63,8 @@ def network_movie(snapshots: Sequence[xr.Dataset], output: str | os.PathLike, *,
         for frame in frames:
             fig.clear()
             ax = fig.add_subplot(projection="3d" if dimension == 3 else None)
-            p1.draw_network_panel(ax, frame.panel(0), frame.layout["box"][0], norm)
-            fig.colorbar(plt.cm.ScalarMappable(norm=norm, cmap=p1.FORCE_CMAP), ax=ax, label=LABELS["force"],
+            networks.draw_network_panel(ax, frame.panel(0), frame.layout["box"][0], norm)
+            fig.colorbar(plt.cm.ScalarMappable(norm=norm, cmap=networks.FORCE_CMAP), ax=ax, label=LABELS["force"],
                          shrink=0.8, pad=0.12 if dimension == 3 else 0.05)
             writer.grab_frame()
     plt.close(fig)
@@ -72,7 +76,7 @@ def b0_surface_movie(measures: Mapping[str, xr.Dataset], system: str, output: st
                      frames: int = SURFACE_FRAMES, fps: int = SURFACE_FPS) -> int:
     """One turn around the realization-mean B0/N surface of `system` over (ρ, F_th), the data of P1 Fig. 2 (ρ up
     to ρ_max). `measures` holds every P1 system (the F_max cut compares them). Returns the number of frames."""
-    table = p1.prepare_fig02_betti0_surface(measures).table
+    table = p1.prepare_p1_fig02_betti0_surface(measures).table
     rows = table[table[cols.SYSTEM] == system]
     if rows.empty:
         raise ValueError(f"no B0/N data for system {system!r}")

@@ -1,23 +1,20 @@
-"""The figures of P1 (compressed 2D/3D interaction networks): per figure, one function that prepares its data
-and one that draws it.
+"""The figures of P1 (compressed 2D/3D interaction networks) that read the stacked measures and diagrams: per
+figure, one function that prepares its data and one that draws it (Fig. 1, the networks, is in
+`forcenet.plotting.networks`; `forcenet.plotting.registry` lists every figure with its inputs and caption).
 
-The preparation (`prepare_*`) takes the aggregated datasets keyed by system name — ``measures``
-(network_measures.nc), ``diagrams`` (diagrams.nc), ``snapshots`` (one snapshot file per system) — and returns a
-`FigureData` whose table holds every plotted value (the figure's CSV); the drawing (`draw_*`) turns that into a
-matplotlib Figure and reads nothing else. The preparations only select and average: the reductions P1 defines
-(F_max rule → ρ_max, S_p averaging rule, ≥ 50 % percolation rule, jamming point) live in `forcenet.report.p1`
-and are shared with the validation table. Every simulated ρ is drawn; ρ_max, with ⟨F⟩ compared in `force_unit`
-(``analysis.p1_force_unit``), is a dashed line on every ρ axis with the range beyond it shaded. Curves are
-realization means with ± one standard deviation over the realizations as a band; each system keeps its colour
-(`forcenet.plotting.style.system_color`), a family of curves within a panel (F_th, ρ) uses shades of it.
-
-The workflow prepares one figure by name, ``p1_figure_data(name, measures, diagrams, snapshots)``, then draws it
-(`draw_p1_figure`) and writes its table; ``make_p1_figure`` does both steps for one Figure. `P1_FIGURES` lists the
-names, which inputs each figure needs and its caption.
+The preparation (``prepare_<figure id>``) takes the aggregated datasets keyed by system name — ``measures``
+(network_measures.nc), ``diagrams`` (diagrams.nc) — and returns a `FigureData` whose table holds every plotted
+value (the figure's CSV); the drawing (``draw_<figure id>``, or the shared `draw_threshold_families` and
+`draw_heat_maps`) turns that into a matplotlib Figure and reads nothing else. The preparations only select and
+average: the reductions P1 defines (F_max rule → ρ_max, S_p averaging rule, ≥ 50 % percolation rule, jamming
+point) live in `forcenet.report.p1` and are shared with the validation table. Every simulated ρ is drawn; ρ_max,
+with ⟨F⟩ compared in `force_unit` (``analysis.p1_force_unit``), is a dashed line on every ρ axis with the range
+beyond it shaded. Curves are realization means with ± one standard deviation over the realizations as a band; each
+system keeps its colour (`forcenet.plotting.style.system_color`), a family of curves within a panel (F_th, ρ) uses
+shades of it.
 """
 from __future__ import annotations
 
-import inspect
 from dataclasses import dataclass
 from typing import Callable, Mapping, Sequence
 
@@ -28,7 +25,7 @@ import xarray as xr
 from forcenet.measures.persistence_stats import MEDIUM_BIRTH, ROUGH_LIFESPAN, STRONG_BIRTH, WEAK_BIRTH
 from forcenet.plotting import figure_data as cols
 from forcenet.plotting.figure_data import FigureData, concat, curve_rows
-from forcenet.plotting.style import LABELS, apply_style, system_color, system_label
+from forcenet.plotting.style import LABELS, panel_figure, system_color, system_label, system_title
 from forcenet.report.p1 import (DEFAULT_P1_FORCE_UNIT, P1_SMALL_THRESHOLD, f_max_cut, jamming_point,
                                 mean_and_spread,
                                 per_particle, percolating_size_mean, rho_values, select_total,
@@ -36,8 +33,6 @@ from forcenet.report.p1 import (DEFAULT_P1_FORCE_UNIT, P1_SMALL_THRESHOLD, f_max
 
 import matplotlib.pyplot as plt  # noqa: E402  (style sets the Agg backend first)
 import seaborn as sns  # noqa: E402
-from matplotlib.collections import EllipseCollection, LineCollection  # noqa: E402
-from matplotlib.colors import Normalize  # noqa: E402
 from matplotlib.figure import Figure  # noqa: E402
 
 #: F_th cross-sections drawn in the line figures (the nearest values of the threshold grid are used)
@@ -49,7 +44,6 @@ RHO_J_GID = "rho_J"
 RHO_MAX_GID = "rho_max"  # the dashed ρ_max line; the shading beyond it is BEYOND_RHO_MAX_GID
 BEYOND_RHO_MAX_GID = "beyond_rho_max"
 RHO_MAX_COLUMN = "rho_max"  # CSV column: ρ_max of P1's F_max rule for the row's system
-FORCE_CMAP = "viridis"
 
 LABEL_B0 = r"$B_0/N$"
 LABEL_B1 = r"$B_1/N$"
@@ -59,7 +53,6 @@ LABEL_NPER = r"$N_{per}/N$"
 LABEL_SP = r"shape parameter $S_p$"
 LABEL_N0 = r"$N_0/N$"
 LABEL_TP = r"$TP_k/N$ [$\langle F\rangle$]"
-POSITION_LABELS = (r"$x$ [$d_{ave}$]", r"$y$ [$d_{ave}$]", r"$z$ [$d_{ave}$]")
 
 
 #: plain-text symbol [unit] of each drawn quantity (the CSV's `quantity` column) → its axis label
@@ -69,12 +62,6 @@ QUANTITY_LABELS = {
     "PDF [<F>^-1]": LABELS["pdf"] + r" [$\langle F\rangle^{-1}$]",
 }
 HOMOLOGY_K = "k"  # family column of Fig. 12: TP_k, k = 0 (solid), 1 (dashed)
-NETWORK_MAX_LINE_WIDTH = 3.0  # Fig. 1: line width of the strongest contacts (0.3 + this at the colour-scale top)
-#: Fig. 1 columns: contact end points and particle centres [d_ave]
-END_I = tuple(f"{a}_i [d_ave]" for a in "xyz")
-END_J = tuple(f"{a}_j [d_ave]" for a in "xyz")
-CENTRE = tuple(f"{a} [d_ave]" for a in "xyz")
-RADIUS = "radius [d_ave]"
 
 
 # =============================================================================================================
@@ -103,16 +90,6 @@ def _systems(measures: Mapping[str, xr.Dataset], force_unit: str = DEFAULT_P1_FO
 def _marks(system: _System) -> dict:
     """The ρ_J and ρ_max columns every ρ-curve row carries (the CSV says where P1 would stop showing data)."""
     return {cols.RHO_J: system.rho_j, RHO_MAX_COLUMN: system.rho_max}
-
-
-def _figure(n_panels: int, ncols: int = 3, size=(4.2, 3.3), projections: Sequence[str | None] | None = None):
-    apply_style()
-    ncols = max(1, min(ncols, n_panels))
-    nrows = int(np.ceil(n_panels / ncols))
-    fig = plt.figure(figsize=(size[0] * ncols, size[1] * nrows), layout="constrained")
-    projections = projections or [None] * n_panels
-    axes = [fig.add_subplot(nrows, ncols, k + 1, projection=projections[k]) for k in range(n_panels)]
-    return fig, axes
 
 
 def _shades(name: str, n: int) -> list:
@@ -153,7 +130,7 @@ def _spread_rows(x_name: str, x, mean, spread, **columns) -> pd.DataFrame:
 def _panels(data: FigureData, **figure_options):
     """A figure with one panel per `panel` value of the table: (figure, [(axes, rows of that panel), …])."""
     panels = sorted(data.table[cols.PANEL].unique())
-    fig, axes = _figure(len(panels), **figure_options)
+    fig, axes = panel_figure(len(panels), **figure_options)
     return fig, [(ax, data.panel(panel)) for ax, panel in zip(axes, panels)]
 
 
@@ -198,10 +175,6 @@ def _mark_rho_max(ax, rows: pd.DataFrame, name: str, color=None, label: bool = T
         ax.axvspan(rho_max, high, color=color, alpha=0.08, linewidth=0, gid=BEYOND_RHO_MAX_GID)
 
 
-def _title(ax, name: str, extra: str = "") -> None:
-    ax.set_title(system_label(name) + extra, color=system_color(name))
-
-
 def _draw_family(ax, rows: pd.DataFrame, family: str, label: Callable[[float], str]) -> None:
     """A panel of curves versus ρ, one per value of `family`, in shades of the system's colour; ρ_J marked."""
     name = rows[cols.SYSTEM].iloc[0]
@@ -212,14 +185,14 @@ def _draw_family(ax, rows: pd.DataFrame, family: str, label: Callable[[float], s
     _mark_rho_max(ax, rows, name)
     ax.set_xlabel(LABELS["rho"])
     ax.set_ylabel(QUANTITY_LABELS[rows[cols.QUANTITY].iloc[0]])
-    _title(ax, name)
+    system_title(ax, name)
 
 
 def _threshold_label(threshold: float) -> str:
     return rf"$F_{{th}}$ = {threshold:g}"
 
 
-def _draw_family_panels(data: FigureData, ncols: int = 3) -> Figure:
+def draw_threshold_families(data: FigureData, ncols: int = 3) -> Figure:
     """One panel per `panel` value, each a family of F_th curves (Figs. 4, 5, 7, 9)."""
     fig, panels = _panels(data, ncols=ncols)
     for ax, rows in panels:
@@ -237,7 +210,7 @@ def _heat_rows(system: _System, values: xr.DataArray, quantity: str, panel: int)
                          cols.RHO: rho, cols.THRESHOLD: threshold, cols.MEAN: values.values.ravel()})
 
 
-def _draw_heat_maps(data: FigureData) -> Figure:
+def draw_heat_maps(data: FigureData) -> Figure:
     """One (ρ, F_th) map per panel, ρ on x."""
     fig, panels = _panels(data)
     for ax, rows in panels:
@@ -249,7 +222,7 @@ def _draw_heat_maps(data: FigureData) -> Figure:
         _mark_rho_max(ax, rows, name, color="white", label=False)
         ax.set_xlabel(LABELS["rho"])
         ax.set_ylabel(LABELS["threshold"])
-        _title(ax, name)
+        system_title(ax, name)
     return fig
 
 
@@ -258,88 +231,8 @@ def _first_legend(axes, **kwargs) -> None:
         axes[0].legend(fontsize="x-small", frameon=False, **kwargs)
 
 
-# =============================================================================================================
-# the figures: prepare (datasets → FigureData) and draw (FigureData → Figure)
-# =============================================================================================================
-def prepare_fig01_networks(snapshots: Mapping[str, xr.Dataset]) -> FigureData:
-    """F1: contacts of one snapshot per system with F/⟨F⟩ (F the total contact force |F_n + F_t|, contacts that
-    carry no force left out) and their end points, and the particles (drawn as disks in 2D)."""
-    blocks, boxes = [], {}
-    for panel, name in enumerate(system_order(snapshots)):
-        ds = snapshots[name]
-        dim = int(ds.sizes["spatial"])
-        force = np.linalg.norm(ds["force_normal"].values + ds["force_tangential"].values, axis=-1)
-        keep = force > 0
-        relative = force[keep] / force[keep].mean() if keep.any() else force[keep]
-        i, j = ds["contact_i"].values[keep], ds["contact_j"].values[keep]
-        position = ds["position"].values
-        rho = float(ds["rho"]) if "rho" in ds else float("nan")
-        common = {cols.PANEL: panel, cols.SYSTEM: name, "dimension": dim, cols.RHO: rho}
-        contacts = pd.DataFrame({**common, "element": "contact", "i": i, "j": j, cols.FORCE: relative})
-        particles = pd.DataFrame({**common, "element": "particle", "i": np.arange(len(position)),
-                                  RADIUS: ds["radius"].values})
-        for k in range(dim):
-            contacts[END_I[k]] = position[i, k]
-            contacts[END_J[k]] = position[j, k]
-            particles[CENTRE[k]] = position[:, k]
-        blocks += [contacts, particles]
-        boxes[panel] = (ds["box_lo"].values, ds["box_hi"].values)
-    return FigureData(concat(blocks), {"box": boxes})
-
-
-def draw_fig01_networks(data: FigureData) -> Figure:
-    """Edges coloured (and thickened) by F/⟨F⟩; 2D as lines over the disks, 3D as lines in a 3D box; one colour
-    scale for all panels, up to the 99 % quantile of F/⟨F⟩."""
-    panels = sorted(data.table[cols.PANEL].unique())
-    dims = [int(data.panel(p)["dimension"].iloc[0]) for p in panels]
-    fig, axes = _figure(len(panels), size=(4.6, 4.2), projections=["3d" if d == 3 else None for d in dims])
-    norm = network_color_scale(data.table)
-    for ax, panel in zip(axes, panels):
-        draw_network_panel(ax, data.panel(panel), data.layout["box"][panel], norm)
-    fig.colorbar(plt.cm.ScalarMappable(norm=norm, cmap=FORCE_CMAP), ax=axes, label=LABELS["force"], shrink=0.8)
-    return fig
-
-
-def network_color_scale(table: pd.DataFrame) -> Normalize:
-    """F/⟨F⟩ colour scale of network drawings: 0 to the 99 % quantile of the table's contacts."""
-    everything = table.loc[table["element"] == "contact", cols.FORCE].to_numpy()
-    return Normalize(0.0, float(np.quantile(everything, 0.99)) if everything.size else 1.0)
-
-
-def draw_network_panel(ax, rows: pd.DataFrame, box, norm: Normalize) -> None:
-    """One snapshot's network (rows of `prepare_fig01_networks`) in `ax` (a 3D axes for a 3D snapshot)."""
-    dim = int(rows["dimension"].iloc[0])
-    contacts, particles = rows[rows["element"] == "contact"], rows[rows["element"] == "particle"]
-    relative = contacts[cols.FORCE].to_numpy()
-    segments = np.stack([contacts[list(END_I[:dim])].to_numpy(), contacts[list(END_J[:dim])].to_numpy()], axis=1)
-    widths = 0.3 + NETWORK_MAX_LINE_WIDTH * np.clip(relative / max(norm.vmax, 1e-12), 0, 1)
-    lo, hi = box
-    if dim == 3:
-        from mpl_toolkits.mplot3d.art3d import Line3DCollection
-
-        lines = Line3DCollection(segments, cmap=FORCE_CMAP, norm=norm, linewidths=widths)
-        lines.set_array(relative)
-        ax.add_collection3d(lines)
-        ax.set_zlim(lo[2], hi[2])
-        ax.set_zlabel(POSITION_LABELS[2])
-    else:
-        diameter = 2 * particles[RADIUS].to_numpy()
-        disks = EllipseCollection(diameter, diameter, 0, units="xy", offsets=particles[list(CENTRE[:2])].to_numpy(),
-                                  offset_transform=ax.transData, facecolors="none", edgecolors="0.75", linewidths=0.4)
-        ax.add_collection(disks)
-        lines = LineCollection(segments, cmap=FORCE_CMAP, norm=norm, linewidths=widths)
-        lines.set_array(relative)
-        ax.add_collection(lines)
-        ax.set_aspect("equal")
-    ax.set_xlim(lo[0], hi[0])
-    ax.set_ylim(lo[1], hi[1])
-    ax.set_xlabel(POSITION_LABELS[0])
-    ax.set_ylabel(POSITION_LABELS[1])
-    _title(ax, rows[cols.SYSTEM].iloc[0], rf", $\rho$ = {float(rows[cols.RHO].iloc[0]):.3f}")
-
-
-def prepare_fig02_betti0_surface(measures: Mapping[str, xr.Dataset], *,
-                                 force_unit: str = DEFAULT_P1_FORCE_UNIT) -> FigureData:
+def prepare_p1_fig02_betti0_surface(measures: Mapping[str, xr.Dataset], *,
+                                    force_unit: str = DEFAULT_P1_FORCE_UNIT) -> FigureData:
     """F2: B0/N over (ρ, F_th), realization mean, one map per system."""
     return FigureData(concat(
         _heat_rows(system, per_particle(system.data, "betti").sel(homology_dim=0).mean("realization", skipna=True),
@@ -347,8 +240,8 @@ def prepare_fig02_betti0_surface(measures: Mapping[str, xr.Dataset], *,
         for panel, system in enumerate(_systems(measures, force_unit))))
 
 
-def prepare_fig03_force_pdf(measures: Mapping[str, xr.Dataset], *, n_rho: int = 6,
-                            force_unit: str = DEFAULT_P1_FORCE_UNIT) -> FigureData:
+def prepare_p1_fig03_force_pdf(measures: Mapping[str, xr.Dataset], *, n_rho: int = 6,
+                               force_unit: str = DEFAULT_P1_FORCE_UNIT) -> FigureData:
     """F3: PDF of F/⟨F⟩ (total force) at `n_rho` packing fractions spread over the grid; those beyond ρ_max (not
     shown in P1) are drawn dashed."""
     blocks = []
@@ -365,7 +258,7 @@ def prepare_fig03_force_pdf(measures: Mapping[str, xr.Dataset], *, n_rho: int = 
     return FigureData(concat(blocks))
 
 
-def draw_fig03_force_pdf(data: FigureData) -> Figure:
+def draw_p1_fig03_force_pdf(data: FigureData) -> Figure:
     """One panel per system, one curve per ρ, darker for larger ρ."""
     fig, panels = _panels(data)
     for ax, rows in panels:
@@ -379,31 +272,31 @@ def draw_fig03_force_pdf(data: FigureData) -> Figure:
                        linestyle="--" if beyond else "-")
         ax.set_xlabel(LABELS["force"])
         ax.set_ylabel(QUANTITY_LABELS["PDF [<F>^-1]"])
-        _title(ax, name)
+        system_title(ax, name)
         ax.legend(fontsize="x-small", frameon=False)
     return fig
 
 
-def prepare_fig04_cluster_size(measures: Mapping[str, xr.Dataset], *,
-                               thresholds: Sequence[float] = DEFAULT_THRESHOLDS,
-                               force_unit: str = DEFAULT_P1_FORCE_UNIT) -> FigureData:
+def prepare_p1_fig04_cluster_size(measures: Mapping[str, xr.Dataset], *,
+                                  thresholds: Sequence[float] = DEFAULT_THRESHOLDS,
+                                  force_unit: str = DEFAULT_P1_FORCE_UNIT) -> FigureData:
     """F4: mean size ⟨S⟩/N of the non-percolating clusters versus ρ, one curve per F_th."""
     return FigureData(concat(_threshold_rows(system, per_particle(system.data, "cluster_mean_size"), thresholds,
                                              "<S>/N", panel)
                              for panel, system in enumerate(_systems(measures, force_unit))))
 
 
-def prepare_fig05_percolating_size(measures: Mapping[str, xr.Dataset], *,
-                                   thresholds: Sequence[float] = DEFAULT_THRESHOLDS,
-                                   force_unit: str = DEFAULT_P1_FORCE_UNIT) -> FigureData:
+def prepare_p1_fig05_percolating_cluster(measures: Mapping[str, xr.Dataset], *,
+                                         thresholds: Sequence[float] = DEFAULT_THRESHOLDS,
+                                         force_unit: str = DEFAULT_P1_FORCE_UNIT) -> FigureData:
     """F5: N_per/N versus ρ per F_th, averaged over the percolating realizations and shown only where at
     least 50 % of the realizations percolate (P1 §4.3)."""
     return FigureData(concat(_threshold_rows(system, percolating_size_mean(system.data), thresholds, "N_per/N", panel)
                              for panel, system in enumerate(_systems(measures, force_unit))))
 
 
-def prepare_fig06_betti0(measures: Mapping[str, xr.Dataset], *, thresholds: Sequence[float] = DEFAULT_THRESHOLDS,
-                         zoom_curves: int = 4, force_unit: str = DEFAULT_P1_FORCE_UNIT) -> FigureData:
+def prepare_p1_fig06_betti0(measures: Mapping[str, xr.Dataset], *, thresholds: Sequence[float] = DEFAULT_THRESHOLDS,
+                            zoom_curves: int = 4, force_unit: str = DEFAULT_P1_FORCE_UNIT) -> FigureData:
     """F6: B0/N versus ρ per F_th; for each 3D system an extra close-up of the F_th < 0.5 curves around ρ_J
     (P1 Fig. 6d). layout["close_up"] maps each close-up panel to its ρ range (None: the whole range)."""
     systems = _systems(measures, force_unit)
@@ -425,25 +318,25 @@ def prepare_fig06_betti0(measures: Mapping[str, xr.Dataset], *, thresholds: Sequ
     return FigureData(concat(blocks), {"close_up": close_up})
 
 
-def draw_fig06_betti0(data: FigureData) -> Figure:
+def draw_p1_fig06_betti0(data: FigureData) -> Figure:
     close_up = data.layout.get("close_up", {})
     panels = sorted(data.table[cols.PANEL].unique())
-    fig, axes = _figure(len(panels), ncols=4 if close_up else 3)
+    fig, axes = panel_figure(len(panels), ncols=4 if close_up else 3)
     for ax, panel in zip(axes, panels):
         rows = data.panel(panel)
         _draw_family(ax, rows, cols.THRESHOLD, _threshold_label)
         if panel in close_up:
             if close_up[panel] is not None:
                 ax.set_xlim(*close_up[panel])
-            _title(ax, rows[cols.SYSTEM].iloc[0], rf", $F_{{th}}$ < {P1_SMALL_THRESHOLD:g} (close-up)")
+            system_title(ax, rows[cols.SYSTEM].iloc[0], rf", $F_{{th}}$ < {P1_SMALL_THRESHOLD:g} (close-up)")
             ax.legend(fontsize="x-small", frameon=False)
     _first_legend(axes)
     return fig
 
 
-def prepare_fig07_loops(measures: Mapping[str, xr.Dataset], *,
-                        thresholds: Sequence[float] = DEFAULT_THRESHOLDS,
-                        force_unit: str = DEFAULT_P1_FORCE_UNIT) -> FigureData:
+def prepare_p1_fig07_betti1(measures: Mapping[str, xr.Dataset], *,
+                            thresholds: Sequence[float] = DEFAULT_THRESHOLDS,
+                            force_unit: str = DEFAULT_P1_FORCE_UNIT) -> FigureData:
     """F7: B1/N versus ρ per F_th for every system, and B2/N for the 3D ones."""
     systems = _systems(measures, force_unit)
     panels = [(s, 1) for s in systems] + [(s, 2) for s in systems if s.dimension == 3]
@@ -452,31 +345,31 @@ def prepare_fig07_loops(measures: Mapping[str, xr.Dataset], *,
                              for panel, (system, k) in enumerate(panels)))
 
 
-def prepare_fig08_shape_surface(measures: Mapping[str, xr.Dataset], *,
-                                force_unit: str = DEFAULT_P1_FORCE_UNIT) -> FigureData:
+def prepare_p1_fig08_shape_heatmap(measures: Mapping[str, xr.Dataset], *,
+                                   force_unit: str = DEFAULT_P1_FORCE_UNIT) -> FigureData:
     """F8: shape parameter S_p over (ρ, F_th) with P1's averaging rule (§5.2)."""
     return FigureData(concat(_heat_rows(system, shape_parameter_average(system.data["shape_parameter"])[0], "S_p", panel)
                              for panel, system in enumerate(_systems(measures, force_unit))))
 
 
-def prepare_fig09_shape_sections(measures: Mapping[str, xr.Dataset], *,
-                                 thresholds: Sequence[float] = DEFAULT_THRESHOLDS,
-                                 force_unit: str = DEFAULT_P1_FORCE_UNIT) -> FigureData:
+def prepare_p1_fig09_shape_sections(measures: Mapping[str, xr.Dataset], *,
+                                    thresholds: Sequence[float] = DEFAULT_THRESHOLDS,
+                                    force_unit: str = DEFAULT_P1_FORCE_UNIT) -> FigureData:
     """F9: S_p versus ρ for chosen F_th (P1's averaging rule; band: spread over the nonzero realizations)."""
     return FigureData(concat(_threshold_rows(system, shape_parameter_average(system.data["shape_parameter"]),
                                              thresholds, "S_p", panel)
                              for panel, system in enumerate(_systems(measures, force_unit))))
 
 
-def prepare_fig10_persistence_diagram(measures: Mapping[str, xr.Dataset], diagrams: Mapping[str, xr.Dataset], *,
-                                      system: str | None = None, rho: float | None = None,
-                                      realization: int | None = None) -> FigureData:
+def prepare_p1_fig10_persistence_diagram(measures: Mapping[str, xr.Dataset], diagrams: Mapping[str, xr.Dataset], *,
+                                         example_system: str | None = None, rho: float | None = None,
+                                         realization: int | None = None) -> FigureData:
     """F10: the points of one PD0 (total force). Defaults: the 2D Hertzian system (as P1), the first
     realization, the packing fraction nearest to its ρ_J. Never-dying points have death −inf (drawn at 0)."""
     from forcenet.datasets.schema import FORCE_KINDS
 
     names = system_order(diagrams)
-    system = system or next((n for n in names if n == "2d_hertz"), names[0])
+    system = example_system or next((n for n in names if n == "2d_hertz"), names[0])
     points = diagrams[system]
     realization = int(np.min(points["point_realization"].values)) if realization is None else realization
     if rho is None:
@@ -493,14 +386,14 @@ def prepare_fig10_persistence_diagram(measures: Mapping[str, xr.Dataset], diagra
                                     cols.DEATH: death, "essential": ~np.isfinite(death)}), chosen)
 
 
-def draw_fig10_persistence_diagram(data: FigureData) -> Figure:
+def draw_p1_fig10_persistence_diagram(data: FigureData) -> Figure:
     """The PD0 with P1's bins shaded: rough (lifespan ≤ 0.1), weak (0.1 ≤ birth < 1), medium (1 ≤ birth < 2.5),
     strong (birth ≥ 2.5)."""
     rows = data.table
     system, rho, realization = (data.layout[k] for k in (cols.SYSTEM, cols.RHO, "realization"))
     birth, death = rows[cols.BIRTH].to_numpy(float), rows[cols.DEATH].to_numpy(float)
     essential = rows["essential"].to_numpy(bool)
-    fig, (ax,) = _figure(1, size=(4.8, 4.4))
+    fig, (ax,) = panel_figure(1, size=(4.8, 4.4))
     top = max(float(np.nanmax(birth)) if birth.size else 0.0, STRONG_BIRTH) * 1.05
 
     def below_rough(lo, hi):  # births in [lo, hi), lifespan > ROUGH_LIFESPAN, death ≥ 0
@@ -525,13 +418,13 @@ def draw_fig10_persistence_diagram(data: FigureData) -> Figure:
     ax.set_aspect("equal")
     ax.set_xlabel(LABELS["birth"])
     ax.set_ylabel(LABELS["death"])
-    _title(ax, system, rf", $\rho$ = {rho:.3f}, realization {realization}")
+    system_title(ax, system, rf", $\rho$ = {rho:.3f}, realization {realization}")
     ax.legend(fontsize="x-small", frameon=False, loc="upper left")
     return fig
 
 
-def prepare_fig11_persistence_bins(measures: Mapping[str, xr.Dataset], *,
-                                   force_unit: str = DEFAULT_P1_FORCE_UNIT) -> FigureData:
+def prepare_p1_fig11_persistence_bins(measures: Mapping[str, xr.Dataset], *,
+                                      force_unit: str = DEFAULT_P1_FORCE_UNIT) -> FigureData:
     """F11: PD0 points per bin N0/N versus ρ; rows rough/weak/medium/strong, columns 2D and 3D (P1 Fig. 11),
     one curve per system. layout["columns"]: the number of panel columns (one per dimension)."""
     systems = _systems(measures, force_unit)
@@ -549,9 +442,9 @@ def prepare_fig11_persistence_bins(measures: Mapping[str, xr.Dataset], *,
     return FigureData(concat(blocks), {"columns": len(dimensions)})
 
 
-def draw_fig11_persistence_bins(data: FigureData) -> Figure:
+def draw_p1_fig11_persistence_bins(data: FigureData) -> Figure:
     ncols = data.layout["columns"]
-    fig, axes = _figure(len(PD_BINS) * ncols, ncols=ncols, size=(4.4, 2.8))
+    fig, axes = panel_figure(len(PD_BINS) * ncols, ncols=ncols, size=(4.4, 2.8))
     for ax, panel in zip(axes, sorted(data.table[cols.PANEL].unique())):
         rows = data.panel(panel)
         for name, curve in rows.groupby(cols.SYSTEM, sort=False):
@@ -565,8 +458,8 @@ def draw_fig11_persistence_bins(data: FigureData) -> Figure:
     return fig
 
 
-def prepare_fig12_total_persistence(measures: Mapping[str, xr.Dataset], *,
-                                    force_unit: str = DEFAULT_P1_FORCE_UNIT) -> FigureData:
+def prepare_p1_fig12_total_persistence(measures: Mapping[str, xr.Dataset], *,
+                                       force_unit: str = DEFAULT_P1_FORCE_UNIT) -> FigureData:
     """F12: total persistence TP0/N and TP1/N of the total-force network versus ρ."""
     blocks = []
     for panel, system in enumerate(_systems(measures, force_unit)):
@@ -579,7 +472,7 @@ def prepare_fig12_total_persistence(measures: Mapping[str, xr.Dataset], *,
     return FigureData(concat(blocks))
 
 
-def draw_fig12_total_persistence(data: FigureData) -> Figure:
+def draw_p1_fig12_total_persistence(data: FigureData) -> Figure:
     """TP0/N solid, TP1/N dashed, in the system's colour."""
     fig, panels = _panels(data)
     for ax, rows in panels:
@@ -591,12 +484,12 @@ def draw_fig12_total_persistence(data: FigureData) -> Figure:
         _mark_rho_max(ax, rows, name)
         ax.set_xlabel(LABELS["rho"])
         ax.set_ylabel(LABEL_TP)
-        _title(ax, name)
+        system_title(ax, name)
         ax.legend(fontsize="x-small", frameon=False)
     return fig
 
 
-def prepare_z_jamming(measures: Mapping[str, xr.Dataset], *, force_unit: str = DEFAULT_P1_FORCE_UNIT) -> FigureData:
+def prepare_p1_z_jamming(measures: Mapping[str, xr.Dataset], *, force_unit: str = DEFAULT_P1_FORCE_UNIT) -> FigureData:
     """Z(ρ) of every system over its whole ρ grid, with ρ_J (inflection, P1 §4), Z(ρ_J) and ρ_max on every row."""
     blocks = []
     rho_max = {system.name: system.rho_max for system in _systems(measures, force_unit)}
@@ -612,9 +505,9 @@ def prepare_z_jamming(measures: Mapping[str, xr.Dataset], *, force_unit: str = D
     return FigureData(concat(blocks))
 
 
-def draw_z_jamming(data: FigureData) -> Figure:
+def draw_p1_z_jamming(data: FigureData) -> Figure:
     """The curves, ρ_J as an open circle on each, and Z = d + 1 dotted."""
-    fig, (ax,) = _figure(1, size=(5.2, 3.8))
+    fig, (ax,) = panel_figure(1, size=(5.2, 3.8))
     for name, rows in data.table.groupby(cols.SYSTEM, sort=False):
         color = system_color(name)
         _draw_rows(ax, rows, cols.RHO, color, label=system_label(name))
@@ -631,84 +524,3 @@ def draw_z_jamming(data: FigureData) -> Figure:
     ax.set_ylabel(LABELS["Z"])
     ax.legend(fontsize="x-small", frameon=False)
     return fig
-
-
-# =============================================================================================================
-# registry
-# =============================================================================================================
-@dataclass(frozen=True)
-class P1Figure:
-    """A P1 figure: the function preparing its data, the one drawing it, the inputs the preparation needs
-    ("measures", "diagrams", "snapshots") and the caption for the report."""
-
-    prepare: Callable[..., FigureData]
-    draw: Callable[[FigureData], Figure]
-    needs: tuple[str, ...]
-    caption: str
-
-
-_CUT = (" Every simulated ρ; ρ_max of P1's F_max rule (§3) dashed, the range beyond it (not shown in P1) shaded;"
-        " mean over realizations, band ± 1 s.d.")
-P1_FIGURES: dict[str, P1Figure] = {
-    "p1_fig01_networks": P1Figure(prepare_fig01_networks, draw_fig01_networks, ("snapshots",),
-                                  "Fig. 1: force networks in 2D and 3D, contacts coloured by F/⟨F⟩."),
-    "p1_fig02_betti0_surface": P1Figure(prepare_fig02_betti0_surface, _draw_heat_maps, ("measures",),
-                                        "Fig. 2: number of clusters B0/N over (ρ, F_th)." + _CUT),
-    "p1_fig03_force_pdf": P1Figure(prepare_fig03_force_pdf, draw_fig03_force_pdf, ("measures",),
-                                   "Fig. 3: PDF of F/⟨F⟩ for several ρ, darker for larger ρ." + _CUT),
-    "p1_fig04_cluster_size": P1Figure(prepare_fig04_cluster_size, _draw_family_panels, ("measures",),
-                                      "Fig. 4: mean non-percolating cluster size ⟨S⟩/N versus ρ per F_th." + _CUT),
-    "p1_fig05_percolating_cluster": P1Figure(prepare_fig05_percolating_size, _draw_family_panels, ("measures",),
-                                             "Fig. 5: percolating-cluster size N_per/N versus ρ per F_th, where "
-                                             "≥ 50 % of the realizations percolate." + _CUT),
-    "p1_fig06_betti0": P1Figure(prepare_fig06_betti0, draw_fig06_betti0, ("measures",),
-                                "Fig. 6: B0/N versus ρ per F_th, with a close-up of small F_th in 3D." + _CUT),
-    "p1_fig07_betti1": P1Figure(prepare_fig07_loops, _draw_family_panels, ("measures",),
-                                "Fig. 7: loops B1/N (and cavities B2/N in 3D) versus ρ per F_th." + _CUT),
-    "p1_fig08_shape_heatmap": P1Figure(prepare_fig08_shape_surface, _draw_heat_maps, ("measures",),
-                                       "Fig. 8: shape parameter S_p over (ρ, F_th), P1's averaging rule." + _CUT),
-    "p1_fig09_shape_sections": P1Figure(prepare_fig09_shape_sections, _draw_family_panels, ("measures",),
-                                        "Fig. 9: shape parameter S_p versus ρ for chosen F_th." + _CUT),
-    "p1_fig10_persistence_diagram": P1Figure(prepare_fig10_persistence_diagram, draw_fig10_persistence_diagram,
-                                             ("measures", "diagrams"),
-                                             "Fig. 10: an example PD0 with the rough, weak, medium and strong "
-                                             "bins."),
-    "p1_fig11_persistence_bins": P1Figure(prepare_fig11_persistence_bins, draw_fig11_persistence_bins, ("measures",),
-                                          "Fig. 11: PD0 points per bin N0/N versus ρ, 2D and 3D." + _CUT),
-    "p1_fig12_total_persistence": P1Figure(prepare_fig12_total_persistence, draw_fig12_total_persistence,
-                                           ("measures",),
-                                           "Fig. 12: total persistence TP0/N and TP1/N versus ρ." + _CUT),
-    "p1_z_jamming": P1Figure(prepare_z_jamming, draw_z_jamming, ("measures",),
-                             "Coordination number Z(ρ) with the jamming point ρ_J (inflection) marked."),
-}
-
-
-def p1_figure_data(name: str, measures: Mapping[str, xr.Dataset] | None = None,
-                   diagrams: Mapping[str, xr.Dataset] | None = None,
-                   snapshots: Mapping[str, xr.Dataset] | None = None, force_unit: str | None = None,
-                   **options) -> FigureData:
-    """The plotted values of the P1 figure `name` (a key of `P1_FIGURES`) from datasets keyed by system name;
-    `options` go to its preparation (e.g. ``thresholds``, ``rho``); `force_unit` (``analysis.p1_force_unit``) to
-    the ρ-axis figures, which mark ρ_max of P1's F_max rule in it."""
-    if name not in P1_FIGURES:
-        raise KeyError(f"unknown P1 figure {name!r}; known: {', '.join(P1_FIGURES)}")
-    spec = P1_FIGURES[name]
-    given = {"measures": measures, "diagrams": diagrams, "snapshots": snapshots}
-    missing = [need for need in spec.needs if not given[need]]
-    if missing:
-        raise ValueError(f"{name} needs {', '.join(missing)}")
-    if force_unit is not None and "force_unit" in inspect.signature(spec.prepare).parameters:
-        options["force_unit"] = force_unit
-    return spec.prepare(**{need: given[need] for need in spec.needs}, **options)
-
-
-def draw_p1_figure(name: str, data: FigureData) -> Figure:
-    """Draw the P1 figure `name` from its prepared data."""
-    return P1_FIGURES[name].draw(data)
-
-
-def make_p1_figure(name: str, measures: Mapping[str, xr.Dataset] | None = None,
-                   diagrams: Mapping[str, xr.Dataset] | None = None,
-                   snapshots: Mapping[str, xr.Dataset] | None = None, **options) -> Figure:
-    """Prepare and draw the P1 figure `name` (see `p1_figure_data`)."""
-    return draw_p1_figure(name, p1_figure_data(name, measures, diagrams, snapshots, **options))

@@ -1,10 +1,12 @@
-"""P2 figures (evolution of force networks): per figure, a preparation (inputs → `FigureData`, whose table of
-plotted values is written beside the figure as CSV) and a drawing (`FigureData` → matplotlib Figure); the
-public function of each figure (`P2_FIGURES`) does both.
+"""P2 figures (evolution of force networks) that read diagrams and distances: per figure, a preparation (inputs →
+`FigureData`, whose table of plotted values is written beside the figure as CSV) and a drawing (`FigureData` →
+matplotlib Figure). Fig. 1, the networks, is in `forcenet.plotting.networks`; `forcenet.plotting.registry` lists
+every figure with its inputs, options and caption (Figs 6, 8, 9 share `prepare_distances`/`draw_distances`, Figs 7,
+10 `prepare_ratios`/`draw_ratios`, with the force kind as the entry's option and P2's figure number as `source`).
 
-Inputs are forcenet datasets: snapshots (Fig. 1), one snapshot's analysis (Fig. 3) and the stacked
-``results/{system}/distances.nc`` (Figs 6–10, `forcenet.report.p2.stack_distances`). The reductions (realization
-means, ratios, ρ_J) are the ones `forcenet.report.p2` uses for the validation, so figures and verdicts agree.
+Inputs are forcenet datasets: one snapshot's analysis (Fig. 3) and the stacked ``results/{system}/distances.nc``
+(Figs 6–10, `forcenet.report.p2.stack_distances`). The reductions (realization means, ratios, ρ_J) are the ones
+`forcenet.report.p2` uses for the validation, so figures and verdicts agree.
 
 Curves are means over realizations with the 16–84 % band of the realizations as spread; distances and ratios
 are drawn on log axes (P2 discusses them in orders of magnitude, §IV A). Z(ρ) is on a twin axis, with ρ_J
@@ -12,26 +14,21 @@ are drawn on log axes (P2 discusses them in orders of magnitude, §IV A). Z(ρ) 
 """
 from __future__ import annotations
 
-from functools import partial
-from typing import Callable, Sequence
-
 import matplotlib.pyplot as plt
 import numpy as np
 import pandas as pd
 import xarray as xr
-from matplotlib.collections import LineCollection
 from matplotlib.figure import Figure
-from matplotlib.patches import Rectangle
 
 from forcenet.plotting import figure_data as cols
 from forcenet.plotting.figure_data import FigureData, concat, curve_rows
-from forcenet.plotting.style import FALLBACK_COLORS, LABELS, apply_style, system_color, system_label
+from forcenet.plotting.style import (FALLBACK_COLORS, FORCE_KIND_WORDS, LABELS, apply_style, system_color,
+                                     system_label)
 from forcenet.report import p2 as report
 
 METRIC_COLORS = {metric: FALLBACK_COLORS[i] for i, metric in enumerate(report.METRICS)}
 METRIC_MARKERS = {"bottleneck": "o", "wasserstein_1": "s", "wasserstein_2": "^"}
 METRIC_TEX = {"bottleneck": r"$d_B$", "wasserstein_1": r"$d_{W1}$", "wasserstein_2": r"$d_{W2}$"}
-KIND_WORDS = {"normal": "normal forces", "tangential": "tangential forces"}
 DISTANCE_LABEL = r"distance $d$ between consecutive PDs $[\langle F\rangle]$"
 RATIO_LABEL = r"ratio of distances $d_B/d_{Wq}$"
 
@@ -39,101 +36,13 @@ RATIO_LABEL = r"ratio of distances $d_B/d_{Wq}$"
 #: plain-text symbol [unit] of each distance metric and ratio (the CSV's `quantity` column)
 METRIC_QUANTITY = {"bottleneck": "d_B [<F>]", "wasserstein_1": "d_W1 [<F>]", "wasserstein_2": "d_W2 [<F>]"}
 RATIO_QUANTITY = {"wasserstein_1": "d_B/d_W1", "wasserstein_2": "d_B/d_W2"}
-#: P2 Fig. 1 edge columns: end points [d_ave]
-EDGE_ENDS = ("x_i [d_ave]", "y_i [d_ave]", "x_j [d_ave]", "y_j [d_ave]")
-
-
-# --- Fig. 1: three nearby snapshots and |ΔF| between them ------------------------------------------------------
-def prepare_p2_fig01(snapshots: Sequence[xr.Dataset], *, kind: str = "normal", system: str = report.FRICTIONAL,
-                     remove_rattlers: bool | str = False) -> FigureData:
-    """Edges of panels (a–c): the force network of three nearby snapshots, F/⟨F⟩ of that snapshot; (d–e):
-    |F_b − F_a| and |F_c − F_a| on the contacts of either snapshot (a contact missing in one has F = 0 there),
-    at snapshot a's particle positions. Panels 0–4 are a–e."""
-    if len(snapshots) != 3:
-        raise ValueError(f"Fig. 1 needs three snapshots a, b, c; got {len(snapshots)}")
-    # each network is built once: panels (a–c) draw it, (d–e) take differences of the same edge values
-    networks = [report.contact_forces(s, kind, remove_rattlers=remove_rattlers) for s in snapshots]
-    n_particles = max(int(s.sizes["particle"]) for s in snapshots)
-    diffs = [report.edge_differences(networks[0], networks[k], n_particles) for k in (1, 2)]
-    blocks = []
-    for panel, (snap, edges) in enumerate(zip([*snapshots, snapshots[0], snapshots[0]], [*networks, *diffs])):
-        position = snap["position"].values
-        quantity = "F/<F>" if panel < 3 else "|F_%s - F_a|/<F>" % "bc"[panel - 3]
-        blocks.append(pd.DataFrame({cols.PANEL: panel, cols.SYSTEM: system, "force_kind": kind,
-                                    cols.RHO: float(snap["rho"]), cols.QUANTITY: quantity, "i": edges.i, "j": edges.j,
-                                    EDGE_ENDS[0]: position[edges.i, 0], EDGE_ENDS[1]: position[edges.i, 1],
-                                    EDGE_ENDS[2]: position[edges.j, 0], EDGE_ENDS[3]: position[edges.j, 1],
-                                    cols.VALUE: edges.force}))
-    return FigureData(concat(blocks), {
-        "box": [(s["box_lo"].values[:2], s["box_hi"].values[:2]) for s in snapshots],
-        "states": [(float(s["rho"]), float(s["Z"])) for s in snapshots], "kind": kind, "system": system,
-        "realization": snapshots[0].attrs.get("realization", "?")})
-
-
-def draw_p2_fig01(data: FigureData) -> Figure:
-    apply_style()
-    kind, system = data.layout["kind"], data.layout["system"]
-    fig, axes = plt.subplots(2, 3, figsize=(13, 8.6), constrained_layout=True)
-    networks = [data.panel(p) for p in range(5)]
-    vmax = max(float(n[cols.VALUE].max()) if len(n) else 1.0 for n in networks[:3])
-    boxes = data.layout["box"]
-    for ax, rows, box, (rho, _), letter in zip(axes[0], networks[:3], boxes, data.layout["states"], "abc"):
-        lines = _draw_edges(ax, rows, "viridis", 0.0, vmax)
-        _frame(ax, box, f"({letter}) ρ = {rho:.4f}")
-    fig.colorbar(lines, ax=axes[0].tolist(), shrink=0.8, label=rf"{kind} force $F/\langle F\rangle$")
-    dmax = max([float(n[cols.VALUE].max()) for n in networks[3:] if len(n)] + [1e-12])
-    for ax, rows, letter, pair in zip(axes[1], networks[3:], "de", ("b", "c")):
-        lines = _draw_edges(ax, rows, "inferno_r", 0.0, dmax)
-        _frame(ax, boxes[0], rf"({letter}) $|F_{pair} - F_a|$")
-    side = axes[1, 2]
-    side.axis("off")
-    fig.colorbar(lines, cax=side.inset_axes([0.0, 0.1, 0.06, 0.8]),
-                 label=r"$|\Delta F|/\langle F\rangle$ (each snapshot normalised by its own mean)")
-    side.text(0.45, 0.5, f"{system_label(system)}, realization {data.layout.get('realization', '?')}\n"
-              f"{KIND_WORDS.get(kind, kind)}\n"
-              + "\n".join(f"{letter}: ρ = {rho:.4f}, Z = {z:.2f}"
-                          for letter, (rho, z) in zip("abc", data.layout["states"])),
-              transform=side.transAxes, va="center")
-    fig.suptitle("Force networks of three nearby states and their differences (P2 Fig. 1)")
-    return fig
-
-
-def p2_fig01_snapshots_differences(snapshots: Sequence[xr.Dataset], *, kind: str = "normal",
-                                   system: str = report.FRICTIONAL, remove_rattlers: bool | str = False) -> Figure:
-    """P2 Fig. 1: (a–c) the force network of three nearby snapshots, colour = F/⟨F⟩ of that snapshot;
-    (d) |F_b − F_a| and (e) |F_c − F_a| on the contacts of either snapshot (see `prepare_p2_fig01`)."""
-    return draw_p2_fig01(prepare_p2_fig01(snapshots, kind=kind, system=system, remove_rattlers=remove_rattlers))
-
-
-def _draw_edges(ax, rows: pd.DataFrame, cmap, vmin, vmax):
-    values = rows[cols.VALUE].to_numpy(float)
-    ends = rows[list(EDGE_ENDS)].to_numpy(float)
-    segments = ends.reshape(-1, 2, 2)
-    order = np.argsort(values)  # strongest on top
-    lines = LineCollection(segments[order], cmap=cmap, linewidths=1.4)
-    lines.set_array(values[order])
-    lines.set_clim(vmin, vmax if vmax > vmin else vmin + 1.0)
-    ax.add_collection(lines)
-    return lines
-
-
-def _frame(ax, box, title: str) -> None:
-    lo, hi = box
-    ax.add_patch(Rectangle(lo, *(hi - lo), fill=False, color="0.4", lw=0.8))
-    pad = 0.03 * float(np.max(hi - lo))
-    ax.set_xlim(lo[0] - pad, hi[0] + pad)
-    ax.set_ylim(lo[1] - pad, hi[1] + pad)
-    ax.set_aspect("equal")
-    ax.set_xlabel(r"$x$ $[d_{ave}]$")
-    ax.set_ylabel(r"$y$ $[d_{ave}]$")
-    ax.set_title(title)
 
 
 # --- Fig. 3: PD0 and PD1 of one snapshot --------------------------------------------------------------------------
-def prepare_p2_fig03(analysis: xr.Dataset, *, kind: str = "normal", system: str = report.FRICTIONAL,
-                     essential_death: float = -1.0) -> FigureData:
-    """Points of PD0 (panel 0) and PD1 (panel 1) of one snapshot; never-dying classes (death −inf) are drawn at
-    death = `essential_death` (P2's −1), given in the column "death drawn [<F>]"."""
+def prepare_p2_fig03_diagrams(analysis: xr.Dataset, *, kind: str = "normal", system: str = report.FRICTIONAL,
+                              essential_death: float = -1.0) -> FigureData:
+    """P2 Fig. 3: points of PD0 (panel 0) and PD1 (panel 1) of one snapshot; never-dying classes (death −inf) are
+    drawn at death = `essential_death` (P2's −1), given in the column "death drawn [<F>]"."""
     blocks = []
     for h in report.P2_HOMOLOGY_DIMS:
         birth, death, essential = report.diagram_points(analysis, kind, h)
@@ -145,7 +54,7 @@ def prepare_p2_fig03(analysis: xr.Dataset, *, kind: str = "normal", system: str 
                                        "essential_death": essential_death})
 
 
-def draw_p2_fig03(data: FigureData) -> Figure:
+def draw_p2_fig03_diagrams(data: FigureData) -> Figure:
     apply_style()
     kind, system, essential_death = (data.layout[k] for k in ("kind", "system", "essential_death"))
     fig, axes = plt.subplots(1, 2, figsize=(10, 4.6), constrained_layout=True)
@@ -165,16 +74,9 @@ def draw_p2_fig03(data: FigureData) -> Figure:
         ax.set_ylabel(LABELS["death"])
         ax.set_title(rf"({'ab'[h]}) PD$_{h}$: {birth.size} points")
         ax.legend(loc="upper left", fontsize="small")
-    fig.suptitle(f"Persistence diagrams, {system_label(system)}, {KIND_WORDS.get(kind, kind)}, "
+    fig.suptitle(f"Persistence diagrams, {system_label(system)}, {FORCE_KIND_WORDS.get(kind, kind)}, "
                  f"ρ = {data.layout['rho']:.4f} (P2 Fig. 3)")
     return fig
-
-
-def p2_fig03_diagrams(analysis: xr.Dataset, *, kind: str = "normal", system: str = report.FRICTIONAL,
-                      essential_death: float = -1.0) -> Figure:
-    """P2 Fig. 3: PD0 and PD1 of one snapshot (birth ≥ death, super-level filtration); never-dying classes are
-    drawn at death = `essential_death` (P2's −1) with their own marker."""
-    return draw_p2_fig03(prepare_p2_fig03(analysis, kind=kind, system=system, essential_death=essential_death))
 
 
 # --- Figs 6, 8, 9: distances vs ρ with Z(ρ) ------------------------------------------------------------------------
@@ -207,36 +109,33 @@ def _layout(distances: xr.Dataset, kind: str, system: str, source: str, dimensio
 
 
 def draw_distances(data: FigureData) -> Figure:
-    apply_style()
-    layout = data.layout
-    fig, axes = plt.subplots(1, 2, figsize=(11.5, 4.6), constrained_layout=True)
+    """P2 Figs 6, 8, 9: d_B, d_W1, d_W2 vs ρ in panels β0 and β1, Z(ρ) on a twin axis of each."""
+    fig, axes = _draw_beta_panels(data, (11.5, 4.6), {METRIC_QUANTITY[m]: (m, METRIC_TEX[m]) for m in report.METRICS},
+                                  DISTANCE_LABEL, "distances between consecutive states")
     for ax, h in zip(axes, report.P2_HOMOLOGY_DIMS):
         rows = data.panel(h)
-        for metric in report.METRICS:
-            _draw_band(ax, rows[rows[cols.QUANTITY] == METRIC_QUANTITY[metric]], METRIC_COLORS[metric],
-                       METRIC_MARKERS[metric], METRIC_TEX[metric])
-        _log_panel_vs_rho(ax, h, DISTANCE_LABEL, layout["rho_J"], layout["dimension"])
-        _mark_quoted_levels(ax, layout["source"], h, rows[cols.RHO].values, layout["rho_J"])
-        twin = _z_twin(ax, rows[rows[cols.QUANTITY] == "Z"], layout["system"], layout["dimension"])
+        twin = _z_twin(ax, rows[rows[cols.QUANTITY] == "Z"], data.layout["system"], data.layout["dimension"])
     _figure_legend(fig, [axes[0], twin])
-    fig.suptitle(f"{system_label(layout['system'])}, {KIND_WORDS.get(layout['kind'], layout['kind'])}: distances "
-                 f"between consecutive states ({layout['realizations']}; {layout['source']})")
     return fig
 
 
-def p2_fig06_distances_normal_mu05(distances: xr.Dataset, *, system: str = report.FRICTIONAL) -> Figure:
-    """P2 Fig. 6: d_B, d_W1, d_W2 between consecutive PDs vs ρ, β0 and β1, normal forces, μ = 0.5; Z(ρ)."""
-    return _from_parts("p2_fig06_distances_normal_mu05", distances, system)
-
-
-def p2_fig08_distances_tangential_mu05(distances: xr.Dataset, *, system: str = report.FRICTIONAL) -> Figure:
-    """P2 Fig. 8: as Fig. 6 for the tangential forces (each network normalised by its mean tangential force)."""
-    return _from_parts("p2_fig08_distances_tangential_mu05", distances, system)
-
-
-def p2_fig09_distances_normal_mu0(distances: xr.Dataset, *, system: str = report.FRICTIONLESS) -> Figure:
-    """P2 Fig. 9: as Fig. 6 for the frictionless system (μ = 0)."""
-    return _from_parts("p2_fig09_distances_normal_mu0", distances, system)
+def _draw_beta_panels(data: FigureData, size: tuple[float, float], curves: dict[str, tuple[str, str]], ylabel: str,
+                      what: str):
+    """The two panels of Figs 6–10, (a) β0 and (b) β1 vs ρ on a log y axis: one banded curve per `curves` entry
+    (quantity → (metric giving its colour and marker, legend label)), ρ_J and P2's quoted levels marked, and a
+    title saying `what`. Returns (figure, axes)."""
+    apply_style()
+    layout = data.layout
+    fig, axes = plt.subplots(1, 2, figsize=size, constrained_layout=True)
+    for ax, h in zip(axes, report.P2_HOMOLOGY_DIMS):
+        rows = data.panel(h)
+        for quantity, (metric, label) in curves.items():
+            _draw_band(ax, rows[rows[cols.QUANTITY] == quantity], METRIC_COLORS[metric], METRIC_MARKERS[metric], label)
+        _log_panel_vs_rho(ax, h, ylabel, layout["rho_J"], layout["dimension"])
+        _mark_quoted_levels(ax, layout["source"], h, rows[cols.RHO].values, layout["rho_J"])
+    fig.suptitle(f"{system_label(layout['system'])}, {FORCE_KIND_WORDS.get(layout['kind'], layout['kind'])}: {what} "
+                 f"({layout['realizations']}; {layout['source']})")
+    return fig, axes
 
 
 def _mark_quoted_levels(ax, source: str, h: int, rho: np.ndarray, rho_j: float) -> None:
@@ -312,74 +211,14 @@ def prepare_ratios(distances: xr.Dataset, *, kind: str, system: str, source: str
 
 
 def draw_ratios(data: FigureData) -> Figure:
-    apply_style()
-    layout = data.layout
-    fig, axes = plt.subplots(1, 2, figsize=(11, 4.4), constrained_layout=True)
-    for ax, h in zip(axes, report.P2_HOMOLOGY_DIMS):
-        rows = data.panel(h)
-        for den in ("wasserstein_1", "wasserstein_2"):
-            _draw_band(ax, rows[rows[cols.QUANTITY] == RATIO_QUANTITY[den]], METRIC_COLORS[den], METRIC_MARKERS[den],
-                       rf"$d_B/${METRIC_TEX[den]}")
-        _log_panel_vs_rho(ax, h, RATIO_LABEL, layout["rho_J"], layout["dimension"])
-        _mark_quoted_levels(ax, layout["source"], h, rows[cols.RHO].values, layout["rho_J"])
+    """P2 Figs 7, 10: d_B/d_W1 and d_B/d_W2 vs ρ in panels β0 and β1."""
+    fig, axes = _draw_beta_panels(data, (11, 4.4), {RATIO_QUANTITY[den]: (den, rf"$d_B/${METRIC_TEX[den]}")
+                                                    for den in ("wasserstein_1", "wasserstein_2")},
+                                  RATIO_LABEL, "ratios of the rates of change")
     _figure_legend(fig, [axes[0]])
-    fig.suptitle(f"{system_label(layout['system'])}, {KIND_WORDS.get(layout['kind'], layout['kind'])}: ratios of the "
-                 f"rates of change ({layout['realizations']}; {layout['source']})")
     return fig
-
-
-def p2_fig07_ratios_mu05(distances: xr.Dataset, *, kind: str = "normal", system: str = report.FRICTIONAL) -> Figure:
-    """P2 Fig. 7: d_B/d_W1 and d_B/d_W2 vs ρ, β0 and β1, μ = 0.5 (normal forces)."""
-    return draw_ratios(prepare_ratios(distances, kind=kind, system=system, source=_source("p2_fig07_ratios_mu05")))
-
-
-def p2_fig10_ratios_mu0(distances: xr.Dataset, *, kind: str = "normal", system: str = report.FRICTIONLESS) -> Figure:
-    """P2 Fig. 10: as Fig. 7 for the frictionless system (μ = 0)."""
-    return draw_ratios(prepare_ratios(distances, kind=kind, system=system, source=_source("p2_fig10_ratios_mu0")))
 
 
 def _realizations_text(ds: xr.Dataset) -> str:
     n = int(ds.sizes.get("realization", 1))
     return f"mean of {n} realization{'s' if n != 1 else ''}" + (", 16–84 % band" if n > 1 else "")
-
-
-P2_FIGURES: dict[str, Callable[..., Figure]] = {
-    "p2_fig01_snapshots_differences": p2_fig01_snapshots_differences,
-    "p2_fig03_diagrams": p2_fig03_diagrams,
-    "p2_fig06_distances_normal_mu05": p2_fig06_distances_normal_mu05,
-    "p2_fig07_ratios_mu05": p2_fig07_ratios_mu05,
-    "p2_fig08_distances_tangential_mu05": p2_fig08_distances_tangential_mu05,
-    "p2_fig09_distances_normal_mu0": p2_fig09_distances_normal_mu0,
-    "p2_fig10_ratios_mu0": p2_fig10_ratios_mu0,
-}
-"""Figure name (the output file stem, ``results/figures/{name}.pdf``) → function drawing it from its input."""
-
-#: figure name → (preparation with its fixed options, drawing); the functions of `P2_FIGURES` are these composed
-P2_FIGURE_PARTS: dict[str, tuple[Callable[..., FigureData], Callable[[FigureData], Figure]]] = {
-    "p2_fig01_snapshots_differences": (prepare_p2_fig01, draw_p2_fig01),
-    "p2_fig03_diagrams": (prepare_p2_fig03, draw_p2_fig03),
-    "p2_fig06_distances_normal_mu05": (partial(prepare_distances, kind="normal", source="P2 Fig. 6"), draw_distances),
-    "p2_fig07_ratios_mu05": (partial(prepare_ratios, kind="normal", source="P2 Fig. 7"), draw_ratios),
-    "p2_fig08_distances_tangential_mu05": (partial(prepare_distances, kind="tangential", source="P2 Fig. 8"),
-                                           draw_distances),
-    "p2_fig09_distances_normal_mu0": (partial(prepare_distances, kind="normal", source="P2 Fig. 9"), draw_distances),
-    "p2_fig10_ratios_mu0": (partial(prepare_ratios, kind="normal", source="P2 Fig. 10"), draw_ratios),
-}
-
-
-def _source(name: str) -> str:
-    return P2_FIGURE_PARTS[name][0].keywords["source"]
-
-
-def _from_parts(name: str, data, system: str) -> Figure:
-    return draw_p2_figure(name, p2_figure_data(name, data, system=system))
-
-
-def p2_figure_data(name: str, data, *, system: str, **options) -> FigureData:
-    """The plotted values of the P2 figure `name` from its input (three snapshots, one analysis or a distances
-    dataset, as `P2_FIGURES[name]` takes); `options` go to its preparation (Fig. 1: ``remove_rattlers``)."""
-    return P2_FIGURE_PARTS[name][0](data, system=system, **options)
-
-
-def draw_p2_figure(name: str, data: FigureData) -> Figure:
-    return P2_FIGURE_PARTS[name][1](data)

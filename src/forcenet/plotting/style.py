@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import zlib
+from typing import Sequence
 
 import matplotlib
 
@@ -35,6 +36,8 @@ LABELS = {
     "birth": r"birth $b/\langle F\rangle$",
     "death": r"death $d/\langle F\rangle$",
 }
+#: a force kind in words (figure titles)
+FORCE_KIND_WORDS = {"total": "total forces", "normal": "normal forces", "tangential": "tangential forces"}
 
 
 def system_color(name: str):
@@ -45,6 +48,25 @@ def system_color(name: str):
 
 def system_label(name: str) -> str:
     return SYSTEM_LABELS.get(name, name)
+
+
+def panel_figure(n_panels: int, ncols: int = 3, size=(4.2, 3.3), projections: Sequence[str | None] | None = None):
+    """A figure of `n_panels` axes, `ncols` a row, each `size` inches (width, height); `projections` per panel
+    (None, or "3d"). Returns (figure, [axes, …])."""
+    import numpy as np
+
+    apply_style()
+    ncols = max(1, min(ncols, n_panels))
+    nrows = int(np.ceil(n_panels / ncols))
+    fig = plt.figure(figsize=(size[0] * ncols, size[1] * nrows), layout="constrained")
+    projections = projections or [None] * n_panels
+    axes = [fig.add_subplot(nrows, ncols, k + 1, projection=projections[k]) for k in range(n_panels)]
+    return fig, axes
+
+
+def system_title(ax, name: str, extra: str = "") -> None:
+    """The panel title: the system's label in its colour, then `extra`."""
+    ax.set_title(system_label(name) + extra, color=system_color(name))
 
 
 def apply_style() -> None:

@@ -103,11 +103,9 @@ def _consecutive_distances(diagrams: Sequence, homology_dim: int, essential_conv
 
 def _snapshot_network(snapshot: xr.Dataset, kind: str, remove_rattlers: bool | str):
     """The force network of one snapshot, forces in units of that network's mean (P2 §II)."""
-    from forcenet.network import build_force_network
+    from forcenet.network import snapshot_network
 
-    return build_force_network(snapshot["position"].values, snapshot["contact_i"].values,
-                               snapshot["contact_j"].values, snapshot["force_normal"].values,
-                               snapshot["force_tangential"].values, kind=kind, remove_rattlers=remove_rattlers)
+    return snapshot_network(snapshot, kind, rattler_rule=remove_rattlers, wall_contacts="ignored")
 
 
 @dataclass(frozen=True)

@@ -21,16 +21,16 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from forcenet.network.force_network import ForceNetwork, vertex_values  # noqa: F401  (re-exported)
+from forcenet.network.force_network import CompactVertices, ForceNetwork, vertex_values  # noqa: F401  (re-exported)
 
 
 @dataclass(frozen=True)
-class FlagComplex:
-    """Simplices of a flag complex with their filtration values; vertex ids are compact (0..n_vertices−1).
+class FlagComplex(CompactVertices):
+    """Simplices of a flag complex with their filtration values on the compact vertex ids of its network
+    (`CompactVertices`: ``particle``, ``n_vertices``).
 
-    Attributes
-    ----------
-    particle : ndarray, shape (V,), int64 — original particle id of each compact vertex.
+    Attributes (after ``particle``)
+    -------------------------------
     vertex_value : ndarray, shape (V,) — f(vertex) [⟨F⟩].
     edges : ndarray, shape (E, 2), int64 — sorted vertex pairs (a < b), lexicographically ordered.
     edge_value : ndarray, shape (E,) [⟨F⟩].
@@ -40,7 +40,6 @@ class FlagComplex:
     tetrahedron_value : ndarray, shape (K,) [⟨F⟩].
     """
 
-    particle: np.ndarray
     vertex_value: np.ndarray
     edges: np.ndarray
     edge_value: np.ndarray
@@ -48,10 +47,6 @@ class FlagComplex:
     triangle_value: np.ndarray
     tetrahedra: np.ndarray
     tetrahedron_value: np.ndarray
-
-    @property
-    def n_vertices(self) -> int:
-        return int(self.particle.size)
 
     def simplices(self, dimension: int) -> tuple[np.ndarray, np.ndarray]:
         """(simplices, values) of one dimension: shapes (n, dimension + 1) and (n,)."""

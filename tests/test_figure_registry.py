@@ -1,0 +1,59 @@
+"""The figure registry (forcenet.plotting.registry): every entry names functions that exist and take its inputs,
+input kinds the workflow can find and open, unique ids; and the default build makes every registered figure."""
+from __future__ import annotations
+
+import dataclasses
+import re
+
+import pytest
+
+from conftest import REPO, snakemake
+from forcenet.pipeline import FIGURE_INPUT_READERS
+from forcenet.plotting import registry
+
+
+def test_every_entry_is_well_formed():
+    assert registry.registry_problems() == []
+    assert len(registry.FIGURES_BY_ID) == len(registry.FIGURES)
+
+
+def entry(**changes):
+    return dataclasses.replace(registry.figure_entry("p1_fig04_cluster_size"), **changes)
+
+
+@pytest.mark.parametrize("bad, problem", [
+    (entry(inputs=("measures", "stress_maps")), "unknown input kind 'stress_maps'"),
+    (entry(prepare="p1:prepare_p1_fig99"), "not found"),
+    (entry(inputs=("measures", "diagrams")), "takes 1 inputs, the entry names 2"),
+    (entry(options={"kind": "normal"}), "takes no option 'kind'"),
+    (entry(id="fig04_cluster_size"), "must start with its study"),
+    (entry(systems="frictional_ones"), "systems must be one of"),
+    (entry(prepare="p1:prepare_p1_fig03_force_pdf"), "neither prepare_p1_fig04_cluster_size nor shared"),
+    (entry(systems="frictional"), "must take `system`"),
+    (dataclasses.replace(registry.figure_entry("p2_fig03_diagrams"), id="p1_fig03_diagrams", systems="all",
+                         prepare="p2:prepare_p2_fig03_diagrams"), "is given no `system`"),
+])
+def test_a_malformed_entry_is_named(bad, problem):
+    problems = registry.registry_problems([bad])
+    assert any(problem in line for line in problems), problems
+    assert "used twice" in " ".join(registry.registry_problems(registry.FIGURES + (registry.FIGURES[0],)))
+
+
+def test_the_pipeline_opens_every_input_kind():
+    assert set(FIGURE_INPUT_READERS) == set(registry.INPUT_KINDS)
+
+
+def test_the_report_caption_names_the_paper_figure():
+    assert registry.figure_entry("p2_fig07_ratios_mu05").report_caption.endswith("(P2 Fig. 7).")
+    with pytest.raises(KeyError, match="unknown figure"):
+        registry.figure_entry("p2_fig02")
+
+
+@pytest.mark.workflow
+def test_the_default_build_makes_every_registered_figure(tmp_path):
+    """A dry run of config/config.yaml (both studies) schedules the rule figure_<id> of every entry, and rule all
+    asks for its PDF; the rule reads the files of the entry's inputs."""
+    result = snakemake(tmp_path, "-n", "--quiet", "rules", config=REPO / "config/config.yaml")
+    assert result.returncode == 0, result.stderr[-3000:]
+    scheduled = set(re.findall(r"^(figure_\S+)\s+\d+$", result.stdout, flags=re.M))
+    assert scheduled == {f"figure_{entry.id}" for entry in registry.FIGURES}
