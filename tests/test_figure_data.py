@@ -16,6 +16,8 @@ from forcenet.plotting import figure_data as cols  # noqa: E402
 from forcenet.plotting import p1, p2  # noqa: E402
 from forcenet.plotting.figure_data import FigureData, write_csv  # noqa: E402
 from forcenet.report import p2 as report  # noqa: E402
+from forcenet.report.p2_distances import force_differences  # noqa: E402
+from forcenet.report.realizations import realization_mean  # noqa: E402
 from test_plotting_p1 import make_diagrams, make_snapshot  # noqa: E402
 from test_plotting_p2 import DIAGRAMS, analysis_factory  # noqa: E402
 from test_report_p1 import make_p1_measures  # noqa: E402
@@ -159,7 +161,7 @@ def test_p2_distance_csv_holds_the_curves_and_z(tmp_path):
             curve = rows[rows[cols.QUANTITY] == p2.METRIC_QUANTITY[metric]]
             np.testing.assert_allclose(line.get_xdata(), curve[cols.RHO])
             np.testing.assert_allclose(line.get_ydata(), curve[cols.MEAN])
-            expected = report.realization_mean(ds["distance"].sel(force_kind="tangential", homology_dim=h,
+            expected = realization_mean(ds["distance"].sel(force_kind="tangential", homology_dim=h,
                                                                   metric=metric))
             np.testing.assert_allclose(curve[cols.MEAN], expected.values)
         z = rows[rows[cols.QUANTITY] == "Z"]
@@ -188,7 +190,7 @@ def test_p2_network_and_diagram_csvs_hold_the_drawn_edges_and_points(tmp_path):
         rows = table[table[cols.PANEL] == panel]
         drawn = np.sort(np.asarray(ax.collections[0].get_array(), float))
         np.testing.assert_allclose(drawn, np.sort(rows[cols.VALUE].to_numpy()))
-    diff = report.force_differences(snapshots[0], snapshots[2])
+    diff = force_differences(snapshots[0], snapshots[2])
     np.testing.assert_allclose(np.sort(table.loc[table[cols.PANEL] == 4, cols.VALUE]), np.sort(diff.force))
 
     analysis = analysis_factory(0.79, 3.1, DIAGRAMS)
