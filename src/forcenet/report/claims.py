@@ -89,7 +89,9 @@ def claim_register(claims: list[Claim]) -> Callable[..., Callable]:
     """A decorator factory ``claim(id, section, statement, criterion, **fields)`` that appends the decorated judge
     as a `Claim` to `claims` (in definition order) and returns the judge unchanged."""
     def claim(id: str, section: str, statement: str, criterion: str | Callable, **options) -> Callable:
+        """The decorator registering one claim (the fields of `Claim` besides the judge)."""
         def register(judge: Callable) -> Callable:
+            """Append `judge` as the claim's `Claim` and return it unchanged."""
             claims.append(Claim(id=id, section=section, statement=statement, criterion=criterion, judge=judge,
                                 **options))
             return judge

@@ -33,6 +33,7 @@ claim = claim_register(CLAIMS)
        "at F_th = min: max over rho < rho_J - tol of the mean cluster count >= {min_clusters}, and its B0/N <= the "
        "largest mean B0/N (any F_th) beyond rho_J + tol", scope=ALL_2D)
 def clusters_below_jamming(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
+    """Judge of claim p1-3-clusters-below-jamming (per system)."""
     below = require(system.below, "rho below rho_J")
     beyond = require(system.beyond, "rho beyond rho_J")
     count = system.mean("cluster_count", per_n=False, threshold=system.lowest_threshold).values
@@ -46,7 +47,9 @@ def clusters_below_jamming(system: SystemData, tolerances: ClaimTolerances) -> J
 
 
 def _not_measured(reason: str) -> Callable:
+    """A judge for a claim that one set of runs cannot decide: always not evaluated, for `reason`."""
     def judge(context: ClaimContext) -> Judgement:
+        """Not evaluated: the reason of `_not_measured`."""
         raise NotEvaluated(reason)
     return judge
 
@@ -70,6 +73,7 @@ for _id, _statement, _reason in (
        "rho_p = first rho where >= 50 % of the realizations percolate at F_th = min; |rho_p - rho_J| <= tol and "
        "the majority percolates at every rho > rho_J + tol")
 def percolation_at_jamming(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
+    """Judge of claim p1-4-percolation-at-jamming (per system)."""
     fraction = percolation_fraction(system.data).sel(threshold=system.lowest_threshold).values
     percolating = fraction >= P1_PERCOLATION_MAJORITY
     if not percolating.any():
@@ -89,6 +93,7 @@ def percolation_at_jamming(system: SystemData, tolerances: ClaimTolerances) -> J
        "std of F/<F> (mean over realizations) at each system's largest rho <= rho_max: 2D linear < 2D Hertz < 3D",
        per_system=False)
 def pdf_order_at_rho_max(context: ClaimContext) -> Judgement:
+    """Judge of claim p1-4.1-pdf-order-at-rho-max (across systems)."""
     widths = []
     for role in (LINEAR_2D, HERTZ_2D, HERTZ_3D):
         system = context.role(role)
@@ -106,6 +111,7 @@ def pdf_order_at_rho_max(context: ClaimContext) -> Judgement:
 
 
 def _jammed_pdf_width(system: SystemData) -> float:
+    """Mean over ρ > ρ_J + tol of the realization-mean std of F/⟨F⟩ of one system."""
     beyond = require(system.beyond, f"rho beyond rho_J for {system.name}")
     width = realization_mean(force_pdf_width(system.data)).values
     return float(np.nanmean(finite_values(width[beyond], f"PDF width of {system.name} beyond rho_J")))
@@ -116,6 +122,7 @@ def _jammed_pdf_width(system: SystemData) -> float:
        "(§4.1, §5.3, §6)",
        "mean std of F/<F> over rho > rho_J + tol: every non-linear system > 2D linear", per_system=False)
 def pdf_wider_nonlinear(context: ClaimContext) -> Judgement:
+    """Judge of claim p1-5.3-pdf-wider-nonlinear (across systems)."""
     linear = _jammed_pdf_width(context.role(LINEAR_2D))
     widths = {system.name: _jammed_pdf_width(system) for system in context.nonlinear()}
     margin = min(widths.values()) - linear
@@ -141,6 +148,7 @@ def _mean_pdf_below(system: SystemData) -> tuple[np.ndarray, np.ndarray]:
        "total-variation distance between the mean PDFs of F/<F> over rho < rho_J - tol of 3D and of each 2D "
        "system >= {pdf_distance}", per_system=False)
 def pdf_2d_3d_differ(context: ClaimContext) -> Judgement:
+    """Judge of claim p1-6-pdf-2d-3d-differ-below-jamming (across systems)."""
     centres_3d, pdf_3d = _mean_pdf_below(context.role(HERTZ_3D))
     distances = {}
     for role in ALL_2D:
@@ -171,11 +179,13 @@ def _cluster_size_peak_threshold(system: SystemData) -> tuple[float, np.ndarray]
        "median over rho > rho_J + tol of the F_th maximising the mean <S>/N within {threshold_tolerance} of P1's",
        paper=PAPER_CLUSTER_SIZE_PEAK)
 def cluster_size_peak_threshold(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
+    """Judge of claim p1-4.2-cluster-size-peak-threshold (per system)."""
     paper = PAPER_CLUSTER_SIZE_PEAK.get(system.role, math.nan)
     if not np.isfinite(paper):
         raise NotEvaluated(f"P1 gives no value for a {system.dimension}D {system.force_law} system")
     median, best = _cluster_size_peak_threshold(system)
-    evidence = f"F_th of the largest <S>/N at each rho beyond rho_J: {fmt_values(best)} ({system.label()}); P1 {paper:g}"
+    evidence = (f"F_th of the largest <S>/N at each rho beyond rho_J: {fmt_values(best)} ({system.label()}); "
+                f"P1 {paper:g}")
     return Judgement(median, evidence, abs(median - paper) <= tolerances.threshold_tolerance + 1e-12)
 
 
@@ -196,6 +206,7 @@ def _cluster_size_decay(system: SystemData) -> float:
        "mean over rho > rho_J + tol of (mean <S>/N over F_th >= 2) / (max over F_th): 2D linear < 2D Hertz",
        per_system=False)
 def cluster_size_decays_faster_linear(context: ClaimContext) -> Judgement:
+    """Judge of claim p1-4.2-cluster-size-decays-faster-linear (across systems)."""
     linear, hertz = _cluster_size_decay(context.role(LINEAR_2D)), _cluster_size_decay(context.role(HERTZ_2D))
     evidence = f"<S>/N at F_th >= 2 relative to its maximum: 2D linear {linear:.3g}, 2D Hertz {hertz:.3g}"
     return Judgement(hertz - linear, evidence, linear < hertz)
@@ -205,6 +216,7 @@ def cluster_size_decays_faster_linear(context: ClaimContext) -> Judgement:
        "3D networks hold more clusters of large forces: <S>/N peaks at a larger F_th than in 2D (also §6)",
        "median F_th of the <S>/N maximum beyond rho_J: 3D > 2D Hertz", per_system=False)
 def cluster_size_3d_larger_forces(context: ClaimContext) -> Judgement:
+    """Judge of claim p1-4.2-cluster-size-3d-larger-forces (across systems)."""
     three, _ = _cluster_size_peak_threshold(context.role(HERTZ_3D))
     two, _ = _cluster_size_peak_threshold(context.role(HERTZ_2D))
     return Judgement(three - two, f"F_th of the <S>/N maximum: 3D {three:.3g}, 2D Hertz {two:.3g}", three > two)
@@ -215,6 +227,7 @@ def cluster_size_3d_larger_forces(context: ClaimContext) -> Judgement:
        "the strongest peak of mean <S>/N(rho) over F_th < 0.5 lies within tol of rho_J with prominence >= "
        "{min_prominence} of the largest <S>/N; present for Hertz, absent for linear")
 def cluster_size_peak_small_threshold(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
+    """Judge of claim p1-6-cluster-size-peak-small-threshold (per system)."""
     expected = expected_for_law(system, nonlinear=True)
     size = system.mean("cluster_mean_size")
     small = system.thresholds[system.thresholds < P1_SMALL_THRESHOLD]
@@ -245,6 +258,7 @@ def _onset_share(system: SystemData) -> tuple[float, float]:
        "in 2D at F_th ~ 0 the percolating cluster contains almost all the particles",
        "median N_per/N at F_th = min over rho > rho_J + tol (where shown) >= {almost_all}", scope=ALL_2D)
 def percolating_almost_all(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
+    """Judge of claim p1-4.3-percolating-almost-all-2d (per system)."""
     beyond = require(system.beyond, "rho beyond rho_J")
     share = _percolating_share(system).sel(threshold=system.lowest_threshold).values[beyond]
     values = finite_values(share, "N_per/N beyond rho_J")
@@ -258,6 +272,7 @@ def percolating_almost_all(system: SystemData, tolerances: ClaimTolerances) -> J
        "least half (also §6)",
        "median of N_per/N over every shown (rho, F_th) >= 0.5 (P1: 'often at least half')", scope=ALL_2D)
 def percolating_significant(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
+    """Judge of claim p1-4.3-percolating-significant-2d (per system)."""
     values = finite_values(_percolating_share(system).values, "N_per/N")
     median = float(np.median(values))
     evidence = (f"N_per/N over {values.size} shown (rho, F_th): min {values.min():.3g}, median {median:.3g}, "
@@ -269,6 +284,7 @@ def percolating_significant(system: SystemData, tolerances: ClaimTolerances) -> 
        "in 3D near rho_J the percolating cluster contains only a very small share of the particles (also §6)",
        "N_per/N at F_th = min at the first shown rho (<= rho_J + tol) <= {small_share}", scope=(HERTZ_3D,))
 def percolating_small_near_jamming(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
+    """Judge of claim p1-4.3-percolating-small-3d-near-jamming (per system)."""
     rho, share = _onset_share(system)
     if rho > system.rho_j + system.tolerance + 1e-12:
         raise NotEvaluated(f"percolation first shown at rho={rho:.3f}, beyond rho_J + tol ({system.label()})")
@@ -280,6 +296,7 @@ def percolating_small_near_jamming(system: SystemData, tolerances: ClaimToleranc
        "in 3D the percolating cluster is a very small share of the particles for F_th > 2 (also §6)",
        "median N_per/N over shown (rho, F_th > 2) <= {small_share}", scope=(HERTZ_3D,), needs_rho_j=False)
 def percolating_small_large_threshold(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
+    """Judge of claim p1-4.3-percolating-small-3d-large-threshold (per system)."""
     large = system.thresholds > P1_LARGE_THRESHOLD + 1e-12
     values = finite_values(_percolating_share(system).values[:, large], "N_per/N at F_th > 2 (no percolation shown)")
     median = float(np.median(values))
@@ -291,6 +308,7 @@ def percolating_small_large_threshold(system: SystemData, tolerances: ClaimToler
        "near rho_J the percolating cluster is smaller (relative to N) in 3D than in 2D (Eq. 6: phi_c ~ 0.2 vs 0.5)",
        "N_per/N at F_th = min at the first shown rho: 3D < each 2D system", per_system=False)
 def percolating_smaller_in_3d(context: ClaimContext) -> Judgement:
+    """Judge of claim p1-4.3-percolating-smaller-in-3d (across systems)."""
     three = _onset_share(context.role(HERTZ_3D))[1]
     two = {context.role(role).name: _onset_share(context.role(role))[1] for role in ALL_2D}
     evidence = f"N_per/N at the percolation onset: 3D {three:.3g}; " + ", ".join(f"{n} {v:.3g}" for n, v in two.items())
@@ -302,6 +320,7 @@ def percolating_smaller_in_3d(context: ClaimContext) -> Judgement:
        "phi_c of Eq. 6 (<k^2> ~ <k>^2, so phi_c = 1/(Z - 1)) is a lower bound for N_per/N",
        "at F_th = min and every shown rho: N_per/N >= 1/(Z - 1), Z the mean coordination number", needs_rho_j=False)
 def phi_c_lower_bound(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
+    """Judge of claim p1-4.3-phi-c-lower-bound (per system)."""
     share = _percolating_share(system).sel(threshold=system.lowest_threshold).values
     z = realization_mean(system.data["Z"]).values
     shown = np.isfinite(share) & np.isfinite(z)
@@ -310,6 +329,7 @@ def phi_c_lower_bound(system: SystemData, tolerances: ClaimTolerances) -> Judgem
     with np.errstate(divide="ignore"):
         phi_c = np.where(z[shown] > 1, 1.0 / (z[shown] - 1.0), np.inf)  # P1 Eq. 6 with <k^2> = <k>^2
     margin = share[shown] - phi_c
-    evidence = (f"at rho {fmt_values(system.rho[shown])}: N_per/N {fmt_values(share[shown])} vs phi_c {fmt_values(phi_c)} "
+    evidence = (f"at rho {fmt_values(system.rho[shown])}: N_per/N {fmt_values(share[shown])} vs phi_c "
+                f"{fmt_values(phi_c)} "
                 f"({system.name})")
     return Judgement(float(margin.min()), evidence, bool(margin.min() >= 0))

@@ -6,8 +6,10 @@ judging function each, registered in `CLAIMS` in definition order. Judges, crite
 from __future__ import annotations
 
 import math
+from typing import Callable
 
 import numpy as np
+import xarray as xr
 
 from forcenet.report.claims import Claim, Judgement, NotEvaluated, claim_register
 from forcenet.report.p1 import (HERTZ_2D, HERTZ_3D, LINEAR_2D, P1_LARGE_THRESHOLD, P1_OPEN_PATH_MIN, P1_SHAPE_BOUNDS,
@@ -28,6 +30,7 @@ claim = claim_register(CLAIMS)
        "the strongest peak of mean B0/N(rho) over F_th < 0.5 lies within tol of rho_J with prominence >= "
        "{min_prominence} of the largest B0/N; present for Hertz, absent for linear")
 def b0_ridge(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
+    """Judge of claim p1-5.1-b0-ridge (per system)."""
     expected = expected_for_law(system, nonlinear=True)
     found = _ridge(system)
     peak, threshold = found if found else (None, None)
@@ -35,6 +38,7 @@ def b0_ridge(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
 
 
 def _ridge(system: SystemData) -> tuple[Peak, float] | None:
+    """The strongest B0/N peak over F_th < 0.5 (P1 §5.1's ridge) and its F_th, or None."""
     b0 = system.mean("betti", homology_dim=0)
     small = system.thresholds[system.thresholds < P1_SMALL_THRESHOLD]
     if small.size == 0 or system.data.sizes["rho"] < 3:
@@ -46,6 +50,7 @@ def _ridge(system: SystemData) -> tuple[Peak, float] | None:
        "beyond jamming B0/N first grows with F_th, then falls as F_th -> max (arrows of Fig. 6)",
        "median over rho > rho_J + tol of the F_th maximising mean B0/N lies strictly inside the F_th grid")
 def b0_interior_maximum(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
+    """Judge of claim p1-5.1-b0-interior-maximum (per system)."""
     beyond = require(system.beyond, "rho beyond rho_J")
     b0 = system.mean("betti", homology_dim=0).transpose("rho", "threshold").values[beyond]
     rows = [row for row in b0 if np.isfinite(row).any() and np.nanmax(row) > 0]
@@ -63,6 +68,7 @@ def b0_interior_maximum(system: SystemData, tolerances: ClaimTolerances) -> Judg
        "max over rho < rho_J - tol of the mean (over realizations) of max over F_th of B1/N <= "
        "{negligible_fraction} x its maximum")
 def b1_zero_below(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
+    """Judge of claim p1-5.1-b1-zero-below (per system)."""
     return zero_below(betti_curve(system, 1), system, tolerances, "B1/N")
 
 
@@ -70,6 +76,7 @@ def b1_zero_below(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
        "max of B1/N (max over F_th) over rho > rho_J + tol minus its value at the last rho <= rho_J > "
        "{negligible_fraction} x its maximum")
 def b1_rises(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
+    """Judge of claim p1-5.1-b1-rises (per system)."""
     curve = np.asarray(betti_curve(system, 1).values, dtype=float)
     beyond = require(system.beyond, "rho beyond rho_J")
     before = require(system.rho <= system.rho_j + 1e-12, "rho at or below rho_J")
@@ -84,6 +91,7 @@ def b1_rises(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
        "B1/N (max over F_th) changes over [rho_max - window, rho_max] by <= {plateau_fraction} of its rise from "
        "its minimum to rho_max; the window must lie beyond rho_J + tol")
 def b1_plateau(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
+    """Judge of claim p1-5.1-b1-plateau (per system)."""
     if not np.isfinite(system.rho_max):
         raise NotEvaluated("rho_max undefined")
     start = system.rho_max - system.window
@@ -104,6 +112,7 @@ def b1_plateau(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
 @claim("p1-5.1-b1-larger-in-3d", "5.1", "the only visible difference in B1/N: larger magnitude in 3D (Fig. 7)",
        "max over rho of B1/N (max over F_th): 3D > each 2D system", per_system=False)
 def b1_larger_in_3d(context: ClaimContext) -> Judgement:
+    """Judge of claim p1-5.1-b1-larger-in-3d (across systems)."""
     three = finite_max(betti_curve(context.role(HERTZ_3D), 1).values)
     two = {context.role(r).name: finite_max(betti_curve(context.role(r), 1).values) for r in ALL_2D}
     largest = max(two.values())
@@ -111,18 +120,30 @@ def b1_larger_in_3d(context: ClaimContext) -> Judgement:
     return Judgement(three / largest if largest > 0 else math.inf, evidence, three > largest)
 
 
-@claim("p1-5.1-b2-zero-below", "5.1", "in 3D B2 vanishes for rho < rho_J",
-       "max over rho < rho_J - tol of the mean of max over F_th of B2/N <= {negligible_fraction} x its maximum",
-       scope=(HERTZ_3D,))
-def b2_zero_below(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
-    return zero_below(betti_curve(system, 2), system, tolerances, "B2/N")
+def _claim_absent_then_growing(section: str, quantity: str, curve: Callable[[SystemData], xr.DataArray],
+                               absent: tuple[str, str, str], growing: tuple[str, str, str]) -> None:
+    """Register P1's pair of claims about a quantity only 3D networks have (B2, TP2): `absent` below ρ_J and
+    `growing` monotonically beyond it, each (id, statement, criterion), judged on `curve(system)` (realization mean
+    of `quantity` versus ρ) of the 3D system."""
+    def vanishes(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
+        """`quantity` ≈ 0 below ρ_J (`zero_below`)."""
+        return zero_below(curve(system), system, tolerances, quantity)
+
+    def grows(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
+        """`quantity` grows monotonically beyond ρ_J (`grows_beyond`)."""
+        return grows_beyond(curve(system), system, tolerances, quantity)
+
+    claim(absent[0], section, absent[1], absent[2], scope=(HERTZ_3D,))(vanishes)
+    claim(growing[0], section, growing[1], growing[2], scope=(HERTZ_3D,))(grows)
 
 
-@claim("p1-5.1-b2-grows", "5.1", "in 3D B2 grows monotonically as rho increases beyond rho_J",
-       "B2/N (max over F_th) over rho >= rho_J - tol rises by > {negligible_fraction} of its maximum and never "
-       "drops between consecutive rho by more than {monotone_tolerance} of it", scope=(HERTZ_3D,))
-def b2_grows(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
-    return grows_beyond(betti_curve(system, 2), system, tolerances, "B2/N")
+_claim_absent_then_growing(
+    "5.1", "B2/N", lambda system: betti_curve(system, 2),
+    ("p1-5.1-b2-zero-below", "in 3D B2 vanishes for rho < rho_J",
+     "max over rho < rho_J - tol of the mean of max over F_th of B2/N <= {negligible_fraction} x its maximum"),
+    ("p1-5.1-b2-grows", "in 3D B2 grows monotonically as rho increases beyond rho_J",
+     "B2/N (max over F_th) over rho >= rho_J - tol rises by > {negligible_fraction} of its maximum and never drops "
+     "between consecutive rho by more than {monotone_tolerance} of it"))
 
 
 # --- §5.2 Shape of the clusters ----------------------------------------------------------------------------------
@@ -137,10 +158,12 @@ def _shape(system: SystemData, rho_mask: np.ndarray, threshold_mask: np.ndarray,
 
 
 def _small_thresholds(system: SystemData) -> np.ndarray:
+    """Mask of F_th < 2 (below twice the mean force, P1 §5.2), (n_threshold,)."""
     return system.thresholds < P1_LARGE_THRESHOLD - 1e-12
 
 
 def _large_thresholds(system: SystemData) -> np.ndarray:
+    """Mask of F_th > 2 (P1 §5.2's large thresholds), (n_threshold,)."""
     return system.thresholds > P1_LARGE_THRESHOLD + 1e-12
 
 
@@ -148,6 +171,7 @@ def _large_thresholds(system: SystemData) -> np.ndarray:
        "in 2D below jamming S_p ~ 1 for both laws: the clusters are open paths (Figs. 8, 9)",
        "|median of the nonzero S_p over rho < rho_J - tol, all F_th - 1| <= {unity_tolerance}", scope=ALL_2D)
 def shape_open_paths_below(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
+    """Judge of claim p1-5.2-shape-open-paths-below-jamming (per system)."""
     values = _shape(system, require(system.below, "rho below rho_J"), np.ones(system.thresholds.size, bool),
                     "below rho_J")
     median = float(np.median(values))
@@ -157,6 +181,7 @@ def shape_open_paths_below(system: SystemData, tolerances: ClaimTolerances) -> J
 
 
 def _mean_shape(system: SystemData, rho_mask: np.ndarray, what: str) -> float:
+    """Mean of the nonzero S_p over the ρ of `rho_mask` and F_th < 2."""
     return float(np.mean(_shape(system, rho_mask, _small_thresholds(system), what)))
 
 
@@ -165,6 +190,7 @@ def _mean_shape(system: SystemData, rho_mask: np.ndarray, what: str) -> float:
        "at smaller F_th (Fig. 9a, b)",
        "mean nonzero S_p over rho < rho_J - tol and F_th < 2: 2D linear > 2D Hertz", per_system=False)
 def shape_linear_above_hertz_below(context: ClaimContext) -> Judgement:
+    """Judge of claim p1-5.2-shape-linear-above-hertz-below-jamming (across systems)."""
     linear, hertz = context.role(LINEAR_2D), context.role(HERTZ_2D)
     a = _mean_shape(linear, require(linear.below, "rho below rho_J (2D linear)"), "below rho_J, F_th < 2")
     b = _mean_shape(hertz, require(hertz.below, "rho below rho_J (2D Hertz)"), "below rho_J, F_th < 2")
@@ -175,6 +201,7 @@ def shape_linear_above_hertz_below(context: ClaimContext) -> Judgement:
        "beyond jamming, for large F_th (> 2) S_p ~ 1 in every system: open paths (also 3D and §5.2 summary)",
        "|median of the nonzero S_p over rho > rho_J + tol and F_th > 2 - 1| <= {unity_tolerance}")
 def shape_open_paths_large_threshold(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
+    """Judge of claim p1-5.2-shape-open-paths-large-threshold (per system)."""
     values = _shape(system, require(system.beyond, "rho beyond rho_J"), _large_thresholds(system),
                     "beyond rho_J, F_th > 2")
     median = float(np.median(values))
@@ -184,6 +211,7 @@ def shape_open_paths_large_threshold(system: SystemData, tolerances: ClaimTolera
 
 
 def _jammed_shapes(context: ClaimContext, *roles) -> dict[str, float]:
+    """{system name: mean nonzero S_p over ρ > ρ_J + tol and F_th < 2} for the systems of `roles`."""
     means = {}
     for role in roles:
         system = context.role(role)
@@ -198,6 +226,7 @@ def _jammed_shapes(context: ClaimContext, *roles) -> dict[str, float]:
        "mean nonzero S_p over rho > rho_J + tol and F_th < 2: 2D linear - 2D Hertz >= {shape_difference}",
        per_system=False)
 def shape_linear_above_hertz(context: ClaimContext) -> Judgement:
+    """Judge of claim p1-5.2-shape-linear-above-hertz (across systems)."""
     means = _jammed_shapes(context, LINEAR_2D, HERTZ_2D)
     (linear, a), (hertz, b) = means.items()
     return Judgement(a - b, f"mean S_p beyond rho_J, F_th < 2: {linear} {a:.3g}, {hertz} {b:.3g}",
@@ -209,6 +238,7 @@ def shape_linear_above_hertz(context: ClaimContext) -> Judgement:
        "mean nonzero S_p over rho > rho_J + tol and F_th < 2: 3D > 2D Hertz, and 3D / 2D Hertz < 7/4",
        per_system=False)
 def shape_3d_above_2d_hertz(context: ClaimContext) -> Judgement:
+    """Judge of claim p1-5.2-shape-3d-above-2d-hertz (across systems)."""
     means = _jammed_shapes(context, HERTZ_3D, HERTZ_2D)
     (three, a), (two, b) = means.items()
     bound = P1_SHAPE_BOUNDS[3] / P1_SHAPE_BOUNDS[2]
@@ -221,12 +251,14 @@ def shape_3d_above_2d_hertz(context: ClaimContext) -> Judgement:
        "clusters than the linear one (§5.2 summary)",
        "mean nonzero S_p over rho > rho_J + tol and F_th < 2: 2D linear > 3D", per_system=False)
 def shape_linear_above_3d(context: ClaimContext) -> Judgement:
+    """Judge of claim p1-5.2-shape-linear-above-3d (across systems)."""
     means = _jammed_shapes(context, LINEAR_2D, HERTZ_3D)
     (linear, a), (three, b) = means.items()
     return Judgement(a - b, f"mean S_p beyond rho_J, F_th < 2: {linear} {a:.3g}, {three} {b:.3g}", a > b)
 
 
 def _relative_shape_spread(system: SystemData) -> float:
+    """Mean over ρ > ρ_J + tol and F_th < 1 of (spread over realizations / S_p) of one system."""
     shape, spread = shape_parameter_average(system.data["shape_parameter"])
     beyond = require(system.beyond, f"rho beyond rho_J ({system.name})")
     small = system.thresholds < 1.0
@@ -242,6 +274,7 @@ def _relative_shape_spread(system: SystemData) -> float:
        "mean over rho > rho_J + tol and F_th < 1 of (spread over realizations / S_p): 3D > 2D Hertz",
        per_system=False)
 def shape_noisier_in_3d(context: ClaimContext) -> Judgement:
+    """Judge of claim p1-5.2-shape-noisier-in-3d (across systems)."""
     if min(s.data.sizes.get("realization", 1) for s in context.systems.values()) < 2:
         raise NotEvaluated("needs at least 2 realizations")
     three, two = _relative_shape_spread(context.role(HERTZ_3D)), _relative_shape_spread(context.role(HERTZ_2D))
@@ -254,6 +287,7 @@ def shape_noisier_in_3d(context: ClaimContext) -> Judgement:
        "S_p lies in [0.5, 4] in 2D and [0.5, 7] in 3D (open paths >= 0.5, bound from the largest contact number)",
        "every nonzero S_p (P1's averaging rule) within those bounds", needs_rho_j=False)
 def shape_bounds(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
+    """Judge of claim p1-5.2-shape-bounds (per system)."""
     every = np.ones(system.rho.size, bool), np.ones(system.thresholds.size, bool)
     values = _shape(system, *every, "any rho")
     upper = P1_SHAPE_BOUNDS.get(system.dimension, math.nan)
@@ -268,6 +302,7 @@ def shape_bounds(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
        "mean rough-bin N0/N at rho_J (interpolated): largest / smallest over the systems <= {similar_ratio}",
        per_system=False)
 def rough_similar_near_jamming(context: ClaimContext) -> Judgement:
+    """Judge of claim p1-5.3-rough-similar-near-jamming (across systems)."""
     values = {name: interp_at(bin_curve(system, "rough"), system.rho_j) for name, system in context.systems.items()
               if np.isfinite(system.rho_j)}
     values = {name: value for name, value in values.items() if np.isfinite(value)}
@@ -279,7 +314,9 @@ def rough_similar_near_jamming(context: ClaimContext) -> Judgement:
 
 
 def _fewer_for_nonlinear(context: ClaimContext, bin_name: str) -> Judgement:
+    """P1: the non-linear systems have fewer `bin_name`-bin points (mean N0/N beyond ρ_J below 2D linear's)."""
     def jammed_mean(system: SystemData) -> float:
+        """Mean over ρ > ρ_J + tol of the system's N0/N in the bin."""
         beyond = require(system.beyond, f"rho beyond rho_J ({system.name})")
         return float(np.nanmean(finite_values(bin_curve(system, bin_name).values[beyond], f"{bin_name} N0/N")))
 
@@ -294,12 +331,14 @@ def _fewer_for_nonlinear(context: ClaimContext, bin_name: str) -> Judgement:
 @claim("p1-5.3-rough-fewer-nonlinear", "5.3", "the non-linear systems have fewer rough-bin points (Fig. 11a, b)",
        "mean rough-bin N0/N over rho > rho_J + tol: every non-linear system < 2D linear", per_system=False)
 def rough_fewer_nonlinear(context: ClaimContext) -> Judgement:
+    """Judge of claim p1-5.3-rough-fewer-nonlinear (across systems)."""
     return _fewer_for_nonlinear(context, "rough")
 
 
 @claim("p1-5.3-medium-fewer-nonlinear", "5.3", "the non-linear systems have fewer medium-bin points (Fig. 11e, f)",
        "mean medium-bin N0/N over rho > rho_J + tol: every non-linear system < 2D linear", per_system=False)
 def medium_fewer_nonlinear(context: ClaimContext) -> Judgement:
+    """Judge of claim p1-5.3-medium-fewer-nonlinear (across systems)."""
     return _fewer_for_nonlinear(context, "medium")
 
 
@@ -307,17 +346,21 @@ def medium_fewer_nonlinear(context: ClaimContext) -> Judgement:
        "medium N0/N at the first rho > rho_J + tol >= {jump_factor} x its value at the last rho < rho_J - tol, "
        "and > 0")
 def medium_jump(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
+    """Judge of claim p1-5.3-medium-jump (per system)."""
     curve = bin_curve(system, "medium").values
     before = curve[np.flatnonzero(require(system.below, "rho below rho_J"))[-1]]
     after = curve[np.flatnonzero(require(system.beyond, "rho beyond rho_J"))[0]]
     if not (np.isfinite(before) and np.isfinite(after)):
         raise NotEvaluated("medium-bin count NaN next to rho_J")
     ratio = after / before if before > 0 else (math.inf if after > 0 else math.nan)
-    evidence = f"medium N0/N {fmt_values(curve)} at rho {fmt_values(system.rho)} ({system.label()}): {before:.3g} -> {after:.3g}"
+    evidence = (f"medium N0/N {fmt_values(curve)} at rho {fmt_values(system.rho)} ({system.label()}): "
+                f"{before:.3g} -> {after:.3g}")
     return Judgement(ratio, evidence, bool(after > 0 and after >= tolerances.jump_factor * before))
 
 
 def _bin_peak(system: SystemData, tolerances: ClaimTolerances, bin_name: str, nonlinear: bool) -> Judgement:
+    """The peak of a persistence bin's N0/N(ρ) near ρ_J, expected for the non-linear laws if `nonlinear`,
+    else for the linear law."""
     expected = expected_for_law(system, nonlinear)
     curve = bin_curve(system, bin_name).values
     return peak_verdict(find_peak(curve, system.rho, system.rho_j, system.tolerance, finite_max(curve)),
@@ -330,6 +373,7 @@ def _bin_peak(system: SystemData, tolerances: ClaimTolerances, bin_name: str, no
        "the maximum of strong-bin N0/N(rho) lies within tol of rho_J with prominence >= {min_prominence} of it; "
        "present for linear, absent for Hertz")
 def strong_peak_linear_only(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
+    """Judge of claim p1-5.3-strong-peak-linear-only (per system)."""
     return _bin_peak(system, tolerances, "strong", nonlinear=False)
 
 
@@ -339,6 +383,7 @@ def strong_peak_linear_only(system: SystemData, tolerances: ClaimTolerances) -> 
        "the maximum of weak-bin N0/N(rho) lies within tol of rho_J with prominence >= {min_prominence} of it; "
        "present for Hertz, absent for linear")
 def weak_peak_nonlinear_only(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
+    """Judge of claim p1-5.3-weak-peak-nonlinear-only (per system)."""
     return _bin_peak(system, tolerances, "weak", nonlinear=True)
 
 
@@ -346,6 +391,7 @@ def weak_peak_nonlinear_only(system: SystemData, tolerances: ClaimTolerances) ->
        "for the linear law beyond jamming most clusters remain in the medium bin (Fig. 11e)",
        "mean over rho > rho_J + tol: medium-bin N0/N > strong-bin N0/N", scope=(LINEAR_2D,))
 def linear_medium_over_strong(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
+    """Judge of claim p1-5.3-linear-medium-over-strong (per system)."""
     beyond = require(system.beyond, "rho beyond rho_J")
     medium = float(np.nanmean(finite_values(bin_curve(system, "medium").values[beyond], "medium N0/N")))
     strong = float(np.nanmean(finite_values(bin_curve(system, "strong").values[beyond], "strong N0/N")))
@@ -359,6 +405,7 @@ def linear_medium_over_strong(system: SystemData, tolerances: ClaimTolerances) -
        "|rho of the weak-bin N0/N maximum - rho of the B0/N ridge peak (F_th < 0.5)| <= tol; judged where both "
        "peaks are found near rho_J", scope=(HERTZ_2D, HERTZ_3D))
 def weak_peak_at_ridge(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
+    """Judge of claim p1-5.3-weak-peak-at-ridge (per system)."""
     curve = bin_curve(system, "weak").values
     weak = find_peak(curve, system.rho, system.rho_j, system.tolerance, finite_max(curve))
     ridge = _ridge(system)
@@ -378,6 +425,7 @@ def _persistence_rise(system: SystemData, k: int) -> float:
 
 
 def _steeper_in_3d(context: ClaimContext, k: int) -> Judgement:
+    """P1: TP_k rises much more close to ρ_J in 3D (3D rise over ρ_J ± window against the larger 2D rise)."""
     three = _persistence_rise(context.role(HERTZ_3D), k)
     two = {context.role(r).name: _persistence_rise(context.role(r), k) for r in ALL_2D}
     largest = max(two.values())
@@ -391,6 +439,7 @@ def _steeper_in_3d(context: ClaimContext, k: int) -> Judgement:
        "(Fig. 12)", "rise of mean TP0/N over rho_J +- window: 3D >= {steeper_factor} x the larger 2D rise",
        per_system=False)
 def tp0_steeper_in_3d(context: ClaimContext) -> Judgement:
+    """Judge of claim p1-5.3-tp0-steeper-in-3d (across systems)."""
     return _steeper_in_3d(context, 0)
 
 
@@ -398,17 +447,14 @@ def tp0_steeper_in_3d(context: ClaimContext) -> Judgement:
        "(Fig. 12)", "rise of mean TP1/N over rho_J +- window: 3D >= {steeper_factor} x the larger 2D rise",
        per_system=False)
 def tp1_steeper_in_3d(context: ClaimContext) -> Judgement:
+    """Judge of claim p1-5.3-tp1-steeper-in-3d (across systems)."""
     return _steeper_in_3d(context, 1)
 
 
-@claim("p1-5.3-tp2-zero-below", "5.3", "in 3D TP2 ~ 0 for rho < rho_J",
-       "max over rho < rho_J - tol of mean TP2/N <= {negligible_fraction} x its maximum", scope=(HERTZ_3D,))
-def tp2_zero_below(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
-    return zero_below(persistence_curve(system, 2), system, tolerances, "TP2/N")
-
-
-@claim("p1-5.3-tp2-grows", "5.3", "in 3D TP2 increases monotonically for rho > rho_J",
-       "mean TP2/N over rho >= rho_J - tol rises by > {negligible_fraction} of its maximum and never drops between "
-       "consecutive rho by more than {monotone_tolerance} of it", scope=(HERTZ_3D,))
-def tp2_grows(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
-    return grows_beyond(persistence_curve(system, 2), system, tolerances, "TP2/N")
+_claim_absent_then_growing(
+    "5.3", "TP2/N", lambda system: persistence_curve(system, 2),
+    ("p1-5.3-tp2-zero-below", "in 3D TP2 ~ 0 for rho < rho_J",
+     "max over rho < rho_J - tol of mean TP2/N <= {negligible_fraction} x its maximum"),
+    ("p1-5.3-tp2-grows", "in 3D TP2 increases monotonically for rho > rho_J",
+     "mean TP2/N over rho >= rho_J - tol rises by > {negligible_fraction} of its maximum and never drops between "
+     "consecutive rho by more than {monotone_tolerance} of it"))

@@ -295,6 +295,7 @@ def grows_beyond(curve: xr.DataArray, system: SystemData, tolerances: ClaimToler
     growth = float(values[-1] - values[0])
     drop = float(max(0.0, np.max(values[:-1] - values[1:])))
     holds = top > 0 and growth > tolerances.negligible_fraction * top and drop <= tolerances.monotone_tolerance * top
-    evidence = (f"{what} from rho={system.rho[from_jamming][0]:.3f} on: {fmt_values(values)} ({system.label()}); growth "
+    evidence = (f"{what} from rho={system.rho[from_jamming][0]:.3f} on: {fmt_values(values)} ({system.label()}); "
+                "growth "
                 f"{growth:.3g}, largest drop {drop:.3g}, max {top:.3g}")
     return Judgement(growth, evidence, bool(holds))

@@ -38,10 +38,11 @@ def p2_validation(distances: Mapping[str, xr.Dataset], tables: Mapping[str, pd.D
 
     Parameters
     ----------
-    distances : ``{system: distances.nc dataset}`` (`forcenet.report.p2_distances.stack_distances`); the frictional (μ = 0.5) and the
-        frictionless (μ = 0) system under the names `frictional`, `frictionless`. A missing system leaves its
-        claims "not evaluated".
-    tables : ``{"table1": …, "table2": …, "table3": …}`` from `forcenet.report.p2_tables.p2_tables` or `read_table` (frictional system).
+    distances : ``{system: distances.nc dataset}`` (`forcenet.report.p2_distances.stack_distances`); the
+        frictional (μ = 0.5) and the frictionless (μ = 0) system under the names `frictional`, `frictionless`. A
+        missing system leaves its claims "not evaluated".
+    tables : ``{"table1": …, "table2": …, "table3": …}`` from `forcenet.report.p2_tables.p2_tables` or
+        `read_table` (frictional system).
     tolerances : how "≈", "roughly constant", "dramatically" … are tested (`ValidationTolerances`).
     measures : ``{system: network_measures.nc dataset}`` (never-dying class counts) and `states` (the
         `table_state_candidates` of Tables I–III): what the explanations of failed claims measure (optional).
