@@ -168,6 +168,26 @@ def test_p2_distance_csv_holds_the_curves_and_z(tmp_path):
         np.testing.assert_allclose(twin.lines[0].get_ydata(), z[cols.MEAN])
 
 
+def test_p2_bands_are_the_realization_mean_plus_minus_the_sample_std():
+    """The one convention of forcenet.report.realizations: distances mean ± std over realizations, ratios the ratio
+    of the means ± the std of the per-realization ratios."""
+    ds = p2_shaped()  # 3 realizations
+    table = p2.p2_figure_data("p2_fig06_distances_normal_mu05", ds, system=report.FRICTIONAL).table
+    da = ds["distance"].sel(force_kind="normal", homology_dim=1, metric="wasserstein_2")
+    rows = table[(table[cols.PANEL] == 1) & (table[cols.QUANTITY] == p2.METRIC_QUANTITY["wasserstein_2"])]
+    std = np.std(da.transpose("realization", "rho").values, axis=0, ddof=1)
+    np.testing.assert_allclose(rows[cols.LOW], da.mean("realization") - std)
+    np.testing.assert_allclose(rows[cols.HIGH], da.mean("realization") + std)
+    table = p2.p2_figure_data("p2_fig07_ratios_mu05", ds, system=report.FRICTIONAL).table
+    rows = table[(table[cols.PANEL] == 0) & (table[cols.QUANTITY] == p2.RATIO_QUANTITY["wasserstein_1"])]
+    ratios = report.distance_ratio(ds, "wasserstein_1").sel(force_kind="normal", homology_dim=0)
+    spread = np.nanstd(ratios.transpose("realization", "rho").values, axis=0, ddof=1)
+    np.testing.assert_allclose(rows[cols.HIGH] - rows[cols.MEAN], spread, equal_nan=True)
+    np.testing.assert_allclose(rows[cols.MEAN] - rows[cols.LOW], spread, equal_nan=True)
+    one = p2.p2_figure_data("p2_fig06_distances_normal_mu05", ds.isel(realization=[0]), system=report.FRICTIONAL)
+    np.testing.assert_array_equal(one.table[cols.LOW].dropna(), one.table[cols.MEAN][one.table[cols.LOW].notna()])
+
+
 def test_p2_ratio_csv_holds_the_ratio_curves(tmp_path):
     ds = p2_shaped(frictionless=True)
     data = p2.p2_figure_data("p2_fig10_ratios_mu0", ds, system=report.FRICTIONLESS)
