@@ -216,8 +216,9 @@ def validation_markdown(frame: pd.DataFrame, layout: TableLayout, head: Sequence
     lines = list(head)
     if PAPER_SIZE in frame:
         lines += [f"The column '{PAPER_SIZE_HEADER}' is our value (and verdict) at the papers' sizes, from the "
-                  f"validation campaign's committed table {frame.attrs.get(PAPER_SIZE, 'docs/validation')}: where it "
-                  "differs from this build's, the difference comes from the small systems.", ""]
+                  f"validation campaign's committed table {frame.attrs.get(PAPER_SIZE, 'docs/validation')}: set "
+                  "beside this build's value, it shows which differences from the paper come from the small "
+                  "systems.", ""]
     for section in sections:
         rows = frame if section.kind is None else frame[frame["kind"] == section.kind]
         lines += [f"## {section.heading}", "", *section.text]
