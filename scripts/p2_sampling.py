@@ -3,7 +3,7 @@
 One realization of a P2 system (its `config/config.yaml` entry: box, particles, seed of realization 0) is
 compressed at each given wall speed through P2's sampling grid (`--count` states from ρ = 0.63 to 0.90);
 then d_B, d_W1, d_W2 between the normal-force diagrams of states k samples apart (k = `--lags`) are summarised
-over three ρ windows (`forcenet.report.p2.lagged_distance_summary`). Snapshots are kept under `--out` and
+over three ρ windows (`forcenet.report.p2_distances.lagged_distance_summary`). Snapshots are kept under `--out` and
 reused by a rerun with the same settings (`pipeline.simulate` resumes or skips).
 
     .venv/bin/python scripts/p2_sampling.py --speeds 2e-3 2.5e-4 2.5e-5 --out results/p2_sampling

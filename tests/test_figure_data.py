@@ -17,6 +17,8 @@ from forcenet.plotting import networks, p1, p2  # noqa: E402
 from forcenet.plotting.registry import draw_figure, figure_data  # noqa: E402
 from forcenet.plotting.figure_data import FigureData, write_csv  # noqa: E402
 from forcenet.report import p2 as report  # noqa: E402
+from forcenet.report.p2_distances import force_differences  # noqa: E402
+from forcenet.report.realizations import realization_mean  # noqa: E402
 from test_plotting_p1 import make_diagrams, make_p1_figure, make_snapshot, p1_figure_data  # noqa: E402
 from test_plotting_p2 import DIAGRAMS, analysis_factory  # noqa: E402
 from test_report_p1 import make_p1_measures  # noqa: E402
@@ -161,11 +163,31 @@ def test_p2_distance_csv_holds_the_curves_and_z(tmp_path):
             curve = rows[rows[cols.QUANTITY] == p2.METRIC_QUANTITY[metric]]
             np.testing.assert_allclose(line.get_xdata(), curve[cols.RHO])
             np.testing.assert_allclose(line.get_ydata(), curve[cols.MEAN])
-            expected = report.realization_mean(ds["distance"].sel(force_kind="tangential", homology_dim=h,
+            expected = realization_mean(ds["distance"].sel(force_kind="tangential", homology_dim=h,
                                                                   metric=metric))
             np.testing.assert_allclose(curve[cols.MEAN], expected.values)
         z = rows[rows[cols.QUANTITY] == "Z"]
         np.testing.assert_allclose(twin.lines[0].get_ydata(), z[cols.MEAN])
+
+
+def test_p2_bands_are_the_realization_mean_plus_minus_the_sample_std():
+    """The one convention of forcenet.report.realizations: distances mean ± std over realizations, ratios the ratio
+    of the means ± the std of the per-realization ratios."""
+    ds = p2_shaped()  # 3 realizations
+    table = figure_data("p2_fig06_distances_normal_mu05", ds, system=report.FRICTIONAL).table
+    da = ds["distance"].sel(force_kind="normal", homology_dim=1, metric="wasserstein_2")
+    rows = table[(table[cols.PANEL] == 1) & (table[cols.QUANTITY] == p2.METRIC_QUANTITY["wasserstein_2"])]
+    std = np.std(da.transpose("realization", "rho").values, axis=0, ddof=1)
+    np.testing.assert_allclose(rows[cols.LOW], da.mean("realization") - std)
+    np.testing.assert_allclose(rows[cols.HIGH], da.mean("realization") + std)
+    table = figure_data("p2_fig07_ratios_mu05", ds, system=report.FRICTIONAL).table
+    rows = table[(table[cols.PANEL] == 0) & (table[cols.QUANTITY] == p2.RATIO_QUANTITY["wasserstein_1"])]
+    ratios = report.distance_ratio(ds, "wasserstein_1").sel(force_kind="normal", homology_dim=0)
+    spread = np.nanstd(ratios.transpose("realization", "rho").values, axis=0, ddof=1)
+    np.testing.assert_allclose(rows[cols.HIGH] - rows[cols.MEAN], spread, equal_nan=True)
+    np.testing.assert_allclose(rows[cols.MEAN] - rows[cols.LOW], spread, equal_nan=True)
+    one = figure_data("p2_fig06_distances_normal_mu05", ds.isel(realization=[0]), system=report.FRICTIONAL)
+    np.testing.assert_array_equal(one.table[cols.LOW].dropna(), one.table[cols.MEAN][one.table[cols.LOW].notna()])
 
 
 def test_p2_ratio_csv_holds_the_ratio_curves(tmp_path):
@@ -191,7 +213,7 @@ def test_p2_network_and_diagram_csvs_hold_the_drawn_edges_and_points(tmp_path):
         rows = table[table[cols.PANEL] == panel]
         drawn = np.sort(np.asarray(ax.collections[0].get_array(), float))
         np.testing.assert_allclose(drawn, np.sort(rows[cols.VALUE].to_numpy()))
-    diff = report.force_differences(snapshots[0], snapshots[2])
+    diff = force_differences(snapshots[0], snapshots[2])
     np.testing.assert_allclose(np.sort(table.loc[table[cols.PANEL] == 4, cols.VALUE]), np.sort(diff.force))
 
     analysis = analysis_factory(0.79, 3.1, DIAGRAMS)

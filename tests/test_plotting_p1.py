@@ -20,6 +20,7 @@ from forcenet.plotting import registry  # noqa: E402
 from forcenet.plotting import p1 as figures  # noqa: E402
 from forcenet.plotting.style import save_figure, system_color  # noqa: E402
 from forcenet.report import p1 as report_p1  # noqa: E402
+from forcenet.report.p1_validation import p1_validation  # noqa: E402
 from forcenet.report.p1 import f_max_cut  # noqa: E402
 from test_network import rattler_snapshot  # noqa: E402  (one rattler, one wall contact)
 from test_report_p1 import make_p1_measures  # noqa: E402  (synthetic aggregated datasets)
@@ -195,7 +196,7 @@ def test_rho_max_below_the_grid_shades_every_rho():
     shaded = [p for p in ax.patches if p.get_gid() == "beyond_rho_max"]
     assert not rho_max_marks(ax) and len(shaded) == 1
     np.testing.assert_allclose(shaded[0].get_x(), 0.78) and np.testing.assert_allclose(shaded[0].get_width(), 0.17)
-    table = report_p1.p1_validation(measures)
+    table = p1_validation(measures)
     row = table[(table["id"] == "rho_max.dyn") & (table["system"] == "2d_linear")].iloc[0]
     assert "below the grid" in row["evidence"]
 

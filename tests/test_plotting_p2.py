@@ -8,6 +8,8 @@ from matplotlib.figure import Figure
 
 from forcenet.plotting import registry
 from forcenet.report import p2 as report
+from forcenet.report.p2_distances import force_differences
+from forcenet.report.realizations import realization_mean
 
 from test_report_p2 import (NEVER, analysis_factory, lattice_contacts, lattice_forces_and_quadrants,
                             lattice_snapshot, p2_shaped, permuted)
@@ -82,7 +84,7 @@ def test_distance_figure_draws_realization_means_on_log_axes():
     try:
         ax = fig.axes[0]
         assert ax.get_yscale() == "log"
-        expected = report.realization_mean(ds["distance"].sel(force_kind="normal", homology_dim=0, metric="bottleneck"))
+        expected = realization_mean(ds["distance"].sel(force_kind="normal", homology_dim=0, metric="bottleneck"))
         np.testing.assert_allclose(ax.lines[0].get_ydata(), expected.values)
         assert any("Z" in t.get_ylabel() for t in fig.axes)  # the twin axis carries Z(rho)
     finally:
@@ -93,7 +95,7 @@ def test_tangential_figure_plots_tangential_distances():
     ds = p2_shaped()
     fig = make_p2_figure("p2_fig08_distances_tangential_mu05", ds)
     try:
-        expected = report.realization_mean(ds["distance"].sel(force_kind="tangential", homology_dim=1,
+        expected = realization_mean(ds["distance"].sel(force_kind="tangential", homology_dim=1,
                                                               metric="wasserstein_1"))
         np.testing.assert_allclose(fig.axes[1].lines[1].get_ydata(), expected.values)
     finally:
@@ -152,7 +154,7 @@ def test_fig01_builds_each_network_once_and_draws_the_reported_differences(snaps
         assert len(built) == len(snapshots)  # a, b, c: the difference panels reuse them
         position = snapshots[0]["position"].values
         for ax, k in zip(fig.axes[3:5], (1, 2)):
-            diff = report.force_differences(snapshots[0], snapshots[k])
+            diff = force_differences(snapshots[0], snapshots[k])
             expected = np.column_stack([position[diff.i, :2], position[diff.j, :2], diff.force])
             np.testing.assert_allclose(edge_rows(ax.collections[0]), expected[np.lexsort(expected.T[::-1])])
     finally:
@@ -160,7 +162,7 @@ def test_fig01_builds_each_network_once_and_draws_the_reported_differences(snaps
 
 
 def test_difference_maps_are_zero_where_nothing_changed(snapshots):
-    diff = report.force_differences(snapshots[0], snapshots[1])
+    diff = force_differences(snapshots[0], snapshots[1])
     ci, cj = lattice_contacts()
     assert set(zip(diff.i.tolist(), diff.j.tolist())) == set(zip(ci.tolist(), cj.tolist()))
     _, quadrant = lattice_forces_and_quadrants()

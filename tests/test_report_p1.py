@@ -17,7 +17,9 @@ import pytest
 import xarray as xr
 
 from forcenet.datasets.schema import FORCE_KINDS, PERSISTENCE_BINS
+from forcenet.report import claims as framework
 from forcenet.report import p1 as report
+from forcenet.report import p1_validation as validation
 
 N_PARTICLES = 400
 THRESHOLDS = np.round(np.arange(0.0, 3.0 + 1e-9, 0.25), 2)
@@ -299,11 +301,11 @@ def test_jamming_point_of_a_sigmoid():
 # --- validation table: values ---------------------------------------------------------------------------------
 @pytest.fixture(scope="module")
 def p1_table() -> pd.DataFrame:
-    return report.p1_validation(make_p1_measures())
+    return validation.p1_validation(make_p1_measures())
 
 
 def test_values_against_the_paper(p1_table):
-    assert list(p1_table.columns) == list(report.COLUMNS)
+    assert list(p1_table.columns) == list(validation.COLUMNS)
     truth = {"2d_hertz": 0.845, "2d_linear": 0.83, "3d_hertz": 0.575}
     for system, rho_j in truth.items():
         row = rows(p1_table, "rho_J", system).iloc[0]
@@ -327,37 +329,37 @@ def test_values_against_the_paper(p1_table):
 
 
 def test_the_unit_of_the_figures_is_marked_and_checked():
-    table = report.p1_validation(make_p1_measures(), force_unit="reduced")
+    table = validation.p1_validation(make_p1_measures(), force_unit="reduced")
     marked = table[table["item"].str.contains(r"\[figures\]", regex=True)]
     assert set(marked["id"]) == {"f_max.reduced", "rho_max.reduced"}
     # the B1 plateau is judged at ρ_max of the table's unit: reduced cuts 2D Hertz at 0.88 (window 0.84–0.88,
     # reaching below ρ_J + tol) → not evaluated there, while dyn (0.94) judges it
-    assert verdict(table, "p1-5.1-b1-plateau", "2d_hertz") == report.NOT_EVALUATED
+    assert verdict(table, "p1-5.1-b1-plateau", "2d_hertz") == framework.NOT_EVALUATED
     with pytest.raises(ValueError, match="unknown P1 force unit"):
-        report.p1_validation(make_p1_measures(), force_unit="newton")
+        validation.p1_validation(make_p1_measures(), force_unit="newton")
 
 
 def test_a_missing_constant_leaves_only_its_unit_unevaluated():
     measures = make_p1_measures()
     for ds in measures.values():
         ds.attrs.pop("stiffness_scale_reduced")  # e.g. aggregated before the attribute existed
-    table = report.p1_validation(measures)
-    assert verdict(table, "rho_max.stiffness_scale", "2d_hertz") == report.NOT_EVALUATED
+    table = validation.p1_validation(measures)
+    assert verdict(table, "rho_max.stiffness_scale", "2d_hertz") == framework.NOT_EVALUATED
     assert "stiffness_scale_reduced" in rows(table, "rho_max.stiffness_scale", "2d_hertz")["evidence"].iloc[0]
     assert verdict(table, "rho_max.dyn", "2d_hertz") == ""
 
 
 # --- validation table: claims -----------------------------------------------------------------------------------
 def test_every_claim_is_a_record_with_a_row(p1_table):
-    ids = [c.id for c in report.CLAIMS]
+    ids = [c.id for c in validation.CLAIMS]
     assert len(ids) == len(set(ids))
     claims = p1_table[p1_table["kind"] == "claim"]
     assert set(claims["id"]) == set(ids)
-    for c in report.CLAIMS:
+    for c in validation.CLAIMS:
         assert re.fullmatch(r"p1-[3-6](\.\d)?-[a-z0-9-]+", c.id) and c.id.startswith(f"p1-{c.section}-")
         assert c.statement and c.criterion
         expected = 1 if not c.per_system else sum(
-            1 for role in report.P1_ROLES.values() if c.roles is None or role in c.roles)
+            1 for role in report.P1_ROLES.values() if c.scope is None or role in c.scope)
         assert len(rows(claims, c.id)) == expected, c.id
     text = " ".join(claims["criterion"])
     assert "{" not in text and "0.05 x its maximum" in text  # tolerances filled in
@@ -368,10 +370,10 @@ def test_every_claim_is_a_record_with_a_row(p1_table):
 
 def test_every_claim_holds_when_the_data_behaves_as_p1(p1_table):
     verdicts = claim_verdicts(p1_table)
-    failing = {key: v for key, v in verdicts.items() if v != report.HOLDS and key[0] not in NOT_MEASURED}
+    failing = {key: v for key, v in verdicts.items() if v != framework.HOLDS and key[0] not in NOT_MEASURED}
     assert not failing, p1_table.set_index(["id", "system"]).loc[list(failing), "evidence"].to_dict()
-    assert {verdicts[(i, "all")] for i in NOT_MEASURED} == {report.NOT_EVALUATED}
-    assert report.verdict_counts(p1_table)[report.FAILS] == 0
+    assert {verdicts[(i, "all")] for i in NOT_MEASURED} == {framework.NOT_EVALUATED}
+    assert framework.verdict_counts(p1_table)[framework.FAILS] == 0
 
 
 def _set(system: str, variable: str, value, where=None, **selection) -> callable:
@@ -546,7 +548,7 @@ VIOLATIONS = {
 
 def test_every_claim_has_a_violation():
     broken = {claim_id for _, _, failing, _ in VIOLATIONS.values() for claim_id, _ in failing}
-    assert broken == {c.id for c in report.CLAIMS} - NOT_MEASURED
+    assert broken == {c.id for c in validation.CLAIMS} - NOT_MEASURED
 
 
 @pytest.mark.parametrize("case", sorted(VIOLATIONS))
@@ -555,12 +557,12 @@ def test_a_violated_claim_does_not_hold(case, p1_table):
     measures = make_p1_measures(**overrides)
     if mutate is not None:
         mutate(measures)
-    table = report.p1_validation(measures)
+    table = validation.p1_validation(measures)
     verdicts, baseline = claim_verdicts(table), claim_verdicts(p1_table)
     for key in failing:
-        assert verdicts[key] == report.FAILS, (key, rows(table, *key)["evidence"].iloc[0])
+        assert verdicts[key] == framework.FAILS, (key, rows(table, *key)["evidence"].iloc[0])
     for key in unevaluated:
-        assert verdicts[key] == report.NOT_EVALUATED, (key, rows(table, *key)["evidence"].iloc[0])
+        assert verdicts[key] == framework.NOT_EVALUATED, (key, rows(table, *key)["evidence"].iloc[0])
     changed = {key for key in verdicts if verdicts[key] != baseline[key]}
     assert changed == set(failing) | set(unevaluated), {k: rows(table, *k)["evidence"].iloc[0] for k in changed}
 
@@ -569,19 +571,19 @@ def test_a_violated_claim_does_not_hold(case, p1_table):
 def test_a_missing_system_is_not_evaluated():
     measures = make_p1_measures()
     del measures["3d_hertz"]
-    table = report.p1_validation(measures)
+    table = validation.p1_validation(measures)
     verdicts = claim_verdicts(table)
-    for c in report.CLAIMS:  # every 3D row and every comparison with 3D is not evaluated, nothing else changes
-        if c.per_system and (c.roles is None or report.HERTZ_3D in c.roles):
-            assert verdicts[(c.id, "3d_hertz")] == report.NOT_EVALUATED
+    for c in validation.CLAIMS:  # every 3D row and every comparison with 3D is not evaluated, nothing else changes
+        if c.per_system and (c.scope is None or report.HERTZ_3D in c.scope):
+            assert verdicts[(c.id, "3d_hertz")] == framework.NOT_EVALUATED
     for claim_id in ("p1-4.1-pdf-order-at-rho-max", "p1-4.3-percolating-smaller-in-3d", "p1-5.1-b1-larger-in-3d",
                      "p1-5.3-tp0-steeper-in-3d", "p1-6-pdf-2d-3d-differ-below-jamming"):
-        assert verdicts[(claim_id, "all")] == report.NOT_EVALUATED
+        assert verdicts[(claim_id, "all")] == framework.NOT_EVALUATED
         assert "no 3D hertz system" in rows(table, claim_id, "all")["evidence"].iloc[0]
     # comparisons that need only a non-linear system use 2D Hertz alone
-    assert verdicts[("p1-5.3-pdf-wider-nonlinear", "all")] == report.HOLDS
-    assert verdicts[("p1-5.1-b0-ridge", "2d_hertz")] == report.HOLDS
-    assert verdict(table, "rho_J", "3d_hertz") == report.NOT_EVALUATED
+    assert verdicts[("p1-5.3-pdf-wider-nonlinear", "all")] == framework.HOLDS
+    assert verdicts[("p1-5.1-b0-ridge", "2d_hertz")] == framework.HOLDS
+    assert verdict(table, "rho_J", "3d_hertz") == framework.NOT_EVALUATED
     assert rows(table, "rho_J", "3d_hertz")["paper"].iloc[0] == 0.57
     # with 2 systems the F_max rule is taken over those two: F_max = 1.3 (linear), 2D Hertz cut at 0.94
     assert rows(table, "rho_max.dyn", "2d_hertz")["measured"].iloc[0] == pytest.approx(0.94)
@@ -591,46 +593,46 @@ def test_a_smoke_sized_run_is_judged_where_it_can_be():
     # three ρ per system, one realization (config/smoke.yaml): ρ_J cannot be located
     grids = {"2d_hertz": [0.80, 0.84, 0.88], "2d_linear": [0.80, 0.84, 0.88], "3d_hertz": [0.55, 0.60, 0.65]}
     measures = make_p1_measures(**{n: dict(rho=g, n_realizations=1) for n, g in grids.items()})
-    table = report.p1_validation(measures)
+    table = validation.p1_validation(measures)
     claims = table[table["kind"] == "claim"]
-    needing = {c.id for c in report.CLAIMS if c.needs_rho_j and c.per_system}
+    needing = {c.id for c in validation.CLAIMS if c.needs_rho_j and c.per_system}
     judged = claims[claims["id"].isin(needing)]
-    assert set(judged["verdict"]) == {report.NOT_EVALUATED}
+    assert set(judged["verdict"]) == {framework.NOT_EVALUATED}
     assert set(judged["evidence"]) == {"rho_J could not be located"}
-    assert verdict(table, "p1-5.2-shape-bounds", "2d_hertz") == report.HOLDS  # needs no ρ_J
-    assert verdict(table, "p1-5.2-shape-noisier-in-3d", "all") == report.NOT_EVALUATED  # one realization
+    assert verdict(table, "p1-5.2-shape-bounds", "2d_hertz") == framework.HOLDS  # needs no ρ_J
+    assert verdict(table, "p1-5.2-shape-noisier-in-3d", "all") == framework.NOT_EVALUATED  # one realization
 
 
 def test_tolerances_are_keyword_arguments():
-    strict = report.p1_validation(make_p1_measures(), min_prominence=0.99)
-    assert verdict(strict, "p1-5.1-b0-ridge", "2d_hertz") == report.FAILS
+    strict = validation.p1_validation(make_p1_measures(), min_prominence=0.99)
+    assert verdict(strict, "p1-5.1-b0-ridge", "2d_hertz") == framework.FAILS
     assert "0.99 of the largest B0/N" in rows(strict, "p1-5.1-b0-ridge", "2d_hertz")["criterion"].iloc[0]
-    wide = report.p1_validation(make_p1_measures(), rho_tolerance=0.2)  # nothing lies below ρ_J − 0.2 in 2D
-    assert verdict(wide, "p1-5.1-b1-zero-below", "2d_hertz") == report.NOT_EVALUATED
+    wide = validation.p1_validation(make_p1_measures(), rho_tolerance=0.2)  # nothing lies below ρ_J − 0.2 in 2D
+    assert verdict(wide, "p1-5.1-b1-zero-below", "2d_hertz") == framework.NOT_EVALUATED
     with pytest.raises(TypeError, match="unexpected keyword"):
-        report.p1_validation(make_p1_measures(), prominence=0.5)
+        validation.p1_validation(make_p1_measures(), prominence=0.5)
 
 
 def test_claims_can_be_judged_up_to_rho_max_only():
     # reduced units cut 3D at 0.57 (≈ ρ_J): up to ρ_max nothing lies beyond ρ_J + tol in 3D
-    table = report.p1_validation(make_p1_measures(), force_unit="reduced", judge_up_to_rho_max=True)
-    assert verdict(table, "p1-5.1-b2-grows", "3d_hertz") == report.NOT_EVALUATED
-    assert verdict(table, "p1-5.3-medium-jump", "3d_hertz") == report.NOT_EVALUATED
-    assert verdict(table, "p1-5.3-medium-jump", "2d_linear") == report.HOLDS  # linear keeps every ρ (0.95)
+    table = validation.p1_validation(make_p1_measures(), force_unit="reduced", judge_up_to_rho_max=True)
+    assert verdict(table, "p1-5.1-b2-grows", "3d_hertz") == framework.NOT_EVALUATED
+    assert verdict(table, "p1-5.3-medium-jump", "3d_hertz") == framework.NOT_EVALUATED
+    assert verdict(table, "p1-5.3-medium-jump", "2d_linear") == framework.HOLDS  # linear keeps every ρ (0.95)
 
 
 def test_writer_round_trip(tmp_path, p1_table):
     csv, md = tmp_path / "tables" / "p1_validation.csv", tmp_path / "tables" / "p1_validation.md"
-    report.write_p1_validation(p1_table, csv, md, force_unit="dyn")
+    validation.write_p1_validation(p1_table, csv, md, force_unit="dyn")
     back = pd.read_csv(csv, keep_default_na=False, na_values=[""])
-    assert len(back) == len(p1_table) and list(back.columns) == list(report.COLUMNS)
+    assert len(back) == len(p1_table) and list(back.columns) == list(validation.COLUMNS)
     np.testing.assert_allclose(back["measured"].astype(float), p1_table["measured"], equal_nan=True)
     text = md.read_text()
     assert "## Values" in text and "## Claims" in text and "analysis.p1_force_unit" in text
     table_lines = [line for line in text.splitlines() if line.startswith("| ") and "---" not in line]
     assert len(table_lines) == len(p1_table) + 2  # one header per table
-    counts = report.verdict_counts(p1_table)
-    assert f"{counts[report.HOLDS]} hold, 0 do not hold, {counts[report.NOT_EVALUATED]} not evaluated" in text
+    counts = framework.verdict_counts(p1_table)
+    assert f"{counts[framework.HOLDS]} hold, 0 do not hold, {counts[framework.NOT_EVALUATED]} not evaluated" in text
     assert "0.842" in text and "0.71" in text  # paper values
 
 
@@ -639,6 +641,6 @@ def test_all_nan_force_does_not_crash():
     measures["2d_linear"]["mean_force"][:] = math.nan
     cut = report.f_max_cut(measures)
     assert math.isnan(cut.rho_max["2d_linear"]) and np.isfinite(cut.f_max)
-    table = report.p1_validation(measures)
-    assert verdict(table, "p1-5.1-b1-plateau", "2d_linear") == report.NOT_EVALUATED  # no ρ_max
-    assert verdict(table, "p1-4.1-pdf-order-at-rho-max", "all") == report.NOT_EVALUATED
+    table = validation.p1_validation(measures)
+    assert verdict(table, "p1-5.1-b1-plateau", "2d_linear") == framework.NOT_EVALUATED  # no ρ_max
+    assert verdict(table, "p1-4.1-pdf-order-at-rho-max", "all") == framework.NOT_EVALUATED

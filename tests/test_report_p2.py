@@ -11,7 +11,8 @@ import xarray as xr
 from forcenet.datasets import provenance_attrs, validate_dataset, write_netcdf, open_dataset
 from forcenet.datasets.schema import FORCE_KINDS
 from forcenet.datasets.snapshot import snapshot_dataset
-from forcenet.report import p2
+from forcenet.report import claims, p2, p2_claims, p2_distances, p2_explanations, p2_judging, p2_tables, p2_validation
+from forcenet import systems
 
 NEVER = None  # a class that never dies
 
@@ -53,7 +54,7 @@ def worked_example_analyses(z0=2.5, rhos=(0.70, 0.71, 0.72)):
 
 # --- consecutive distances -------------------------------------------------------------------------------------------
 def test_consecutive_distances_reproduce_the_worked_example():
-    ds = p2.consecutive_distances(worked_example_analyses())
+    ds = p2_distances.consecutive_distances(worked_example_analyses())
     assert ds["distance"].dims == ("rho", "force_kind", "homology_dim", "metric")
     np.testing.assert_allclose(ds["rho"], [0.71, 0.72])
     np.testing.assert_allclose(ds["rho_previous"], [0.70, 0.71])
@@ -73,7 +74,7 @@ def test_consecutive_distances_reproduce_the_worked_example():
 
 def test_consecutive_distances_pass_the_never_dying_convention_on():
     # "drop": PD0(f) = {} and PD0(g) = 7 x (1, 0) (the never-dying classes left out): each point to the diagonal
-    ds = p2.consecutive_distances(worked_example_analyses(), "drop")
+    ds = p2_distances.consecutive_distances(worked_example_analyses(), "drop")
     d = ds["distance"].sel(force_kind="normal", homology_dim=0, rho=0.71)
     np.testing.assert_allclose(d.sel(metric=list(WORKED)), [0.5, 3.5, math.sqrt(7 * 0.25)], rtol=1e-6)
     assert ds.attrs["essential_convention"] == "drop"
@@ -98,18 +99,18 @@ def test_ratio_reductions():
 def test_consecutive_distances_reject_unordered_or_single_snapshots():
     analyses = worked_example_analyses()
     with pytest.raises(ValueError, match="increasing"):
-        p2.consecutive_distances([analyses[1], analyses[0]])
+        p2_distances.consecutive_distances([analyses[1], analyses[0]])
     with pytest.raises(ValueError, match="two snapshots"):
-        p2.consecutive_distances(analyses[:1])
+        p2_distances.consecutive_distances(analyses[:1])
 
 
 # --- stacking --------------------------------------------------------------------------------------------------------
 def stacked_worked_example(n_realizations=2):
-    per = [p2.consecutive_distances(worked_example_analyses(z0=2.5 + 0.01 * r,
+    per = [p2_distances.consecutive_distances(worked_example_analyses(z0=2.5 + 0.01 * r,
                                                             rhos=(0.70, 0.71 + 1e-4 * r, 0.72)))
            for r in range(n_realizations)]
     attrs = provenance_attrs(system="2d_poly_mu05", realization=-1, seed=1, config={}, title="P2 distances")
-    return p2.stack_distances(per, list(range(n_realizations)), attrs)
+    return p2_distances.stack_distances(per, list(range(n_realizations)), attrs)
 
 
 def test_stack_distances_dims_attrs_and_round_trip(tmp_path):
@@ -131,14 +132,14 @@ def test_stack_distances_dims_attrs_and_round_trip(tmp_path):
 
 
 def test_stack_distances_refuses_mismatched_grids():
-    a = p2.consecutive_distances(worked_example_analyses())
-    shifted = p2.consecutive_distances(worked_example_analyses(rhos=(0.70, 0.75, 0.80)))
+    a = p2_distances.consecutive_distances(worked_example_analyses())
+    shifted = p2_distances.consecutive_distances(worked_example_analyses(rhos=(0.70, 0.75, 0.80)))
     with pytest.raises(ValueError, match="differ"):
-        p2.stack_distances([a, shifted], [0, 1], {})
+        p2_distances.stack_distances([a, shifted], [0, 1], {})
     with pytest.raises(ValueError, match="numbers of snapshot pairs"):
-        p2.stack_distances([a, p2.consecutive_distances(worked_example_analyses()[:2])], [0, 1], {})
+        p2_distances.stack_distances([a, p2_distances.consecutive_distances(worked_example_analyses()[:2])], [0, 1], {})
     with pytest.raises(ValueError, match="duplicate"):
-        p2.stack_distances([a, a], [3, 3], {})
+        p2_distances.stack_distances([a, a], [3, 3], {})
 
 
 # --- table snapshots -------------------------------------------------------------------------------------------------
@@ -148,18 +149,18 @@ GRID = np.round(np.linspace(0.63, 0.90, 28), 4)
 @pytest.mark.parametrize("table_rho, expected", [(0.79, (0.78, 0.79, 0.80)), (0.7912, (0.78, 0.79, 0.80)),
                                                  (0.60, (0.63, 0.64, 0.65)), (0.95, (0.88, 0.89, 0.90))])
 def test_select_table_snapshots(table_rho, expected):
-    a, b, c = p2.select_table_snapshots(GRID, table_rho)
+    a, b, c = systems.select_table_snapshots(GRID, table_rho)
     np.testing.assert_allclose(GRID[[a, b, c]], expected)
     shuffled = np.random.default_rng(3).permutation(GRID)
-    a, b, c = p2.select_table_snapshots(shuffled, table_rho)
+    a, b, c = systems.select_table_snapshots(shuffled, table_rho)
     np.testing.assert_allclose(shuffled[[a, b, c]], expected)
 
 
 def test_select_table_snapshots_needs_three_distinct():
     with pytest.raises(ValueError):
-        p2.select_table_snapshots([0.7, 0.8], 0.79)
+        systems.select_table_snapshots([0.7, 0.8], 0.79)
     with pytest.raises(ValueError):
-        p2.select_table_snapshots([0.7, 0.8, 0.8], 0.79)
+        systems.select_table_snapshots([0.7, 0.8, 0.8], 0.79)
 
 
 # --- Tables I–III on a constructed network ---------------------------------------------------------------------------
@@ -224,7 +225,7 @@ def quadrant_tables():
         snaps = [lattice_snapshot(forces, 0.78),
                  lattice_snapshot(permuted(forces, quadrant, [changed]), 0.79, offset=(3.0, -2.0)),
                  lattice_snapshot(permuted(forces, quadrant, p2.QUADRANTS), 0.80)]
-        result[changed] = p2.p2_tables(snaps, remove_rattlers=False)
+        result[changed] = p2_tables.p2_tables(snaps, remove_rattlers=False)
     return result
 
 
@@ -242,21 +243,21 @@ def test_quadrant_tables_localise_a_change_in_one_quadrant(quadrant_tables, chan
     np.testing.assert_allclose(table3.to_numpy(), np.repeat(table3.to_numpy()[:1], 4, axis=0), rtol=1e-6)
     # (a, c) changes all four quadrants, (a, b) only one: larger over the whole box
     assert (tables["table1"].loc["(a,c)"] >= tables["table1"].loc["(a,b)"] - 1e-9).all()
-    verdicts = p2.p2_validation({}, tables).set_index("claim_id")["verdict"]
-    assert verdicts["III.D-3"] == p2.HOLDS and verdicts["III.D-4"] == p2.HOLDS
+    verdicts = p2_validation.p2_validation({}, tables).set_index("claim_id")["verdict"]
+    assert verdicts["III.D-3"] == claims.HOLDS and verdicts["III.D-4"] == claims.HOLDS
 
 
 def test_table_writer_csv_and_markdown(quadrant_tables, tmp_path):
     tables = quadrant_tables["bottom left"]
-    p2.write_table(tables["table2"], tmp_path / "t2.csv", tmp_path / "t2.md")
-    back = p2.read_table(tmp_path / "t2.csv")
+    p2_tables.write_table(tables["table2"], tmp_path / "t2.csv", tmp_path / "t2.md")
+    back = p2_tables.read_table(tmp_path / "t2.csv")
     pd.testing.assert_frame_equal(back, tables["table2"], check_names=False)
     assert back.attrs["rho_b"] == pytest.approx(0.79)
     md = (tmp_path / "t2.md").read_text()
     assert "β0 d_B" in md and "β1 d_W2" in md and "bottom left" in md and "rho_a = 0.7800" in md
-    written = p2.write_p2_tables(tables, tmp_path / "tables")
+    written = p2_tables.write_p2_tables(tables, tmp_path / "tables")
     assert sorted(p.name for p in written) == sorted(f"p2_table{k}.{e}" for k in (1, 2, 3) for e in ("csv", "md"))
-    assert list(p2.read_table(tmp_path / "tables" / "p2_table1.csv").index) == list(p2.TABLE_PAIRS)
+    assert list(p2_tables.read_table(tmp_path / "tables" / "p2_table1.csv").index) == list(p2.TABLE_PAIRS)
 
 
 # --- validation: P2's own tables and synthetic curves ----------------------------------------------------------------
@@ -275,12 +276,12 @@ def paper_tables() -> dict[str, pd.DataFrame]:
 
 
 def verdicts(distances=None, tables=None, **kw) -> pd.Series:
-    return p2.p2_validation(distances or {}, tables, **kw).set_index("claim_id")["verdict"]
+    return p2_validation.p2_validation(distances or {}, tables, **kw).set_index("claim_id")["verdict"]
 
 
 def test_table_claims_hold_on_p2_numbers():
     v = verdicts(tables=paper_tables())
-    assert [v[c] for c in ("III.D-1", "III.D-2", "III.D-3", "III.D-4")] == [p2.HOLDS] * 4
+    assert [v[c] for c in ("III.D-1", "III.D-2", "III.D-3", "III.D-4")] == [claims.HOLDS] * 4
 
 
 RHO = np.round(np.arange(0.63, 0.9001, 0.005), 4)
@@ -394,10 +395,10 @@ SHAPED_DATA_FAIL = {"V-2"}
 
 
 def test_data_shaped_as_p2_describes_satisfy_every_claim_but_v2():
-    table = p2.p2_validation(both_systems(), paper_tables()).set_index("claim_id")
-    not_holding = table[table["verdict"] != p2.HOLDS]
+    table = p2_validation.p2_validation(both_systems(), paper_tables()).set_index("claim_id")
+    not_holding = table[table["verdict"] != claims.HOLDS]
     assert set(not_holding.index) == SHAPED_DATA_FAIL, not_holding[["measured", "verdict"]].to_string()
-    assert (not_holding["verdict"] == p2.FAILS).all()
+    assert (not_holding["verdict"] == claims.FAILS).all()
     assert "d_W1 0.6" in table.loc["V-2", "measured"]
 
 
@@ -405,7 +406,7 @@ def test_equal_w1_rates_satisfy_v2_but_not_iv_c3():
     # d_W1 equal with and without friction: the component rates after jamming are similar (V-2), but d_B/d_W1 is
     # no longer consistently larger for mu = 0 (IV.C-3)
     v = verdicts(both_systems(frictionless={"w1_factor": 1.0}), paper_tables())
-    assert v["V-2"] == p2.HOLDS and v["IV.C-3"] == p2.FAILS
+    assert v["V-2"] == claims.HOLDS and v["IV.C-3"] == claims.FAILS
 
 
 def table_variation(change):
@@ -471,23 +472,23 @@ VIOLATIONS = [
 
 
 def test_every_claim_has_a_violating_variation():
-    assert [claim_id for claim_id, _ in VIOLATIONS] == [c.claim_id for c in p2.CLAIMS]
+    assert [claim_id for claim_id, _ in VIOLATIONS] == [c.id for c in p2_claims.CLAIMS]
 
 
 @pytest.mark.parametrize("claim_id, variation", VIOLATIONS, ids=[c for c, _ in VIOLATIONS])
 def test_verdict_is_does_not_hold_when_the_data_violate_the_claim(claim_id, variation):
     tables = variation.get("tables", paper_tables)()
     data = both_systems(variation.get("frictional"), variation.get("frictionless"))
-    table = p2.p2_validation(data, tables).set_index("claim_id")
-    assert table.loc[claim_id, "verdict"] == p2.FAILS, table.loc[claim_id, "measured"]
+    table = p2_validation.p2_validation(data, tables).set_index("claim_id")
+    assert table.loc[claim_id, "verdict"] == claims.FAILS, table.loc[claim_id, "measured"]
 
 
 def test_missing_system_is_not_evaluated():
-    alone = p2.p2_validation({p2.FRICTIONAL: p2_shaped()}).set_index("claim_id")
-    assert alone.loc["IV.C-1", "verdict"] == p2.NOT_EVALUATED
+    alone = p2_validation.p2_validation({p2.FRICTIONAL: p2_shaped()}).set_index("claim_id")
+    assert alone.loc["IV.C-1", "verdict"] == claims.NOT_EVALUATED
     assert "not in the results" in alone.loc["IV.C-1", "measured"]
-    assert alone.loc["IV.A-3", "verdict"] == p2.HOLDS
-    assert alone.loc["III.D-1", "verdict"] == p2.NOT_EVALUATED
+    assert alone.loc["IV.A-3", "verdict"] == claims.HOLDS
+    assert alone.loc["III.D-1", "verdict"] == claims.NOT_EVALUATED
 
 
 # claims that read one normal-force curve: its argmax (IV.A-1, IV.A-9, IV.C-4), a ratio (IV.A-3, IV.C-3), a median
@@ -504,19 +505,19 @@ ALL_NAN_NOT_EVALUATED = {
 def test_all_nan_curve_is_not_evaluated(system, dim, metric):
     data = both_systems()
     data[system]["distance"].loc[dict(force_kind="normal", homology_dim=dim, metric=metric)] = np.nan
-    table = p2.p2_validation(data, paper_tables()).set_index("claim_id")
+    table = p2_validation.p2_validation(data, paper_tables()).set_index("claim_id")
     for claim_id in ALL_NAN_NOT_EVALUATED[system, dim, metric]:
-        assert table.loc[claim_id, "verdict"] == p2.NOT_EVALUATED, claim_id
+        assert table.loc[claim_id, "verdict"] == claims.NOT_EVALUATED, claim_id
         assert "0 rho value(s)" in table.loc[claim_id, "measured"], claim_id
 
 
 def test_after_jamming_windows_leave_out_rho_j():
-    curves = p2._Curves(p2.FRICTIONAL, p2_shaped(), 2, p2.ValidationTolerances(min_points=1))
+    curves = p2_judging.Curves(p2.FRICTIONAL, p2_shaped(), 2, p2_judging.ValidationTolerances(min_points=1))
     s = curves.mean("normal", 0, B)
     assert curves.window(s, lo=J).index.min() == pytest.approx(J)
     assert curves.window(s, lo=J, closed_lo=False).index.min() == pytest.approx(J + 0.005)
     assert curves.window(s, hi=J, closed_hi=True).index.max() == pytest.approx(J)
-    with pytest.raises(p2._NotEvaluated, match=r"0 rho value\(s\) in \(0.900, inf\)"):
+    with pytest.raises(claims.NotEvaluated, match=r"0 rho value\(s\) in \(0.900, inf\)"):
         curves.window(s, lo=0.9, closed_lo=False)
 
 
@@ -525,10 +526,10 @@ def test_jamming_density_from_z_crossing():
 
 
 def test_validation_markdown_lists_every_claim(tmp_path):
-    table = p2.p2_validation(both_systems(), paper_tables())
-    p2.write_p2_validation(table, tmp_path / "p2_validation.md", tmp_path / "p2_validation.csv")
+    table = p2_validation.p2_validation(both_systems(), paper_tables())
+    p2_validation.write_p2_validation(table, tmp_path / "p2_validation.md", tmp_path / "p2_validation.csv")
     md = (tmp_path / "p2_validation.md").read_text()
-    n = len(p2.CLAIMS)
+    n = len(p2_claims.CLAIMS)
     assert f"holds: {n - len(SHAPED_DATA_FAIL)}; does not hold: {len(SHAPED_DATA_FAIL)}; not evaluated: 0" in md
     rows = {line.split(" | ")[0].removeprefix("| "): line for line in md.splitlines() if line.startswith("| ")}
     for claim_id, verdict, why in zip(table["claim_id"], table["verdict"], table["explanation"]):
@@ -536,7 +537,7 @@ def test_validation_markdown_lists_every_claim(tmp_path):
     assert f"| {p2.FRICTIONAL} | 3 | {RHO.size} | 0.630–0.900 | 0.78 | minus_one |" in md
     assert "value_factor = 1.5" in md and "2d_poly_mu0 " in md
     back = pd.read_csv(tmp_path / "p2_validation.csv")
-    assert list(back.columns) == list(p2.VALIDATION_COLUMNS) and list(back["verdict"]) == list(table["verdict"])
+    assert list(back.columns) == list(p2_validation.VALIDATION_COLUMNS) and list(back["verdict"]) == list(table["verdict"])
 
 
 # --- rattlers (P2 §III C) ----------------------------------------------------------------------------------------
@@ -562,33 +563,33 @@ def small_snapshot(rattler_forces=(), realization=0, rho=0.79, z=2.0, scale=1.0)
 
 def test_kept_rattlers_are_components_born_at_the_zero_level():
     snap = small_snapshot()  # forces 3, 2, 1 have mean 2: the triangle's births are 1.5, 1, 0.5 in <F>
-    kept = p2.snapshot_diagrams(snap, "normal", "none")
+    kept = p2_distances.snapshot_diagrams(snap, "normal", "none")
     pd0 = kept.points(0)
     # the triangle (born at its largest force 3/2) and the isolated particles 3 and 4, born at zero; all never die
     assert sorted(map(tuple, pd0.tolist())) == [(0.0, -np.inf), (0.0, -np.inf), (1.5, -np.inf)]
-    removed = p2.snapshot_diagrams(snap, "normal", "once")
+    removed = p2_distances.snapshot_diagrams(snap, "normal", "once")
     assert removed.points(0).tolist() == [[1.5, -np.inf]]
     # P2's convention: a zero-level component that joins the network costs d_B = 1/2 (its (0, -1) point goes to
     # the diagonal), and nothing when rattlers are removed (force 2 keeps <F> = 2: the triangle is unchanged)
     joined = small_snapshot(rattler_forces=(2.0,))
     for rule, expected in (("none", 0.5), ("once", 0.0)):
-        d = p2._distances(p2.snapshot_diagrams(snap, "normal", rule), p2.snapshot_diagrams(joined, "normal", rule),
+        d = p2_distances.pair_distances(p2_distances.snapshot_diagrams(snap, "normal", rule), p2_distances.snapshot_diagrams(joined, "normal", rule),
                           0, "minus_one")
         assert d["bottleneck"] == pytest.approx(expected, abs=1e-6), rule
 
 
 def test_tables_record_the_rattler_rule_and_realization():
     snaps = [small_snapshot(rho=r, realization=2) for r in (0.78, 0.79, 0.80)]
-    tables = p2.p2_tables(snaps, remove_rattlers=False)
+    tables = p2_tables.p2_tables(snaps, remove_rattlers=False)
     assert tables["table1"].attrs["rattler_rule"] == "none" and tables["table1"].attrs["realization"] == 2
-    md = p2.table_markdown(tables["table1"])
+    md = p2_tables.table_markdown(tables["table1"])
     assert "realization 2" in md and "rattler rule 'none'" in md
 
 
 # --- P2's printed tables beside ours ------------------------------------------------------------------------------
 def test_tables_print_p2_values_beside_ours_with_the_ratio(quadrant_tables, tmp_path):
     tables = quadrant_tables["bottom left"]
-    written = p2.write_p2_tables(tables, tmp_path)
+    written = p2_tables.write_p2_tables(tables, tmp_path)
     md = (tmp_path / "p2_table1.md").read_text()
     rows = {line.split(" | ")[0].removeprefix("| "): line.split(" | ")[1:] for line in md.splitlines()
             if line.startswith("| (a")}
@@ -598,14 +599,14 @@ def test_tables_print_p2_values_beside_ours_with_the_ratio(quadrant_tables, tmp_
     csv = pd.read_csv(tmp_path / "p2_table3.csv", index_col=0)
     assert csv.loc["top left", "p2_beta1_d_W2"] == pytest.approx(0.87)  # P2 Table III
     np.testing.assert_allclose(csv["ratio_beta0_d_W1"], csv["beta0_d_W1"] / csv["p2_beta0_d_W1"])
-    back = p2.read_table(tmp_path / "p2_table3.csv")  # our values only
+    back = p2_tables.read_table(tmp_path / "p2_table3.csv")  # our values only
     pd.testing.assert_frame_equal(back, tables["table3"], check_names=False)
     assert len(written) == 6
 
 
 def test_p2_reference_tables_have_our_layout():
     for name in ("table1", "table2", "table3"):
-        ref = p2.p2_reference_table(name)
+        ref = p2_tables.p2_reference_table(name)
         assert list(ref.columns) == [p2.table_column(h, m) for h in (0, 1) for m in p2.METRICS]
         assert list(ref.index) == list(p2.TABLE_PAIRS if name == "table1" else p2.QUADRANTS)
 
@@ -623,50 +624,50 @@ def test_table_states_pick_the_realization_whose_z_and_force_change_least():
     analyses = [state_analysis(0, r, z, f) for r, z, f in zip(rhos, (2.8, 2.9, 3.0), (1.0, 1.5, 2.0))]  # ⟨F⟩ +100 %
     analyses += [state_analysis(1, r, z, f) for r, z, f in zip(rhos, (3.2, 3.21, 3.22), (1.0, 1.01, 1.03))]  # quiet
     analyses += [state_analysis(2, r, z, f) for r, z, f in zip(rhos, (3.2, 3.5, 3.6), (1.0, 1.0, 1.0))]  # Z +12 %
-    table = p2.table_state_candidates(analyses[::-1])  # any order
+    table = p2_tables.table_state_candidates(analyses[::-1])  # any order
     assert list(table["realization"]) == [0, 1, 2] and list(table["chosen"]) == [False, True, False]
     assert table.loc[0, "force_change"] == pytest.approx(1.0) and table.loc[2, "Z_change"] == pytest.approx(0.125)
     assert table.loc[1, "score"] == pytest.approx(0.03)
-    picked = p2.chosen_states(analyses, table)
+    picked = p2_tables.chosen_states(analyses, table)
     assert [int(ds.attrs["realization"]) for ds in picked] == [1, 1, 1]
     assert [float(ds["rho"]) for ds in picked] == list(rhos)
     # equal scores: the lowest realization
     twins = [state_analysis(r, rho, 3.0, 1.0) for r in (4, 3) for rho in rhos]
-    assert list(p2.table_state_candidates(twins)["chosen"]) == [True, False]
+    assert list(p2_tables.table_state_candidates(twins)["chosen"]) == [True, False]
 
 
 def test_table_states_refuse_incomplete_or_mismatched_states():
     with pytest.raises(ValueError, match="need a, b, c"):
-        p2.table_state_candidates([state_analysis(0, 0.79, 3.0, 1.0)])
-    table = p2.table_state_candidates([state_analysis(0, r, 3.0, 1.0) for r in (0.788, 0.791, 0.794)])
+        p2_tables.table_state_candidates([state_analysis(0, 0.79, 3.0, 1.0)])
+    table = p2_tables.table_state_candidates([state_analysis(0, r, 3.0, 1.0) for r in (0.788, 0.791, 0.794)])
     with pytest.raises(ValueError, match="expected"):
-        p2.chosen_states([state_analysis(0, r, 3.0, 1.0) for r in (0.70, 0.71, 0.72)], table)
+        p2_tables.chosen_states([state_analysis(0, r, 3.0, 1.0) for r in (0.70, 0.71, 0.72)], table)
 
 
 # --- sampling: distances between states k samples apart -----------------------------------------------------------
 def test_lagged_distances_compare_states_k_samples_apart():
     analyses = worked_example_analyses()
-    diagrams = [p2.analysis_diagram(ds, "normal", 0) for ds in analyses]  # f, g, g
+    diagrams = [p2_distances.analysis_diagram(ds, "normal", 0) for ds in analyses]  # f, g, g
     rho = [0.70, 0.71, 0.72]
-    lag1 = p2.lagged_distances(diagrams, rho, 1, homology_dims=(0,))
+    lag1 = p2_distances.lagged_distances(diagrams, rho, 1, homology_dims=(0,))
     np.testing.assert_allclose(lag1["beta0_d_W1"], [5.5, 0.0], atol=1e-9)
     np.testing.assert_allclose(lag1["rho"], [0.71, 0.72])
-    lag2 = p2.lagged_distances(diagrams, rho, 2, homology_dims=(0,))
+    lag2 = p2_distances.lagged_distances(diagrams, rho, 2, homology_dims=(0,))
     assert len(lag2) == 1 and lag2.loc[0, "rho_previous"] == 0.70
     for metric, value in WORKED.items():  # (f, g) again, two samples apart
         assert lag2.loc[0, p2.table_column(0, metric)] == pytest.approx(value, rel=1e-6)
     with pytest.raises(ValueError):
-        p2.lagged_distances(diagrams, rho, 0)
+        p2_distances.lagged_distances(diagrams, rho, 0)
 
 
 def test_lagged_summary_splits_pairs_by_p2_regime():
     # states at rho 0.70 .. 0.84, Z crossing 3 at 0.79; PD0 = one point whose birth grows by 1 per state
     rho = np.round(np.arange(0.70, 0.8401, 0.02), 3)
     z = 3.0 + (rho - 0.79) * 10
-    diagrams = [p2._diagram_from_points(np.array([5.0 + k]), np.array([1.0]), np.array([False]), 0)
+    diagrams = [p2_distances.diagram_from_points(np.array([5.0 + k]), np.array([1.0]), np.array([False]), 0)
                 for k in range(rho.size)]
-    summary = p2.lagged_distance_summary({1e-4: (rho, z, diagrams, 12.0)}, [1, 2]).set_index(["lag", "window"])
-    windows = p2.SAMPLING_WINDOWS
+    summary = p2_distances.lagged_distance_summary({1e-4: (rho, z, diagrams, 12.0)}, [1, 2]).set_index(["lag", "window"])
+    windows = p2_distances.SAMPLING_WINDOWS
     # both states of a pair inside the window: 0.70-0.72, 0.72-0.74 | 0.76-0.78 | 0.80-0.82, 0.82-0.84
     assert [summary.loc[(1, w), "pairs"] for w in windows] == [2, 1, 2]
     assert [summary.loc[(2, w), "pairs"] for w in windows] == [1, 0, 1]
@@ -674,7 +675,7 @@ def test_lagged_summary_splits_pairs_by_p2_regime():
     assert summary.loc[(2, windows[0]), "beta0_d_B"] == pytest.approx(2.0)
     assert np.isnan(summary.loc[(2, windows[1]), "beta0_d_W1"])
     assert summary["rho_J"].iloc[0] == pytest.approx(0.79) and summary["simulation_s"].iloc[0] == 12.0
-    md = p2.lagged_distance_markdown(summary.reset_index())
+    md = p2_distances.lagged_distance_markdown(summary.reset_index())
     assert "ρ_J = 0.790" in md and "| 0.0001 | 2 | 0.0400 |" in md
 
 
@@ -684,22 +685,22 @@ def test_a_comparison_of_two_zero_rates_is_not_evaluated():
     for name in data:
         early = data[name]["rho"] < 0.74
         data[name]["distance"].loc[dict(homology_dim=1, rho=data[name]["rho"][early])] = 0.0
-    table = p2.p2_validation(data, paper_tables()).set_index("claim_id")
-    assert table.loc["IV.C-5", "verdict"] == p2.NOT_EVALUATED
+    table = p2_validation.p2_validation(data, paper_tables()).set_index("claim_id")
+    assert table.loc["IV.C-5", "verdict"] == claims.NOT_EVALUATED
     assert "both rates are 0" in table.loc["IV.C-5", "measured"]
     # zero before jamming but positive after: the rate did not fall after jamming (IV.A-11 does not hold)
-    assert table.loc["IV.A-11a", "verdict"] == p2.FAILS
+    assert table.loc["IV.A-11a", "verdict"] == claims.FAILS
 
 
 # --- explanations of the claims that do not hold -----------------------------------------------------------------
 def test_every_claim_has_an_explanation():
-    assert set(p2.EXPLANATIONS) == {c.claim_id for c in p2.CLAIMS}
+    assert set(p2_explanations.EXPLANATIONS) == {c.id for c in p2_claims.CLAIMS}
 
 
 def test_explanations_are_given_exactly_where_a_claim_does_not_hold():
-    table = p2.p2_validation(both_systems(), paper_tables()).set_index("claim_id")
+    table = p2_validation.p2_validation(both_systems(), paper_tables()).set_index("claim_id")
     for claim_id, row in table.iterrows():
-        assert (row["explanation"] != "") == (row["verdict"] != p2.HOLDS), claim_id
+        assert (row["explanation"] != "") == (row["verdict"] != claims.HOLDS), claim_id
     assert table.loc["V-2", "explanation"].startswith("Not a small-system effect")
     # without network measures the diagnostic says why it is missing instead of failing
     assert "no never-dying class counts" in table.loc["V-2", "explanation"]
@@ -728,21 +729,21 @@ def test_never_dying_diagnostic_counts_the_pairs_that_change_the_class_count():
     ds["distance"].loc[dict(force_kind="normal", homology_dim=1, metric="bottleneck")] = 0.02
     ds["distance"].loc[dict(force_kind="normal", homology_dim=1, metric="bottleneck",
                             rho=ds["rho"].values[changing])] = 0.5
-    ctx = p2._Context({p2.FRICTIONAL: p2._Curves(p2.FRICTIONAL, ds, 2, p2.ValidationTolerances())}, None,
-                      p2.ValidationTolerances(), p2.FRICTIONAL, p2.FRICTIONLESS,
+    ctx = p2_judging.Context({p2.FRICTIONAL: p2_judging.Curves(p2.FRICTIONAL, ds, 2, p2_judging.ValidationTolerances())}, None,
+                      p2_judging.ValidationTolerances(), p2.FRICTIONAL, p2.FRICTIONLESS,
                       {p2.FRICTIONAL: measures_with_never_dying_changes(ds, changing)})
-    text = p2._never_dying_events(lambda c: c.frictional, 1, "after")(ctx)
+    text = p2_explanations._never_dying_events(lambda c: c.frictional, 1, "after")(ctx)
     assert "25 % of the 72 consecutive pairs" in text and "median d_B of the other pairs 0.02" in text
     # a measures file that does not match the distances is not used
     ctx.measures[p2.FRICTIONAL] = measures_with_never_dying_changes(ds.isel(rho=slice(1, None)), [])
-    with pytest.raises(p2._NotEvaluated, match="different states"):
-        p2._never_dying_events(lambda c: c.frictional, 1, "after")(ctx)
+    with pytest.raises(claims.NotEvaluated, match="different states"):
+        p2_explanations._never_dying_events(lambda c: c.frictional, 1, "after")(ctx)
 
 
 def test_table_state_diagnostic_reports_where_a_b_c_lie():
-    states = p2.table_state_candidates([state_analysis(r, rho, z, f) for r in (0, 1, 2)
+    states = p2_tables.table_state_candidates([state_analysis(r, rho, z, f) for r in (0, 1, 2)
                                         for rho, z, f in zip((0.788, 0.791, 0.794), (2.8, 2.9, 3.0), (1.0, 2.0, 4.0))])
-    ctx = p2._Context({p2.FRICTIONAL: p2._Curves(p2.FRICTIONAL, p2_shaped(), 2, p2.ValidationTolerances())}, None,
-                      p2.ValidationTolerances(), p2.FRICTIONAL, p2.FRICTIONLESS, {}, states)
-    text = p2._table_state_diagnostic(ctx)
+    ctx = p2_judging.Context({p2.FRICTIONAL: p2_judging.Curves(p2.FRICTIONAL, p2_shaped(), 2, p2_judging.ValidationTolerances())}, None,
+                      p2_judging.ValidationTolerances(), p2.FRICTIONAL, p2.FRICTIONLESS, {}, states)
+    text = p2_explanations._table_state_diagnostic(ctx)
     assert "realization 0 (the quietest of 3" in text and "<F_n> x 4.00" in text and "Z 2.80 -> 3.00" in text

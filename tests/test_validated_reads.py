@@ -17,7 +17,7 @@ from forcenet import pipeline
 from forcenet.datasets import (DatasetError, open_dataset, provenance_attrs, read_dataset, write_netcdf,
                                write_snapshot)
 from forcenet.datasets.aggregate import distances_on_grid
-from forcenet.report import p2
+from forcenet.report import p2_distances
 from test_datasets import attrs, two_triangles_snapshot
 from test_report_p2 import worked_example_analyses
 
@@ -41,9 +41,9 @@ def good(tmp_path_factory) -> dict[str, list[Path]]:
     pipeline.aggregate(analyses=[str(p) for p in analyses], realizations=[0, 0, 0], rhos=[0.80, 0.84, 0.88],
                        measures_path=str(measures), diagrams_path=str(diagrams), config=CONFIG, system="2d_linear",
                        log_path=str(root / "aggregate.log"))
-    per_realization = [p2.consecutive_distances(worked_example_analyses(rhos=(0.70, 0.71 + 1e-4 * r, 0.72)))
+    per_realization = [p2_distances.consecutive_distances(worked_example_analyses(rhos=(0.70, 0.71 + 1e-4 * r, 0.72)))
                        for r in range(2)]
-    stacked = p2.stack_distances(per_realization, [0, 1], provenance_attrs(
+    stacked = p2_distances.stack_distances(per_realization, [0, 1], provenance_attrs(
         system="2d_poly_mu05", realization=-1, seed=1, config={}, title="P2 distances"))
     distances = write_netcdf(distances_on_grid(stacked, [0.71, 0.72]), root / "distances.nc", kind="distances")
     return {"snapshot": snaps, "analysis": analyses, "network_measures": [measures], "diagrams": [diagrams],

@@ -181,3 +181,30 @@ def test_each_study_uses_its_rattler_rule_and_p2_products_show_p2(smoke_run):
     assert "(a,b), P2 | 0.089" in table1 and "ours / P2" in table1 and "rattler rule 'none'" in table1
     states = (results / "tables/p2_table_states.csv").read_text().splitlines()
     assert states[0].startswith("realization,rho_a") and len(states) == 1 + config["realizations"]
+
+
+def planned_jobs(workdir: Path, target: str, config: Path) -> dict[str, list[str]]:
+    """{rule: inputs of its (last) job} in a dry run of `target` on `config`."""
+    dry = snakemake(workdir, target, "-n", "--forceall", config=config)
+    assert dry.returncode == 0, dry.stderr[-3000:]
+    lines, jobs = dry.stdout.splitlines(), {}
+    for index, line in enumerate(lines):
+        if line.startswith("rule ") and line.rstrip().endswith(":"):
+            following = lines[index + 1] if index + 1 < len(lines) else ""
+            inputs = following.split("input:", 1)[1] if "input:" in following else ""
+            jobs[line.split()[1].rstrip(":")] = [p.strip() for p in inputs.split(",") if p.strip()]
+    return jobs
+
+
+def test_the_campaign_tables_are_read_by_the_quick_build_and_written_only_at_paper_size(tmp_path):
+    """docs/validation/p2.csv is an input of the quick build's P2 validation table (a regenerated campaign table
+    rebuilds it) and no rule of the quick build can overwrite it; config/validation.yaml, whose tables are those
+    values, writes it and does not read it."""
+    campaign = tmp_path / "docs/validation/p2.csv"
+    campaign.parent.mkdir(parents=True)
+    shutil.copy(REPO / "docs/validation/p2.csv", campaign)
+    quick = planned_jobs(tmp_path, "all", REPO / "config/smoke.yaml")
+    assert "docs/validation/p2.csv" in quick["p2_validation"] and "validation_report_p2" not in quick
+    paper_size = planned_jobs(tmp_path, "validation_report", REPO / "config/validation.yaml")
+    assert "validation_report_p2" in paper_size
+    assert not any(path.startswith("docs/") for path in paper_size["p2_validation"])

@@ -348,14 +348,16 @@ def movie(*, kind: str, system: str, inputs: Sequence[str], output: str, rattler
 
 
 def p1_validation_table(*, measures: Sequence[str], systems: Sequence[str], csv: str, md: str, force_unit: str,
-                        log_path: str | None = None) -> None:
+                        paper_size: str | None = None, log_path: str | None = None) -> None:
     """P1's numbers and claims next to ours (results/tables/p1_validation.{csv,md}); `force_unit`
-    (``analysis.p1_force_unit``) is the unit of the F_max rule the figures use."""
-    from forcenet.report.p1 import p1_validation, verdict_counts, write_p1_validation
+    (``analysis.p1_force_unit``) is the unit of the F_max rule the figures use; `paper_size` (the campaign's
+    ``docs/validation/p1.csv``, or None in a paper-size config) adds our paper-size values beside P1's."""
+    from forcenet.report.claims import verdict_counts
+    from forcenet.report.p1_validation import p1_validation, write_p1_validation
 
     with job_logger(log_path, "p1_validation") as log:
         table = p1_validation(_open_by_system(measures, "network_measures"), force_unit=force_unit)
-        write_p1_validation(table, csv, md, force_unit=force_unit)
+        write_p1_validation(table, csv, md, force_unit=force_unit, paper_size=paper_size)
         log.info("P1 validation: %d rows, claim verdicts %s", len(table), verdict_counts(table))
 
 
@@ -365,7 +367,7 @@ def p2_distances(*, analyses: Sequence[str], realizations: Sequence[int], output
     config's ρ grid as the `rho` coordinate (`forcenet.datasets.aggregate.distances_on_grid`)."""
     from forcenet.datasets import provenance_attrs, read_dataset, write_netcdf
     from forcenet.datasets.aggregate import distances_on_grid
-    from forcenet.report.p2 import consecutive_distances, stack_distances
+    from forcenet.report.p2_distances import consecutive_distances, stack_distances
 
     with job_logger(log_path, f"p2_distances.{system}") as log:
         per_realization_count, left = divmod(len(analyses), len(realizations))
@@ -388,9 +390,9 @@ def p2_distances(*, analyses: Sequence[str], realizations: Sequence[int], output
 
 def p2_table_states(*, analyses: Sequence[str], csv: str, log_path: str | None = None) -> None:
     """Which realization gives the states a, b, c of Tables I–III and Figs 1, 3 (P2 Fig. 1's criterion,
-    `forcenet.report.p2.TABLE_STATE_CRITERION`): one row per realization, written to `csv`."""
+    `forcenet.report.p2_tables.TABLE_STATE_CRITERION`): one row per realization, written to `csv`."""
     from forcenet.datasets import read_dataset
-    from forcenet.report.p2 import table_state_candidates
+    from forcenet.report.p2_tables import table_state_candidates
 
     with job_logger(log_path, "p2_table_states") as log:
         table = table_state_candidates([read_dataset(p, "analysis") for p in analyses])
@@ -405,7 +407,7 @@ def _chosen(paths: Sequence[str], states_csv: str, reader) -> list:
     """The datasets among `paths` (read with `reader`) of the realization `states_csv` chose, in increasing ρ."""
     import pandas as pd
 
-    from forcenet.report.p2 import chosen_states
+    from forcenet.report.p2_tables import chosen_states
 
     return chosen_states([reader(p) for p in paths], pd.read_csv(states_csv))
 
@@ -414,9 +416,9 @@ def p2_tables(*, snapshots: Sequence[str], states: str, csv: Sequence[str], md: 
               rattler_rule: bool | str, essential_convention: str, log_path: str | None = None) -> None:
     """P2 Tables I–III from the states a, b, c of the realization `states` (the `p2_table_states` CSV) chose,
     whole box and quadrants, networks made with the P2 study's `rattler_rule`; `csv` and `md` are the paths
-    `forcenet.report.p2.write_p2_tables` writes (``{directory}/p2_table{1,2,3}.{csv,md}``)."""
+    `forcenet.report.p2_tables.write_p2_tables` writes (``{directory}/p2_table{1,2,3}.{csv,md}``)."""
     from forcenet.datasets import read_snapshot
-    from forcenet.report.p2 import p2_tables as compute_tables, write_p2_tables
+    from forcenet.report.p2_tables import p2_tables as compute_tables, write_p2_tables
 
     with job_logger(log_path, "p2_tables") as log:
         chosen = _chosen(snapshots, states, read_snapshot)
@@ -430,21 +432,23 @@ def p2_tables(*, snapshots: Sequence[str], states: str, csv: Sequence[str], md: 
 
 
 def p2_validation_table(*, distances: Sequence[str], tables: Sequence[str], measures: Sequence[str], states: str,
-                        frictional: str, frictionless: str | None, md: str, csv: str,
+                        frictional: str, frictionless: str | None, md: str, csv: str, paper_size: str | None = None,
                         log_path: str | None = None) -> None:
     """Each claim of P2 §IV with its measured evidence, verdict and, where it does not hold, the explanation
     (results/tables/p2_validation.md); `measures` (network_measures.nc) and `states` (the p2_table_states CSV)
-    feed the explanations' diagnostics."""
+    feed the explanations' diagnostics; `paper_size` (the campaign's ``docs/validation/p2.csv``, or None in a
+    paper-size config) adds our paper-size values beside P2's."""
     import pandas as pd
 
-    from forcenet.report.p2 import p2_validation, read_table, write_p2_validation
+    from forcenet.report.p2_tables import read_table
+    from forcenet.report.p2_validation import p2_validation, write_p2_validation
 
     with job_logger(log_path, "p2_validation") as log:
         table = p2_validation(_open_by_system(distances, "distances"),
                               {f"table{i + 1}": read_table(path) for i, path in enumerate(sorted(tables))},
                               frictional=frictional, frictionless=frictionless or "",
                               measures=_open_by_system(measures, "network_measures"), states=pd.read_csv(states))
-        write_p2_validation(table, md, csv)
+        write_p2_validation(table, md, csv, paper_size=paper_size)
         log.info("P2 validation: verdicts %s", table["verdict"].value_counts().to_dict())
 
 
@@ -456,13 +460,13 @@ def p2_sampling_study(*, config: Mapping[str, Any], system: str, wall_speeds: Se
     For each speed, realization 0 of `system` (its config entry with ``wall_speed`` and a ρ grid of `count`
     states from 0.63 to 0.90) is compressed into ``{out}/v{speed}/`` (reused when complete); the normal-force
     diagrams of every state (rattler rule `rattler_rule`) are compared at each lag. Returns the Markdown
-    table of `forcenet.report.p2.lagged_distance_summary` (also written to ``{out}/p2_sampling.md``), or ""
+    table of `forcenet.report.p2_distances.lagged_distance_summary` (also written to ``{out}/p2_sampling.md``), or ""
     when `simulate_only`.
     """
     import time
 
     from forcenet.datasets import read_snapshot
-    from forcenet.report.p2 import lagged_distance_markdown, lagged_distance_summary, snapshot_diagrams
+    from forcenet.report.p2_distances import lagged_distance_markdown, lagged_distance_summary, snapshot_diagrams
 
     runs = {}
     for speed in wall_speeds:

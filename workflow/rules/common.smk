@@ -30,6 +30,10 @@ except ForcenetError as error:
 
 RESULTS = config.get("results_dir", "results").rstrip("/")
 LOGS = f"{RESULTS}/logs"
+# The committed tables of the validation campaign (docs/validation/, written by validation_report): their values
+# stand beside the papers' in this build's validation tables. A config at the papers' sizes (validation.yaml,
+# paper.yaml) sets null: its tables are the paper-size values and get no such column.
+PAPER_SIZE_TABLES = config.get("paper_size_tables", "docs/validation")
 P1_SYSTEMS = list(config["studies"].get("p1", {}).get("systems", []))
 P2_SYSTEMS = list(config["studies"].get("p2", {}).get("systems", []))
 REALIZATIONS = [f"r{r:02d}" for r in range(config["realizations"])]
@@ -38,6 +42,21 @@ wildcard_constraints:
     system="|".join(SYSTEMS) or "NONE",
     realization=r"r\d\d+",
     rho=r"\d\.\d\d\d",
+
+
+def paper_size_table(study):
+    """The campaign table (docs/validation/{study}.csv) whose values the study's validation table sets beside the
+    paper's, or None in a paper-size config."""
+    return None if PAPER_SIZE_TABLES is None else f"{PAPER_SIZE_TABLES.rstrip('/')}/{study}.csv"
+
+
+def paper_size_input(study):
+    """Input function: the campaign table of `study` where it exists, so that a regenerated table rebuilds the
+    validation table; nothing where it does not (its column then says "not yet run")."""
+    def campaign_table(wildcards):
+        path = paper_size_table(study)
+        return [path] if path is not None and Path(path).exists() else []
+    return campaign_table
 
 
 def snapshot_path(system, realization, rho_label):

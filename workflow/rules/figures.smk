@@ -72,6 +72,7 @@ rule p1_validation_table:
     localrule: True
     input:
         measures=p1_measures(),
+        paper_size=paper_size_input("p1"),
     output:
         csv=f"{RESULTS}/tables/p1_validation.csv",
         md=report(f"{RESULTS}/tables/p1_validation.md", caption="../report/table.rst", category="P1",
@@ -81,6 +82,7 @@ rule p1_validation_table:
     params:
         systems=P1_SYSTEMS,
         force_unit=FORCE_UNIT,
+        paper_size=paper_size_table("p1"),
     script:
         "../scripts/p1_validation.py"
 

@@ -18,7 +18,7 @@ def p2_table_labels():
 
 def p2_table_candidates(path=snapshot_path, states="abc"):
     """Files of the states a, b, c (or those named by `states`) of every realization, realization-major: the
-    candidates among which p2_table_states picks one realization (forcenet.report.p2.TABLE_STATE_CRITERION); none
+    candidates among which p2_table_states picks one realization (forcenet.report.p2_tables.TABLE_STATE_CRITERION); none
     when the config has no P2 study."""
     if not P2_FRICTIONAL:
         return []
@@ -87,6 +87,7 @@ rule p2_validation:
         tables=rules.p2_tables.output.csv,
         measures=[f"{RESULTS}/{s}/network_measures.nc" for s in P2_SYSTEMS],
         states=P2_TABLE_STATES,
+        paper_size=paper_size_input("p2"),
     output:
         md=report(f"{RESULTS}/tables/p2_validation.md", caption="../report/table.rst", category="P2",
                   subcategory=REPORT_TABLES),
@@ -96,5 +97,6 @@ rule p2_validation:
     params:
         frictional=P2_FRICTIONAL,
         frictionless=P2_FRICTIONLESS,
+        paper_size=paper_size_table("p2"),
     script:
         "../scripts/p2_validation.py"

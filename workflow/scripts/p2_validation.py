@@ -5,5 +5,6 @@ p2_validation_table(  # noqa: F821 — `snakemake` is injected by Snakemake
     distances=list(snakemake.input.distances), tables=list(snakemake.input.tables),
     measures=list(snakemake.input.measures), states=snakemake.input.states,
     frictional=snakemake.params.frictional, frictionless=snakemake.params.frictionless,
-    md=snakemake.output.md, csv=snakemake.output.csv, log_path=snakemake.log[0],
+    md=snakemake.output.md, csv=snakemake.output.csv, paper_size=snakemake.params.paper_size,
+    log_path=snakemake.log[0],
 )

@@ -91,7 +91,7 @@ def stack_diagrams(analyses: Sequence[xr.Dataset], realizations: Sequence[int], 
 
 
 def distances_on_grid(distances: xr.Dataset, grid_rhos: Sequence[float]) -> xr.Dataset:
-    """P2 distances (`forcenet.report.p2.stack_distances`) with `rho` set to the config's grid value of the later
+    """P2 distances (`forcenet.report.p2_distances.stack_distances`) with `rho` set to the config's grid value of the later
     snapshot of each pair (`grid_rhos`, one per pair), so that ``sel(rho=0.78)`` selects; the measured values stay in
     `rho_measured` and `rho_previous` (per realization)."""
     grid_rhos = np.asarray(grid_rhos, dtype=float)

@@ -146,7 +146,7 @@ DIAGRAMS_VARIABLES: dict[str, VariableSpec] = {
 # --- P2 distances between consecutive snapshots: results/{system}/distances.nc ----------------------------------
 #
 # `rho` is the grid packing fraction of the later snapshot of each pair; `rho_measured` its measured value and
-# `rho_previous` the measured value of the earlier snapshot, per realization (forcenet.report.p2 computes them).
+# `rho_previous` the measured value of the earlier snapshot, per realization (forcenet.report.p2_distances computes them).
 DISTANCES_VARIABLES: dict[str, VariableSpec] = {
     "distance": VariableSpec(("realization", "rho", "force_kind", "homology_dim", "metric"), NETWORK_FORCE_UNITS,
                              "distance between the persistence diagrams of consecutive snapshots"),

@@ -20,6 +20,7 @@ from forcenet.plotting.style import (FORCE_KIND_WORDS, LABELS, apply_style, pane
                                      system_title)
 from forcenet.report import p2 as report
 from forcenet.report.p1 import system_order
+from forcenet.report.p2_distances import contact_forces, edge_differences
 
 import matplotlib.pyplot as plt  # noqa: E402  (style sets the Agg backend first)
 from matplotlib.collections import EllipseCollection, LineCollection  # noqa: E402
@@ -129,9 +130,9 @@ def prepare_p2_fig01_snapshots_differences(snapshots: Sequence[xr.Dataset], *, r
     if len(snapshots) != 3:
         raise ValueError(f"Fig. 1 needs three snapshots a, b, c; got {len(snapshots)}")
     # each network is built once: panels (a–c) draw it, (d–e) take differences of the same edge values
-    networks = [report.contact_forces(s, kind, remove_rattlers=rattler_rule) for s in snapshots]
+    networks = [contact_forces(s, kind, remove_rattlers=rattler_rule) for s in snapshots]
     n_particles = max(int(s.sizes["particle"]) for s in snapshots)
-    diffs = [report.edge_differences(networks[0], networks[k], n_particles) for k in (1, 2)]
+    diffs = [edge_differences(networks[0], networks[k], n_particles) for k in (1, 2)]
     blocks = []
     for panel, (snap, edges) in enumerate(zip([*snapshots, snapshots[0], snapshots[0]], [*networks, *diffs])):
         position = snap["position"].values

@@ -27,9 +27,9 @@ from forcenet.plotting import figure_data as cols
 from forcenet.plotting.figure_data import FigureData, concat, curve_rows
 from forcenet.plotting.style import LABELS, panel_figure, system_color, system_label, system_title
 from forcenet.report.p1 import (DEFAULT_P1_FORCE_UNIT, P1_SMALL_THRESHOLD, f_max_cut, jamming_point,
-                                mean_and_spread,
                                 per_particle, percolating_size_mean, rho_values, select_total,
                                 shape_parameter_average, system_dimension, system_order)
+from forcenet.report.realizations import mean_and_spread, realization_mean
 
 import matplotlib.pyplot as plt  # noqa: E402  (style sets the Agg backend first)
 import seaborn as sns  # noqa: E402
@@ -235,7 +235,7 @@ def prepare_p1_fig02_betti0_surface(measures: Mapping[str, xr.Dataset], *,
                                     force_unit: str = DEFAULT_P1_FORCE_UNIT) -> FigureData:
     """F2: B0/N over (ρ, F_th), realization mean, one map per system."""
     return FigureData(concat(
-        _heat_rows(system, per_particle(system.data, "betti").sel(homology_dim=0).mean("realization", skipna=True),
+        _heat_rows(system, realization_mean(per_particle(system.data, "betti").sel(homology_dim=0)),
                    "B0/N", panel)
         for panel, system in enumerate(_systems(measures, force_unit))))
 

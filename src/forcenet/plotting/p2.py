@@ -5,11 +5,11 @@ every figure with its inputs, options and caption (Figs 6, 8, 9 share `prepare_d
 10 `prepare_ratios`/`draw_ratios`, with the force kind as the entry's option and P2's figure number as `source`).
 
 Inputs are forcenet datasets: one snapshot's analysis (Fig. 3) and the stacked ``results/{system}/distances.nc``
-(Figs 6–10, `forcenet.report.p2.stack_distances`). The reductions (realization means, ratios, ρ_J) are the ones
-`forcenet.report.p2` uses for the validation, so figures and verdicts agree.
+(Figs 6–10, `forcenet.report.p2_distances.stack_distances`). The reductions (realization means, ratios, ρ_J) are
+the ones `forcenet.report.p2` uses for the validation, so figures and verdicts agree.
 
-Curves are means over realizations with the 16–84 % band of the realizations as spread; distances and ratios
-are drawn on log axes (P2 discusses them in orders of magnitude, §IV A). Z(ρ) is on a twin axis, with ρ_J
+Curves are means over realizations with the band mean ± the standard deviation over the realizations
+(`forcenet.report.realizations`; the part below 0 is not drawn on the log axes); distances and ratios are drawn on log axes (P2 discusses them in orders of magnitude, §IV A). Z(ρ) is on a twin axis, with ρ_J
 (mean Z reaching d + 1) marked.
 """
 from __future__ import annotations
@@ -25,6 +25,8 @@ from forcenet.plotting.figure_data import FigureData, concat, curve_rows
 from forcenet.plotting.style import (FALLBACK_COLORS, FORCE_KIND_WORDS, LABELS, apply_style, system_color,
                                      system_label)
 from forcenet.report import p2 as report
+from forcenet.report.p2_distances import diagram_points
+from forcenet.report.realizations import realization_mean, realization_spread
 
 METRIC_COLORS = {metric: FALLBACK_COLORS[i] for i, metric in enumerate(report.METRICS)}
 METRIC_MARKERS = {"bottleneck": "o", "wasserstein_1": "s", "wasserstein_2": "^"}
@@ -45,7 +47,7 @@ def prepare_p2_fig03_diagrams(analysis: xr.Dataset, *, kind: str = "normal", sys
     drawn at death = `essential_death` (P2's −1), given in the column "death drawn [<F>]"."""
     blocks = []
     for h in report.P2_HOMOLOGY_DIMS:
-        birth, death, essential = report.diagram_points(analysis, kind, h)
+        birth, death, essential = diagram_points(analysis, kind, h)
         blocks.append(pd.DataFrame({cols.PANEL: h, cols.SYSTEM: system, "force_kind": kind,
                                     cols.RHO: float(analysis["rho"]), "homology_dim": h, cols.BIRTH: birth,
                                     cols.DEATH: np.where(essential, -np.inf, death), "essential": essential,
@@ -81,7 +83,7 @@ def draw_p2_fig03_diagrams(data: FigureData) -> Figure:
 
 # --- Figs 6, 8, 9: distances vs ρ with Z(ρ) ------------------------------------------------------------------------
 def prepare_distances(distances: xr.Dataset, *, kind: str, system: str, source: str) -> FigureData:
-    """d_B, d_W1, d_W2 between consecutive PDs vs ρ (realization mean, 16–84 % band), panel h = β_h, and the
+    """d_B, d_W1, d_W2 between consecutive PDs vs ρ (realization mean ± standard deviation), panel h = β_h, and the
     realization-mean Z(ρ) (quantity "Z", no band) drawn on a twin axis of each panel; ρ_J on every row."""
     dimension, rho_j = _jamming(distances)
     blocks = []
@@ -89,18 +91,19 @@ def prepare_distances(distances: xr.Dataset, *, kind: str, system: str, source: 
         common = {cols.PANEL: h, cols.SYSTEM: system, "force_kind": kind, "homology_dim": h}
         for metric in report.METRICS:
             da = distances["distance"].sel(force_kind=kind, homology_dim=h, metric=metric)
-            blocks.append(_band_rows(report.realization_mean(da), da, common, METRIC_QUANTITY[metric], rho_j))
-        z = report.realization_mean(distances["Z"])
+            blocks.append(_band_rows(realization_mean(da), da, common, METRIC_QUANTITY[metric], rho_j))
+        z = realization_mean(distances["Z"])
         blocks.append(curve_rows(cols.RHO, z["rho"].values, z.values, np.nan, np.nan, **common,
                                  **{cols.QUANTITY: "Z", cols.RHO_J: rho_j}))
     return FigureData(concat(blocks), _layout(distances, kind, system, source, dimension, rho_j))
 
 
 def _band_rows(mean: xr.DataArray, band_source: xr.DataArray, common: dict, quantity: str, rho_j: float):
-    """Rows of the curve `mean` (vs ρ) with the 16–84 % band of `band_source` over its realizations."""
-    low, high = report.realization_band(band_source)
-    return curve_rows(cols.RHO, mean["rho"].values, mean.values, low.values, high.values, **common,
-                      **{cols.QUANTITY: quantity, cols.RHO_J: rho_j})
+    """Rows of the curve `mean` (vs ρ) with the band mean ± the standard deviation of `band_source` over its
+    realizations (`forcenet.report.realizations`)."""
+    spread = realization_spread(band_source)
+    return curve_rows(cols.RHO, mean["rho"].values, mean.values, (mean - spread).values, (mean + spread).values,
+                      **common, **{cols.QUANTITY: quantity, cols.RHO_J: rho_j})
 
 
 def _layout(distances: xr.Dataset, kind: str, system: str, source: str, dimension: int, rho_j: float) -> dict:
@@ -196,8 +199,8 @@ def _figure_legend(fig, axes) -> None:
 
 # --- Figs 7, 10: ratios d_B/d_W1 and d_B/d_W2 ---------------------------------------------------------------------
 def prepare_ratios(distances: xr.Dataset, *, kind: str, system: str, source: str) -> FigureData:
-    """d_B/d_W1 and d_B/d_W2 vs ρ, panel h = β_h: the ratio of the realization-mean distances, with the 16–84 %
-    band of the per-realization ratios."""
+    """d_B/d_W1 and d_B/d_W2 vs ρ, panel h = β_h: the ratio of the realization-mean distances, ± the standard
+    deviation of the per-realization ratios."""
     dimension, rho_j = _jamming(distances)
     blocks = []
     for h in report.P2_HOMOLOGY_DIMS:
@@ -221,4 +224,4 @@ def draw_ratios(data: FigureData) -> Figure:
 
 def _realizations_text(ds: xr.Dataset) -> str:
     n = int(ds.sizes.get("realization", 1))
-    return f"mean of {n} realization{'s' if n != 1 else ''}" + (", 16–84 % band" if n > 1 else "")
+    return f"mean of {n} realization{'s' if n != 1 else ''}" + (", band ± 1 standard deviation" if n > 1 else "")

@@ -78,7 +78,7 @@ class FigureEntry:
 
 _CUT = (" Every simulated ρ; ρ_max of P1's F_max rule (§3) dashed, the range beyond it (not shown in P1) shaded;"
         " mean over realizations, band ± 1 s.d.")
-_P2_BAND = " Mean over realizations, 16–84 % band."
+_P2_BAND = " Mean over realizations, band ± 1 standard deviation."
 
 FIGURES: tuple[FigureEntry, ...] = (
     # --- P1: the stacked measures (and diagrams, example snapshots) of every P1 system ---------------------------

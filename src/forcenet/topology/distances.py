@@ -287,8 +287,8 @@ def consecutive_diagram_distances(diagrams: Sequence, homology_dims: Sequence[in
                                   essential: str = "minus_one", **options) -> dict[str, np.ndarray]:
     """Distances between consecutive diagrams of a sequence (P2 §IV, Figs 6–10).
 
-    `forcenet.report.p2.consecutive_distances` labels these per force kind; the ratios d_B/d_Wq of P2 Figs 7, 10
-    are `forcenet.report.p2.distance_ratio`.
+    `forcenet.report.p2_distances.consecutive_distances` labels these per force kind; the ratios d_B/d_Wq of P2
+    Figs 7, 10 are `forcenet.report.p2.distance_ratio`.
 
     Parameters
     ----------

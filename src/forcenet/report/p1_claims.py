@@ -1,0 +1,335 @@
+"""P1's claims about its protocol (§3), the force distribution, percolation and jamming (§4, and what §6 concludes
+from them): one `forcenet.report.claims.Claim` record and one judging function each, registered in `CLAIMS` in
+definition order. The claims about the topology (§5) are in `forcenet.report.p1_claims_topology`; the table that
+judges both lists is `forcenet.report.p1_validation`.
+
+A per-system judge takes (`SystemData`, `ClaimTolerances`), a cross-system judge (``per_system=False``) the
+`ClaimContext`; each returns a `Judgement` or raises `NotEvaluated`. Criteria are templates whose ``{field}`` names
+are tolerances of `ClaimTolerances`.
+"""
+from __future__ import annotations
+
+import math
+from typing import Callable
+
+import numpy as np
+import xarray as xr
+
+from forcenet.report.claims import Claim, Judgement, NotEvaluated, claim_register
+from forcenet.report.p1 import (HERTZ_2D, HERTZ_3D, LINEAR_2D, P1_HALF, P1_LARGE_THRESHOLD, P1_PERCOLATION_MAJORITY,
+                                P1_SMALL_THRESHOLD, PAPER_CLUSTER_SIZE_PEAK, cut_at_rho_max, finite_max, force_bins,
+                                force_pdf_width, percolating_size_mean, percolation_fraction)
+from forcenet.report.p1_judging import (ALL_2D, ClaimContext, ClaimTolerances, SystemData, expected_for_law,
+                                        finite_values, fmt_values, peak_verdict, require, strongest_peak)
+from forcenet.report.realizations import realization_mean
+
+CLAIMS: list[Claim] = []
+claim = claim_register(CLAIMS)
+
+
+# --- §3 Protocol and methods ------------------------------------------------------------------------------------
+@claim("p1-3-clusters-below-jamming", "3",
+       "a relatively small but non-vanishing number of clusters below jamming, in particular in 2D (Figs. 2, 4, 6)",
+       "at F_th = min: max over rho < rho_J - tol of the mean cluster count >= {min_clusters}, and its B0/N <= the "
+       "largest mean B0/N (any F_th) beyond rho_J + tol", scope=ALL_2D)
+def clusters_below_jamming(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
+    """Judge of claim p1-3-clusters-below-jamming (per system)."""
+    below = require(system.below, "rho below rho_J")
+    beyond = require(system.beyond, "rho beyond rho_J")
+    count = system.mean("cluster_count", per_n=False, threshold=system.lowest_threshold).values
+    share = system.mean("cluster_count", threshold=system.lowest_threshold).values
+    most_below, share_below = finite_max(count[below]), finite_max(share[below])
+    share_beyond = finite_max(system.mean("cluster_count").transpose("rho", "threshold").values[beyond])
+    holds = most_below >= tolerances.min_clusters and share_below <= share_beyond
+    evidence = (f"mean clusters at F_th={system.lowest_threshold:.3g} below rho_J: {fmt_values(count[below])} "
+                f"(B0/N up to {share_below:.3g}); largest B0/N beyond rho_J {share_beyond:.3g} ({system.label()})")
+    return Judgement(most_below, evidence, bool(holds))
+
+
+def _not_measured(reason: str) -> Callable:
+    """A judge for a claim that one set of runs cannot decide: always not evaluated, for `reason`."""
+    def judge(context: ClaimContext) -> Judgement:
+        """Not evaluated: the reason of `_not_measured`."""
+        raise NotEvaluated(reason)
+    return judge
+
+
+for _id, _statement, _reason in (
+        ("p1-3-overlap", "at the largest rho the particles overlap by up to 10 % of the sum of the radii",
+         "the overlaps are not among the network measures (they are in the snapshots)"),
+        ("p1-3-system-size", "the results stay qualitatively the same for 25x25 and 75x75 (2D), 10^3 and 30^3 (3D)",
+         "needs runs at several box sizes"),
+        ("p1-3-friction", "friction (mu = 0, 0.03, 0.5) changes only rho_J and the precise values (also §6)",
+         "needs runs at several friction coefficients"),
+        ("p1-3-relaxation", "stricter or other relaxation criteria change neither conclusions nor measured values",
+         "needs runs under several relaxation protocols")):
+    claim(_id, "3", _statement, "not computable from one set of runs", per_system=False,
+          needs_rho_j=False)(_not_measured(_reason))
+
+
+# --- §4 Force distribution, percolation and jamming -------------------------------------------------------------
+@claim("p1-4-percolation-at-jamming", "4",
+       "a stable percolating cluster forms for any and only when rho > rho_J: rho_p = rho_J",
+       "rho_p = first rho where >= 50 % of the realizations percolate at F_th = min; |rho_p - rho_J| <= tol and "
+       "the majority percolates at every rho > rho_J + tol")
+def percolation_at_jamming(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
+    """Judge of claim p1-4-percolation-at-jamming (per system)."""
+    fraction = percolation_fraction(system.data).sel(threshold=system.lowest_threshold).values
+    percolating = fraction >= P1_PERCOLATION_MAJORITY
+    if not percolating.any():
+        return Judgement(math.nan, f"no rho where >= 50 % of the realizations percolate at F_th="
+                                   f"{system.lowest_threshold:.3g} ({system.label()})", False)
+    rho_p = float(system.rho[percolating].min())
+    gaps = system.rho[system.beyond & ~percolating]
+    holds = abs(rho_p - system.rho_j) <= system.tolerance + 1e-12 and gaps.size == 0
+    evidence = (f"rho_p={rho_p:.3f}, {system.label()}, tolerance {system.tolerance:.3g}; fraction percolating "
+                f"{fmt_values(fraction, 2)} at rho {fmt_values(system.rho)}"
+                + (f"; no majority at rho {fmt_values(gaps)}" if gaps.size else ""))
+    return Judgement(rho_p, evidence, bool(holds))
+
+
+@claim("p1-4.1-pdf-order-at-rho-max", "4.1",
+       "at rho ~ rho_max the force PDF is narrowest for 2D linear, wider for 2D Hertz, widest in 3D (Fig. 3)",
+       "std of F/<F> (mean over realizations) at each system's largest rho <= rho_max: 2D linear < 2D Hertz < 3D",
+       per_system=False)
+def pdf_order_at_rho_max(context: ClaimContext) -> Judgement:
+    """Judge of claim p1-4.1-pdf-order-at-rho-max (across systems)."""
+    widths = []
+    for role in (LINEAR_2D, HERTZ_2D, HERTZ_3D):
+        system = context.role(role)
+        if not np.isfinite(system.rho_max):
+            raise NotEvaluated(f"rho_max of {system.name} undefined")
+        top = cut_at_rho_max(system.full, system.rho_max)
+        width = float(realization_mean(force_pdf_width(top).isel(rho=-1)))
+        widths.append((system.name, float(top["rho"].values[-1]), width))
+    if not all(np.isfinite(w) for _, _, w in widths):
+        raise NotEvaluated("PDF width undefined (empty PDF)")
+    holds = widths[0][2] < widths[1][2] < widths[2][2]
+    evidence = "std of F/<F> at the largest rho <= rho_max: " + "; ".join(
+        f"{name} {w:.3g} (rho={r:.3f})" for name, r, w in widths)
+    return Judgement(widths[2][2] - widths[0][2], evidence, holds)
+
+
+def _jammed_pdf_width(system: SystemData) -> float:
+    """Mean over ρ > ρ_J + tol of the realization-mean std of F/⟨F⟩ of one system."""
+    beyond = require(system.beyond, f"rho beyond rho_J for {system.name}")
+    width = realization_mean(force_pdf_width(system.data)).values
+    return float(np.nanmean(finite_values(width[beyond], f"PDF width of {system.name} beyond rho_J")))
+
+
+@claim("p1-5.3-pdf-wider-nonlinear", "5.3",
+       "beyond jamming the force PDFs of the non-linear systems are wider than the linear one, in 2D and 3D "
+       "(§4.1, §5.3, §6)",
+       "mean std of F/<F> over rho > rho_J + tol: every non-linear system > 2D linear", per_system=False)
+def pdf_wider_nonlinear(context: ClaimContext) -> Judgement:
+    """Judge of claim p1-5.3-pdf-wider-nonlinear (across systems)."""
+    linear = _jammed_pdf_width(context.role(LINEAR_2D))
+    widths = {system.name: _jammed_pdf_width(system) for system in context.nonlinear()}
+    margin = min(widths.values()) - linear
+    evidence = (f"mean std of F/<F> beyond rho_J: 2D linear {linear:.3g}; "
+                + ", ".join(f"{name} {w:.3g}" for name, w in widths.items()))
+    return Judgement(margin, evidence, margin > 0)
+
+
+def _mean_pdf_below(system: SystemData) -> tuple[np.ndarray, np.ndarray]:
+    """Mean PDF of F/⟨F⟩ over the realizations and the ρ below ρ_J, normalised over the bins:
+    (bin centres, probability per bin)."""
+    below = require(system.below, f"rho below rho_J for {system.name}")
+    pdf = system.data["force_pdf"].isel(rho=np.flatnonzero(below)).mean(("realization", "rho"), skipna=True)
+    centres, widths = force_bins(system.data)
+    mass = np.asarray(pdf.values, dtype=float) * widths
+    if not np.isfinite(mass).all() or mass.sum() <= 0:
+        raise NotEvaluated(f"no force PDF below rho_J for {system.name}")
+    return centres, mass / mass.sum()
+
+
+@claim("p1-6-pdf-2d-3d-differ-below-jamming", "6",
+       "at small rho the force distributions differ significantly between 2D and 3D systems",
+       "total-variation distance between the mean PDFs of F/<F> over rho < rho_J - tol of 3D and of each 2D "
+       "system >= {pdf_distance}", per_system=False)
+def pdf_2d_3d_differ(context: ClaimContext) -> Judgement:
+    """Judge of claim p1-6-pdf-2d-3d-differ-below-jamming (across systems)."""
+    centres_3d, pdf_3d = _mean_pdf_below(context.role(HERTZ_3D))
+    distances = {}
+    for role in ALL_2D:
+        system = context.role(role)
+        centres, pdf = _mean_pdf_below(system)
+        if centres.shape != centres_3d.shape or not np.allclose(centres, centres_3d):
+            raise NotEvaluated("the systems' force PDFs have different bins")
+        distances[system.name] = 0.5 * float(np.abs(pdf - pdf_3d).sum())
+    smallest = min(distances.values())
+    evidence = "total-variation distance to 3D below rho_J: " + ", ".join(f"{n} {d:.3g}" for n, d in distances.items())
+    return Judgement(smallest, evidence, smallest >= context.tolerances.pdf_distance)
+
+
+# --- §4.2 Non-percolating clusters ---------------------------------------------------------------------------
+def _cluster_size_peak_threshold(system: SystemData) -> tuple[float, np.ndarray]:
+    """Median over ρ > ρ_J + tol of the F_th where the mean ⟨S⟩/N is largest; and those F_th per ρ."""
+    beyond = require(system.beyond, f"rho beyond rho_J for {system.name}")
+    size = system.mean("cluster_mean_size").transpose("rho", "threshold").values[beyond]
+    rows = [row for row in size if np.isfinite(row).any() and np.nanmax(row) > 0]
+    if not rows:
+        raise NotEvaluated(f"no clusters beyond rho_J for {system.name}")
+    best = np.array([system.thresholds[int(np.nanargmax(row))] for row in rows])
+    return float(np.median(best)), best
+
+
+@claim("p1-4.2-cluster-size-peak-threshold", "4.2",
+       "beyond jamming <S>/N is largest at F_th = 1.25 (2D linear), 1.5 (2D Hertz), ~2.0 (3D)",
+       "median over rho > rho_J + tol of the F_th maximising the mean <S>/N within {threshold_tolerance} of P1's",
+       paper=PAPER_CLUSTER_SIZE_PEAK)
+def cluster_size_peak_threshold(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
+    """Judge of claim p1-4.2-cluster-size-peak-threshold (per system)."""
+    paper = PAPER_CLUSTER_SIZE_PEAK.get(system.role, math.nan)
+    if not np.isfinite(paper):
+        raise NotEvaluated(f"P1 gives no value for a {system.dimension}D {system.force_law} system")
+    median, best = _cluster_size_peak_threshold(system)
+    evidence = (f"F_th of the largest <S>/N at each rho beyond rho_J: {fmt_values(best)} ({system.label()}); "
+                f"P1 {paper:g}")
+    return Judgement(median, evidence, abs(median - paper) <= tolerances.threshold_tolerance + 1e-12)
+
+
+def _cluster_size_decay(system: SystemData) -> float:
+    """Mean over ρ > ρ_J + tol of (mean ⟨S⟩/N over F_th ≥ 2) / (max ⟨S⟩/N over F_th)."""
+    beyond = require(system.beyond, f"rho beyond rho_J for {system.name}")
+    size = system.mean("cluster_mean_size").transpose("rho", "threshold").values[beyond]
+    large = system.thresholds >= P1_LARGE_THRESHOLD - 1e-12
+    if not large.any():
+        raise NotEvaluated("no F_th >= 2")
+    with np.errstate(invalid="ignore", divide="ignore"):
+        ratios = np.nanmean(size[:, large], axis=1) / np.nanmax(size, axis=1)
+    return float(np.nanmean(finite_values(ratios, f"<S>/N of {system.name} beyond rho_J")))
+
+
+@claim("p1-4.2-cluster-size-decays-faster-linear", "4.2",
+       "in 2D beyond jamming, for F_th >= 2, <S>/N decays faster for the linear law than for the non-linear one",
+       "mean over rho > rho_J + tol of (mean <S>/N over F_th >= 2) / (max over F_th): 2D linear < 2D Hertz",
+       per_system=False)
+def cluster_size_decays_faster_linear(context: ClaimContext) -> Judgement:
+    """Judge of claim p1-4.2-cluster-size-decays-faster-linear (across systems)."""
+    linear, hertz = _cluster_size_decay(context.role(LINEAR_2D)), _cluster_size_decay(context.role(HERTZ_2D))
+    evidence = f"<S>/N at F_th >= 2 relative to its maximum: 2D linear {linear:.3g}, 2D Hertz {hertz:.3g}"
+    return Judgement(hertz - linear, evidence, linear < hertz)
+
+
+@claim("p1-4.2-cluster-size-3d-larger-forces", "4.2",
+       "3D networks hold more clusters of large forces: <S>/N peaks at a larger F_th than in 2D (also §6)",
+       "median F_th of the <S>/N maximum beyond rho_J: 3D > 2D Hertz", per_system=False)
+def cluster_size_3d_larger_forces(context: ClaimContext) -> Judgement:
+    """Judge of claim p1-4.2-cluster-size-3d-larger-forces (across systems)."""
+    three, _ = _cluster_size_peak_threshold(context.role(HERTZ_3D))
+    two, _ = _cluster_size_peak_threshold(context.role(HERTZ_2D))
+    return Judgement(three - two, f"F_th of the <S>/N maximum: 3D {three:.3g}, 2D Hertz {two:.3g}", three > two)
+
+
+@claim("p1-6-cluster-size-peak-small-threshold", "6",
+       "<S>/N peaks close to jamming for small F_th ~ 0, for the non-linear laws only",
+       "the strongest peak of mean <S>/N(rho) over F_th < 0.5 lies within tol of rho_J with prominence >= "
+       "{min_prominence} of the largest <S>/N; present for Hertz, absent for linear")
+def cluster_size_peak_small_threshold(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
+    """Judge of claim p1-6-cluster-size-peak-small-threshold (per system)."""
+    expected = expected_for_law(system, nonlinear=True)
+    size = system.mean("cluster_mean_size")
+    small = system.thresholds[system.thresholds < P1_SMALL_THRESHOLD]
+    if small.size == 0:
+        raise NotEvaluated("no F_th < 0.5")
+    found = strongest_peak(size, system, small, finite_max(size.values))
+    peak, threshold = found if found else (None, None)
+    return peak_verdict(peak, "<S>/N", system, tolerances, expected, threshold)
+
+
+# --- §4.3 The percolating cluster -----------------------------------------------------------------------------
+def _percolating_share(system: SystemData) -> xr.DataArray:
+    """N_per/N (ρ, F_th) where ≥ 50 % of the realizations percolate (P1 §4.3), NaN elsewhere."""
+    return percolating_size_mean(system.data)[0].transpose("rho", "threshold")
+
+
+def _onset_share(system: SystemData) -> tuple[float, float]:
+    """(ρ, N_per/N) at the first ρ where N_per/N is shown at F_th = min."""
+    share = _percolating_share(system).sel(threshold=system.lowest_threshold).values
+    shown = np.isfinite(share)
+    if not shown.any():
+        raise NotEvaluated(f"{system.name} never percolates in >= 50 % of the realizations")
+    first = int(np.flatnonzero(shown)[0])
+    return float(system.rho[first]), float(share[first])
+
+
+@claim("p1-4.3-percolating-almost-all-2d", "4.3",
+       "in 2D at F_th ~ 0 the percolating cluster contains almost all the particles",
+       "median N_per/N at F_th = min over rho > rho_J + tol (where shown) >= {almost_all}", scope=ALL_2D)
+def percolating_almost_all(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
+    """Judge of claim p1-4.3-percolating-almost-all-2d (per system)."""
+    beyond = require(system.beyond, "rho beyond rho_J")
+    share = _percolating_share(system).sel(threshold=system.lowest_threshold).values[beyond]
+    values = finite_values(share, "N_per/N beyond rho_J")
+    median = float(np.median(values))
+    evidence = f"N_per/N at F_th={system.lowest_threshold:.3g} beyond rho_J: {fmt_values(values)} ({system.label()})"
+    return Judgement(median, evidence, median >= tolerances.almost_all)
+
+
+@claim("p1-4.3-percolating-significant-2d", "4.3",
+       "in 2D, whenever a percolating cluster exists it holds a significant share of the particles, often at "
+       "least half (also §6)",
+       "median of N_per/N over every shown (rho, F_th) >= 0.5 (P1: 'often at least half')", scope=ALL_2D)
+def percolating_significant(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
+    """Judge of claim p1-4.3-percolating-significant-2d (per system)."""
+    values = finite_values(_percolating_share(system).values, "N_per/N")
+    median = float(np.median(values))
+    evidence = (f"N_per/N over {values.size} shown (rho, F_th): min {values.min():.3g}, median {median:.3g}, "
+                f"max {values.max():.3g} ({system.label()})")
+    return Judgement(median, evidence, median >= P1_HALF)
+
+
+@claim("p1-4.3-percolating-small-3d-near-jamming", "4.3",
+       "in 3D near rho_J the percolating cluster contains only a very small share of the particles (also §6)",
+       "N_per/N at F_th = min at the first shown rho (<= rho_J + tol) <= {small_share}", scope=(HERTZ_3D,))
+def percolating_small_near_jamming(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
+    """Judge of claim p1-4.3-percolating-small-3d-near-jamming (per system)."""
+    rho, share = _onset_share(system)
+    if rho > system.rho_j + system.tolerance + 1e-12:
+        raise NotEvaluated(f"percolation first shown at rho={rho:.3f}, beyond rho_J + tol ({system.label()})")
+    evidence = f"N_per/N={share:.3g} at F_th={system.lowest_threshold:.3g}, rho={rho:.3f} ({system.label()})"
+    return Judgement(share, evidence, share <= tolerances.small_share)
+
+
+@claim("p1-4.3-percolating-small-3d-large-threshold", "4.3",
+       "in 3D the percolating cluster is a very small share of the particles for F_th > 2 (also §6)",
+       "median N_per/N over shown (rho, F_th > 2) <= {small_share}", scope=(HERTZ_3D,), needs_rho_j=False)
+def percolating_small_large_threshold(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
+    """Judge of claim p1-4.3-percolating-small-3d-large-threshold (per system)."""
+    large = system.thresholds > P1_LARGE_THRESHOLD + 1e-12
+    values = finite_values(_percolating_share(system).values[:, large], "N_per/N at F_th > 2 (no percolation shown)")
+    median = float(np.median(values))
+    evidence = f"N_per/N at F_th > 2 over {values.size} shown (rho, F_th): median {median:.3g}, max {values.max():.3g}"
+    return Judgement(median, evidence, median <= tolerances.small_share)
+
+
+@claim("p1-4.3-percolating-smaller-in-3d", "4.3",
+       "near rho_J the percolating cluster is smaller (relative to N) in 3D than in 2D (Eq. 6: phi_c ~ 0.2 vs 0.5)",
+       "N_per/N at F_th = min at the first shown rho: 3D < each 2D system", per_system=False)
+def percolating_smaller_in_3d(context: ClaimContext) -> Judgement:
+    """Judge of claim p1-4.3-percolating-smaller-in-3d (across systems)."""
+    three = _onset_share(context.role(HERTZ_3D))[1]
+    two = {context.role(role).name: _onset_share(context.role(role))[1] for role in ALL_2D}
+    evidence = f"N_per/N at the percolation onset: 3D {three:.3g}; " + ", ".join(f"{n} {v:.3g}" for n, v in two.items())
+    return Judgement(three / min(two.values()) if min(two.values()) > 0 else math.inf, evidence,
+                     three < min(two.values()))
+
+
+@claim("p1-4.3-phi-c-lower-bound", "4.3",
+       "phi_c of Eq. 6 (<k^2> ~ <k>^2, so phi_c = 1/(Z - 1)) is a lower bound for N_per/N",
+       "at F_th = min and every shown rho: N_per/N >= 1/(Z - 1), Z the mean coordination number", needs_rho_j=False)
+def phi_c_lower_bound(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
+    """Judge of claim p1-4.3-phi-c-lower-bound (per system)."""
+    share = _percolating_share(system).sel(threshold=system.lowest_threshold).values
+    z = realization_mean(system.data["Z"]).values
+    shown = np.isfinite(share) & np.isfinite(z)
+    if not shown.any():
+        raise NotEvaluated("no percolation shown")
+    with np.errstate(divide="ignore"):
+        phi_c = np.where(z[shown] > 1, 1.0 / (z[shown] - 1.0), np.inf)  # P1 Eq. 6 with <k^2> = <k>^2
+    margin = share[shown] - phi_c
+    evidence = (f"at rho {fmt_values(system.rho[shown])}: N_per/N {fmt_values(share[shown])} vs phi_c "
+                f"{fmt_values(phi_c)} "
+                f"({system.name})")
+    return Judgement(float(margin.min()), evidence, bool(margin.min() >= 0))

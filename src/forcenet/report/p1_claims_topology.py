@@ -1,0 +1,460 @@
+"""P1's claims about the topology of the force networks (§5): Betti numbers (§5.1), the shape of the clusters
+(§5.2), persistence diagrams and total persistence (§5.3); one `forcenet.report.claims.Claim` record and one
+judging function each, registered in `CLAIMS` in definition order. Judges, criteria and tolerances work as in
+`forcenet.report.p1_claims`.
+"""
+from __future__ import annotations
+
+import math
+from typing import Callable
+
+import numpy as np
+import xarray as xr
+
+from forcenet.report.claims import Claim, Judgement, NotEvaluated, claim_register
+from forcenet.report.p1 import (HERTZ_2D, HERTZ_3D, LINEAR_2D, P1_LARGE_THRESHOLD, P1_OPEN_PATH_MIN, P1_SHAPE_BOUNDS,
+                                P1_SMALL_THRESHOLD, finite_max, finite_min, rho_values, shape_parameter_average)
+from forcenet.report.p1_judging import (ALL_2D, ClaimContext, ClaimTolerances, Peak, SystemData, betti_curve,
+                                        bin_curve, expected_for_law, find_peak, finite_values, fmt_values,
+                                        grows_beyond, interp_at, peak_verdict, persistence_curve, require,
+                                        strongest_peak, zero_below)
+
+CLAIMS: list[Claim] = []
+claim = claim_register(CLAIMS)
+
+
+# --- §5.1 Betti numbers -----------------------------------------------------------------------------------------
+@claim("p1-5.1-b0-ridge", "5.1",
+       "for F_th < 0.5 the non-linear systems develop a pronounced B0/N peak (ridge) near rho_J; for the linear "
+       "law it is insignificant (Figs. 2, 6)",
+       "the strongest peak of mean B0/N(rho) over F_th < 0.5 lies within tol of rho_J with prominence >= "
+       "{min_prominence} of the largest B0/N; present for Hertz, absent for linear")
+def b0_ridge(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
+    """Judge of claim p1-5.1-b0-ridge (per system)."""
+    expected = expected_for_law(system, nonlinear=True)
+    found = _ridge(system)
+    peak, threshold = found if found else (None, None)
+    return peak_verdict(peak, "B0/N", system, tolerances, expected, threshold)
+
+
+def _ridge(system: SystemData) -> tuple[Peak, float] | None:
+    """The strongest B0/N peak over F_th < 0.5 (P1 §5.1's ridge) and its F_th, or None."""
+    b0 = system.mean("betti", homology_dim=0)
+    small = system.thresholds[system.thresholds < P1_SMALL_THRESHOLD]
+    if small.size == 0 or system.data.sizes["rho"] < 3:
+        raise NotEvaluated("no F_th < 0.5 or fewer than 3 rho")
+    return strongest_peak(b0, system, small, finite_max(b0.values))
+
+
+@claim("p1-5.1-b0-interior-maximum", "5.1",
+       "beyond jamming B0/N first grows with F_th, then falls as F_th -> max (arrows of Fig. 6)",
+       "median over rho > rho_J + tol of the F_th maximising mean B0/N lies strictly inside the F_th grid")
+def b0_interior_maximum(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
+    """Judge of claim p1-5.1-b0-interior-maximum (per system)."""
+    beyond = require(system.beyond, "rho beyond rho_J")
+    b0 = system.mean("betti", homology_dim=0).transpose("rho", "threshold").values[beyond]
+    rows = [row for row in b0 if np.isfinite(row).any() and np.nanmax(row) > 0]
+    if not rows:
+        raise NotEvaluated("no clusters beyond rho_J")
+    best = np.array([system.thresholds[int(np.nanargmax(row))] for row in rows])
+    median = float(np.median(best))
+    holds = system.thresholds.min() < median < system.thresholds.max()
+    evidence = (f"F_th of the largest B0/N at each rho beyond rho_J: {fmt_values(best)}; grid "
+                f"[{system.thresholds.min():.3g}, {system.thresholds.max():.3g}] ({system.label()})")
+    return Judgement(median, evidence, bool(holds))
+
+
+@claim("p1-5.1-b1-zero-below", "5.1", "no loops below jamming: B1 = 0 for rho < rho_J (Fig. 7)",
+       "max over rho < rho_J - tol of the mean (over realizations) of max over F_th of B1/N <= "
+       "{negligible_fraction} x its maximum")
+def b1_zero_below(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
+    """Judge of claim p1-5.1-b1-zero-below (per system)."""
+    return zero_below(betti_curve(system, 1), system, tolerances, "B1/N")
+
+
+@claim("p1-5.1-b1-rises", "5.1", "beyond jamming B1/N starts to rise (Fig. 7)",
+       "max of B1/N (max over F_th) over rho > rho_J + tol minus its value at the last rho <= rho_J > "
+       "{negligible_fraction} x its maximum")
+def b1_rises(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
+    """Judge of claim p1-5.1-b1-rises (per system)."""
+    curve = np.asarray(betti_curve(system, 1).values, dtype=float)
+    beyond = require(system.beyond, "rho beyond rho_J")
+    before = require(system.rho <= system.rho_j + 1e-12, "rho at or below rho_J")
+    start = float(curve[np.flatnonzero(before)[-1]])
+    rise = finite_max(curve[beyond]) - start
+    holds = rise > tolerances.negligible_fraction * finite_max(curve)
+    evidence = f"B1/N {fmt_values(curve)} at rho {fmt_values(system.rho)} ({system.label()}); rise {rise:.3g}"
+    return Judgement(rise, evidence, bool(holds))
+
+
+@claim("p1-5.1-b1-plateau", "5.1", "B1/N plateaus for rho close to rho_max (Fig. 7)",
+       "B1/N (max over F_th) changes over [rho_max - window, rho_max] by <= {plateau_fraction} of its rise from "
+       "its minimum to rho_max; the window must lie beyond rho_J + tol")
+def b1_plateau(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
+    """Judge of claim p1-5.1-b1-plateau (per system)."""
+    if not np.isfinite(system.rho_max):
+        raise NotEvaluated("rho_max undefined")
+    start = system.rho_max - system.window
+    if start < system.rho_j + system.tolerance - 1e-12:
+        raise NotEvaluated(f"rho_max={system.rho_max:.3f} is within tol + window of {system.label()}")
+    curve = betti_curve(system, 1, full=True)
+    shown = curve.isel(rho=np.flatnonzero(rho_values(curve) <= system.rho_max + 1e-12))
+    top = interp_at(shown, system.rho_max)
+    change, rise = top - interp_at(shown, start), top - finite_min(shown.values)
+    if not np.isfinite(rise) or rise <= 0:
+        return Judgement(math.nan, f"B1/N does not rise up to rho_max ({fmt_values(shown.values)})", False)
+    relative = change / rise
+    evidence = (f"B1/N {top:.3g} at rho_max={system.rho_max:.3f}, {top - change:.3g} at {start:.3f}; rise {rise:.3g}"
+                f" ({system.label()})")
+    return Judgement(relative, evidence, abs(relative) <= tolerances.plateau_fraction)
+
+
+@claim("p1-5.1-b1-larger-in-3d", "5.1", "the only visible difference in B1/N: larger magnitude in 3D (Fig. 7)",
+       "max over rho of B1/N (max over F_th): 3D > each 2D system", per_system=False)
+def b1_larger_in_3d(context: ClaimContext) -> Judgement:
+    """Judge of claim p1-5.1-b1-larger-in-3d (across systems)."""
+    three = finite_max(betti_curve(context.role(HERTZ_3D), 1).values)
+    two = {context.role(r).name: finite_max(betti_curve(context.role(r), 1).values) for r in ALL_2D}
+    largest = max(two.values())
+    evidence = f"max B1/N: 3D {three:.3g}; " + ", ".join(f"{n} {v:.3g}" for n, v in two.items())
+    return Judgement(three / largest if largest > 0 else math.inf, evidence, three > largest)
+
+
+def _claim_absent_then_growing(section: str, quantity: str, curve: Callable[[SystemData], xr.DataArray],
+                               absent: tuple[str, str, str], growing: tuple[str, str, str]) -> None:
+    """Register P1's pair of claims about a quantity only 3D networks have (B2, TP2): `absent` below ρ_J and
+    `growing` monotonically beyond it, each (id, statement, criterion), judged on `curve(system)` (realization mean
+    of `quantity` versus ρ) of the 3D system."""
+    def vanishes(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
+        """`quantity` ≈ 0 below ρ_J (`zero_below`)."""
+        return zero_below(curve(system), system, tolerances, quantity)
+
+    def grows(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
+        """`quantity` grows monotonically beyond ρ_J (`grows_beyond`)."""
+        return grows_beyond(curve(system), system, tolerances, quantity)
+
+    claim(absent[0], section, absent[1], absent[2], scope=(HERTZ_3D,))(vanishes)
+    claim(growing[0], section, growing[1], growing[2], scope=(HERTZ_3D,))(grows)
+
+
+_claim_absent_then_growing(
+    "5.1", "B2/N", lambda system: betti_curve(system, 2),
+    ("p1-5.1-b2-zero-below", "in 3D B2 vanishes for rho < rho_J",
+     "max over rho < rho_J - tol of the mean of max over F_th of B2/N <= {negligible_fraction} x its maximum"),
+    ("p1-5.1-b2-grows", "in 3D B2 grows monotonically as rho increases beyond rho_J",
+     "B2/N (max over F_th) over rho >= rho_J - tol rises by > {negligible_fraction} of its maximum and never drops "
+     "between consecutive rho by more than {monotone_tolerance} of it"))
+
+
+# --- §5.2 Shape of the clusters ----------------------------------------------------------------------------------
+def _shape(system: SystemData, rho_mask: np.ndarray, threshold_mask: np.ndarray, what: str) -> np.ndarray:
+    """The nonzero S_p (P1's averaging rule) in the selected (ρ, F_th) cells."""
+    shape, _ = shape_parameter_average(system.data["shape_parameter"])
+    values = shape.transpose("rho", "threshold").values[np.ix_(rho_mask, threshold_mask)]
+    values = values[np.isfinite(values) & (values != 0)]
+    if values.size == 0:
+        raise NotEvaluated(f"no clusters ({what}) in {system.name}")
+    return values
+
+
+def _small_thresholds(system: SystemData) -> np.ndarray:
+    """Mask of F_th < 2 (below twice the mean force, P1 §5.2), (n_threshold,)."""
+    return system.thresholds < P1_LARGE_THRESHOLD - 1e-12
+
+
+def _large_thresholds(system: SystemData) -> np.ndarray:
+    """Mask of F_th > 2 (P1 §5.2's large thresholds), (n_threshold,)."""
+    return system.thresholds > P1_LARGE_THRESHOLD + 1e-12
+
+
+@claim("p1-5.2-shape-open-paths-below-jamming", "5.2",
+       "in 2D below jamming S_p ~ 1 for both laws: the clusters are open paths (Figs. 8, 9)",
+       "|median of the nonzero S_p over rho < rho_J - tol, all F_th - 1| <= {unity_tolerance}", scope=ALL_2D)
+def shape_open_paths_below(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
+    """Judge of claim p1-5.2-shape-open-paths-below-jamming (per system)."""
+    values = _shape(system, require(system.below, "rho below rho_J"), np.ones(system.thresholds.size, bool),
+                    "below rho_J")
+    median = float(np.median(values))
+    evidence = f"S_p below rho_J over {values.size} cells: median {median:.3g}, range [{values.min():.3g}, " \
+               f"{values.max():.3g}] ({system.label()})"
+    return Judgement(median, evidence, abs(median - 1) <= tolerances.unity_tolerance)
+
+
+def _mean_shape(system: SystemData, rho_mask: np.ndarray, what: str) -> float:
+    """Mean of the nonzero S_p over the ρ of `rho_mask` and F_th < 2."""
+    return float(np.mean(_shape(system, rho_mask, _small_thresholds(system), what)))
+
+
+@claim("p1-5.2-shape-linear-above-hertz-below-jamming", "5.2",
+       "below jamming S_p is consistently larger for the linear law than for the non-linear one, in particular "
+       "at smaller F_th (Fig. 9a, b)",
+       "mean nonzero S_p over rho < rho_J - tol and F_th < 2: 2D linear > 2D Hertz", per_system=False)
+def shape_linear_above_hertz_below(context: ClaimContext) -> Judgement:
+    """Judge of claim p1-5.2-shape-linear-above-hertz-below-jamming (across systems)."""
+    linear, hertz = context.role(LINEAR_2D), context.role(HERTZ_2D)
+    a = _mean_shape(linear, require(linear.below, "rho below rho_J (2D linear)"), "below rho_J, F_th < 2")
+    b = _mean_shape(hertz, require(hertz.below, "rho below rho_J (2D Hertz)"), "below rho_J, F_th < 2")
+    return Judgement(a - b, f"mean S_p below rho_J, F_th < 2: 2D linear {a:.3g}, 2D Hertz {b:.3g}", a > b)
+
+
+@claim("p1-5.2-shape-open-paths-large-threshold", "5.2",
+       "beyond jamming, for large F_th (> 2) S_p ~ 1 in every system: open paths (also 3D and §5.2 summary)",
+       "|median of the nonzero S_p over rho > rho_J + tol and F_th > 2 - 1| <= {unity_tolerance}")
+def shape_open_paths_large_threshold(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
+    """Judge of claim p1-5.2-shape-open-paths-large-threshold (per system)."""
+    values = _shape(system, require(system.beyond, "rho beyond rho_J"), _large_thresholds(system),
+                    "beyond rho_J, F_th > 2")
+    median = float(np.median(values))
+    evidence = f"S_p beyond rho_J at F_th > 2 over {values.size} cells: median {median:.3g}, range " \
+               f"[{values.min():.3g}, {values.max():.3g}] ({system.label()})"
+    return Judgement(median, evidence, abs(median - 1) <= tolerances.unity_tolerance)
+
+
+def _jammed_shapes(context: ClaimContext, *roles) -> dict[str, float]:
+    """{system name: mean nonzero S_p over ρ > ρ_J + tol and F_th < 2} for the systems of `roles`."""
+    means = {}
+    for role in roles:
+        system = context.role(role)
+        means[system.name] = _mean_shape(system, require(system.beyond, f"rho beyond rho_J ({system.name})"),
+                                         "beyond rho_J, F_th < 2")
+    return means
+
+
+@claim("p1-5.2-shape-linear-above-hertz", "5.2",
+       "beyond jamming, for F_th around the mean force, S_p is significantly larger for the linear law than the "
+       "non-linear one in 2D: more complex clusters",
+       "mean nonzero S_p over rho > rho_J + tol and F_th < 2: 2D linear - 2D Hertz >= {shape_difference}",
+       per_system=False)
+def shape_linear_above_hertz(context: ClaimContext) -> Judgement:
+    """Judge of claim p1-5.2-shape-linear-above-hertz (across systems)."""
+    means = _jammed_shapes(context, LINEAR_2D, HERTZ_2D)
+    (linear, a), (hertz, b) = means.items()
+    return Judgement(a - b, f"mean S_p beyond rho_J, F_th < 2: {linear} {a:.3g}, {hertz} {b:.3g}",
+                     a - b >= context.tolerances.shape_difference)
+
+
+@claim("p1-5.2-shape-3d-above-2d-hertz", "5.2",
+       "3D clusters are more complex than 2D non-linear ones, but less than geometry suggests (S_p bounds 7 vs 4)",
+       "mean nonzero S_p over rho > rho_J + tol and F_th < 2: 3D > 2D Hertz, and 3D / 2D Hertz < 7/4",
+       per_system=False)
+def shape_3d_above_2d_hertz(context: ClaimContext) -> Judgement:
+    """Judge of claim p1-5.2-shape-3d-above-2d-hertz (across systems)."""
+    means = _jammed_shapes(context, HERTZ_3D, HERTZ_2D)
+    (three, a), (two, b) = means.items()
+    bound = P1_SHAPE_BOUNDS[3] / P1_SHAPE_BOUNDS[2]
+    return Judgement(a - b, f"mean S_p beyond rho_J, F_th < 2: {three} {a:.3g}, {two} {b:.3g}; ratio {a / b:.3g} "
+                            f"(geometric {bound:.3g})", bool(b < a < bound * b))
+
+
+@claim("p1-5.2-shape-linear-above-3d", "5.2",
+       "for F_th below twice the mean force the non-linear systems, whatever the dimension, hold less complex "
+       "clusters than the linear one (§5.2 summary)",
+       "mean nonzero S_p over rho > rho_J + tol and F_th < 2: 2D linear > 3D", per_system=False)
+def shape_linear_above_3d(context: ClaimContext) -> Judgement:
+    """Judge of claim p1-5.2-shape-linear-above-3d (across systems)."""
+    means = _jammed_shapes(context, LINEAR_2D, HERTZ_3D)
+    (linear, a), (three, b) = means.items()
+    return Judgement(a - b, f"mean S_p beyond rho_J, F_th < 2: {linear} {a:.3g}, {three} {b:.3g}", a > b)
+
+
+def _relative_shape_spread(system: SystemData) -> float:
+    """Mean over ρ > ρ_J + tol and F_th < 1 of (spread over realizations / S_p) of one system."""
+    shape, spread = shape_parameter_average(system.data["shape_parameter"])
+    beyond = require(system.beyond, f"rho beyond rho_J ({system.name})")
+    small = system.thresholds < 1.0
+    s = shape.transpose("rho", "threshold").values[np.ix_(beyond, small)]
+    d = spread.transpose("rho", "threshold").values[np.ix_(beyond, small)]
+    ok = np.isfinite(s) & (s != 0)
+    if not ok.any():
+        raise NotEvaluated(f"no clusters at F_th < 1 beyond rho_J in {system.name}")
+    return float(np.mean(d[ok] / s[ok]))
+
+
+@claim("p1-5.2-shape-noisier-in-3d", "5.2", "S_p is noisier in 3D, particularly for small F_th",
+       "mean over rho > rho_J + tol and F_th < 1 of (spread over realizations / S_p): 3D > 2D Hertz",
+       per_system=False)
+def shape_noisier_in_3d(context: ClaimContext) -> Judgement:
+    """Judge of claim p1-5.2-shape-noisier-in-3d (across systems)."""
+    if min(s.data.sizes.get("realization", 1) for s in context.systems.values()) < 2:
+        raise NotEvaluated("needs at least 2 realizations")
+    three, two = _relative_shape_spread(context.role(HERTZ_3D)), _relative_shape_spread(context.role(HERTZ_2D))
+    return Judgement(three / two if two > 0 else math.inf,
+                     f"relative spread of S_p at F_th < 1 beyond rho_J: 3D {three:.3g}, 2D Hertz {two:.3g}",
+                     three > two)
+
+
+@claim("p1-5.2-shape-bounds", "5.2",
+       "S_p lies in [0.5, 4] in 2D and [0.5, 7] in 3D (open paths >= 0.5, bound from the largest contact number)",
+       "every nonzero S_p (P1's averaging rule) within those bounds", needs_rho_j=False)
+def shape_bounds(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
+    """Judge of claim p1-5.2-shape-bounds (per system)."""
+    every = np.ones(system.rho.size, bool), np.ones(system.thresholds.size, bool)
+    values = _shape(system, *every, "any rho")
+    upper = P1_SHAPE_BOUNDS.get(system.dimension, math.nan)
+    holds = values.min() >= P1_OPEN_PATH_MIN - 1e-12 and values.max() <= upper + 1e-12
+    return Judgement(float(values.max()), f"S_p in [{values.min():.3g}, {values.max():.3g}] over {values.size} "
+                                          f"cells; bounds [{P1_OPEN_PATH_MIN}, {upper:g}] ({system.name})", bool(holds))
+
+
+# --- §5.3 Persistence diagrams and total persistence ----------------------------------------------------------
+@claim("p1-5.3-rough-similar-near-jamming", "5.3",
+       "near jamming the roughness (rough-bin N0/N) is very similar for all systems (Fig. 11a, b)",
+       "mean rough-bin N0/N at rho_J (interpolated): largest / smallest over the systems <= {similar_ratio}",
+       per_system=False)
+def rough_similar_near_jamming(context: ClaimContext) -> Judgement:
+    """Judge of claim p1-5.3-rough-similar-near-jamming (across systems)."""
+    values = {name: interp_at(bin_curve(system, "rough"), system.rho_j) for name, system in context.systems.items()
+              if np.isfinite(system.rho_j)}
+    values = {name: value for name, value in values.items() if np.isfinite(value)}
+    if len(values) < 2:
+        raise NotEvaluated("fewer than 2 systems with rho_J and rough-bin counts")
+    ratio = max(values.values()) / min(values.values()) if min(values.values()) > 0 else math.inf
+    evidence = "rough N0/N at rho_J: " + ", ".join(f"{n} {v:.3g}" for n, v in values.items())
+    return Judgement(ratio, evidence, ratio <= context.tolerances.similar_ratio)
+
+
+def _fewer_for_nonlinear(context: ClaimContext, bin_name: str) -> Judgement:
+    """P1: the non-linear systems have fewer `bin_name`-bin points (mean N0/N beyond ρ_J below 2D linear's)."""
+    def jammed_mean(system: SystemData) -> float:
+        """Mean over ρ > ρ_J + tol of the system's N0/N in the bin."""
+        beyond = require(system.beyond, f"rho beyond rho_J ({system.name})")
+        return float(np.nanmean(finite_values(bin_curve(system, bin_name).values[beyond], f"{bin_name} N0/N")))
+
+    linear = jammed_mean(context.role(LINEAR_2D))
+    others = {system.name: jammed_mean(system) for system in context.nonlinear()}
+    evidence = (f"mean {bin_name} N0/N beyond rho_J: 2D linear {linear:.3g}; "
+                + ", ".join(f"{n} {v:.3g}" for n, v in others.items()))
+    return Judgement(max(others.values()) / linear if linear > 0 else math.inf, evidence,
+                     max(others.values()) < linear)
+
+
+@claim("p1-5.3-rough-fewer-nonlinear", "5.3", "the non-linear systems have fewer rough-bin points (Fig. 11a, b)",
+       "mean rough-bin N0/N over rho > rho_J + tol: every non-linear system < 2D linear", per_system=False)
+def rough_fewer_nonlinear(context: ClaimContext) -> Judgement:
+    """Judge of claim p1-5.3-rough-fewer-nonlinear (across systems)."""
+    return _fewer_for_nonlinear(context, "rough")
+
+
+@claim("p1-5.3-medium-fewer-nonlinear", "5.3", "the non-linear systems have fewer medium-bin points (Fig. 11e, f)",
+       "mean medium-bin N0/N over rho > rho_J + tol: every non-linear system < 2D linear", per_system=False)
+def medium_fewer_nonlinear(context: ClaimContext) -> Judgement:
+    """Judge of claim p1-5.3-medium-fewer-nonlinear (across systems)."""
+    return _fewer_for_nonlinear(context, "medium")
+
+
+@claim("p1-5.3-medium-jump", "5.3", "the medium-bin N0/N increases suddenly beyond jamming (Fig. 11e, f)",
+       "medium N0/N at the first rho > rho_J + tol >= {jump_factor} x its value at the last rho < rho_J - tol, "
+       "and > 0")
+def medium_jump(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
+    """Judge of claim p1-5.3-medium-jump (per system)."""
+    curve = bin_curve(system, "medium").values
+    before = curve[np.flatnonzero(require(system.below, "rho below rho_J"))[-1]]
+    after = curve[np.flatnonzero(require(system.beyond, "rho beyond rho_J"))[0]]
+    if not (np.isfinite(before) and np.isfinite(after)):
+        raise NotEvaluated("medium-bin count NaN next to rho_J")
+    ratio = after / before if before > 0 else (math.inf if after > 0 else math.nan)
+    evidence = (f"medium N0/N {fmt_values(curve)} at rho {fmt_values(system.rho)} ({system.label()}): "
+                f"{before:.3g} -> {after:.3g}")
+    return Judgement(ratio, evidence, bool(after > 0 and after >= tolerances.jump_factor * before))
+
+
+def _bin_peak(system: SystemData, tolerances: ClaimTolerances, bin_name: str, nonlinear: bool) -> Judgement:
+    """The peak of a persistence bin's N0/N(ρ) near ρ_J, expected for the non-linear laws if `nonlinear`,
+    else for the linear law."""
+    expected = expected_for_law(system, nonlinear)
+    curve = bin_curve(system, bin_name).values
+    return peak_verdict(find_peak(curve, system.rho, system.rho_j, system.tolerance, finite_max(curve)),
+                         f"{bin_name}-bin N0/N", system, tolerances, expected)
+
+
+@claim("p1-5.3-strong-peak-linear-only", "5.3",
+       "the strong-bin N0/N peaks during jamming for the 2D linear law only; the non-linear systems stay high "
+       "beyond jamming (Fig. 11g, h)",
+       "the maximum of strong-bin N0/N(rho) lies within tol of rho_J with prominence >= {min_prominence} of it; "
+       "present for linear, absent for Hertz")
+def strong_peak_linear_only(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
+    """Judge of claim p1-5.3-strong-peak-linear-only (per system)."""
+    return _bin_peak(system, tolerances, "strong", nonlinear=False)
+
+
+@claim("p1-5.3-weak-peak-nonlinear-only", "5.3",
+       "the weak-bin N0/N shows a pronounced peak around jamming for the non-linear laws, not for the linear one "
+       "(Fig. 11c, d)",
+       "the maximum of weak-bin N0/N(rho) lies within tol of rho_J with prominence >= {min_prominence} of it; "
+       "present for Hertz, absent for linear")
+def weak_peak_nonlinear_only(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
+    """Judge of claim p1-5.3-weak-peak-nonlinear-only (per system)."""
+    return _bin_peak(system, tolerances, "weak", nonlinear=True)
+
+
+@claim("p1-5.3-linear-medium-over-strong", "5.3",
+       "for the linear law beyond jamming most clusters remain in the medium bin (Fig. 11e)",
+       "mean over rho > rho_J + tol: medium-bin N0/N > strong-bin N0/N", scope=(LINEAR_2D,))
+def linear_medium_over_strong(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
+    """Judge of claim p1-5.3-linear-medium-over-strong (per system)."""
+    beyond = require(system.beyond, "rho beyond rho_J")
+    medium = float(np.nanmean(finite_values(bin_curve(system, "medium").values[beyond], "medium N0/N")))
+    strong = float(np.nanmean(finite_values(bin_curve(system, "strong").values[beyond], "strong N0/N")))
+    return Judgement(medium / strong if strong > 0 else math.inf,
+                     f"mean N0/N beyond rho_J: medium {medium:.3g}, strong {strong:.3g} ({system.label()})",
+                     medium > strong)
+
+
+@claim("p1-5.3-weak-peak-at-ridge", "5.3",
+       "(conjecture) the B0/N ridge is formed by weak interactions: the weak-bin peak sits at the ridge",
+       "|rho of the weak-bin N0/N maximum - rho of the B0/N ridge peak (F_th < 0.5)| <= tol; judged where both "
+       "peaks are found near rho_J", scope=(HERTZ_2D, HERTZ_3D))
+def weak_peak_at_ridge(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
+    """Judge of claim p1-5.3-weak-peak-at-ridge (per system)."""
+    curve = bin_curve(system, "weak").values
+    weak = find_peak(curve, system.rho, system.rho_j, system.tolerance, finite_max(curve))
+    ridge = _ridge(system)
+    found = [p for p in (weak, ridge[0] if ridge else None)
+             if p is not None and p.near and p.relative_prominence >= tolerances.min_prominence]
+    if len(found) < 2:
+        raise NotEvaluated("the weak-bin peak or the B0/N ridge is not found near rho_J")
+    distance = abs(found[0].rho - found[1].rho)
+    return Judgement(distance, f"weak-bin peak at rho={found[0].rho:.3f}, B0/N ridge at rho={found[1].rho:.3f} "
+                               f"(tolerance {system.tolerance:.3g})", distance <= system.tolerance + 1e-12)
+
+
+def _persistence_rise(system: SystemData, k: int) -> float:
+    """Rise of the mean TP_k/N over ρ_J ± window (interpolated, clipped to the sampled ρ)."""
+    curve = persistence_curve(system, k)
+    return interp_at(curve, system.rho_j + system.window) - interp_at(curve, system.rho_j - system.window)
+
+
+def _steeper_in_3d(context: ClaimContext, k: int) -> Judgement:
+    """P1: TP_k rises much more close to ρ_J in 3D (3D rise over ρ_J ± window against the larger 2D rise)."""
+    three = _persistence_rise(context.role(HERTZ_3D), k)
+    two = {context.role(r).name: _persistence_rise(context.role(r), k) for r in ALL_2D}
+    largest = max(two.values())
+    ratio = three / largest if largest > 0 else math.inf
+    evidence = (f"rise of TP{k}/N over rho_J +- window: 3D {three:.3g}; "
+                + ", ".join(f"{n} {v:.3g}" for n, v in two.items()))
+    return Judgement(ratio, evidence, bool(three > 0 and three >= context.tolerances.steeper_factor * largest))
+
+
+@claim("p1-5.3-tp0-steeper-in-3d", "5.3", "TP0 increases much more prominently close to rho_J in 3D than in 2D "
+       "(Fig. 12)", "rise of mean TP0/N over rho_J +- window: 3D >= {steeper_factor} x the larger 2D rise",
+       per_system=False)
+def tp0_steeper_in_3d(context: ClaimContext) -> Judgement:
+    """Judge of claim p1-5.3-tp0-steeper-in-3d (across systems)."""
+    return _steeper_in_3d(context, 0)
+
+
+@claim("p1-5.3-tp1-steeper-in-3d", "5.3", "TP1 increases much more prominently close to rho_J in 3D than in 2D "
+       "(Fig. 12)", "rise of mean TP1/N over rho_J +- window: 3D >= {steeper_factor} x the larger 2D rise",
+       per_system=False)
+def tp1_steeper_in_3d(context: ClaimContext) -> Judgement:
+    """Judge of claim p1-5.3-tp1-steeper-in-3d (across systems)."""
+    return _steeper_in_3d(context, 1)
+
+
+_claim_absent_then_growing(
+    "5.3", "TP2/N", lambda system: persistence_curve(system, 2),
+    ("p1-5.3-tp2-zero-below", "in 3D TP2 ~ 0 for rho < rho_J",
+     "max over rho < rho_J - tol of mean TP2/N <= {negligible_fraction} x its maximum"),
+    ("p1-5.3-tp2-grows", "in 3D TP2 increases monotonically for rho > rho_J",
+     "mean TP2/N over rho >= rho_J - tol rises by > {negligible_fraction} of its maximum and never drops between "
+     "consecutive rho by more than {monotone_tolerance} of it"))

@@ -1,0 +1,301 @@
+"""What P1's claims are judged on: the tolerances of the criteria (`ClaimTolerances`), one system as a judge sees it
+(`SystemData`), every system for the claims that compare them (`ClaimContext`), and the helpers the judges of
+`forcenet.report.p1_claims` and `forcenet.report.p1_claims_topology` share (peaks, "≈ 0 below ρ_J", "grows beyond
+ρ_J"). Curves are realization means (`forcenet.report.realizations`) of the total-force network measures, versus ρ.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Mapping
+
+import numpy as np
+import xarray as xr
+
+from forcenet.report.claims import Judgement, NotEvaluated
+from forcenet.report.p1 import (HERTZ_2D, HERTZ_3D, LINEAR_2D, finite_max, per_particle, rho_values, system_order)
+from forcenet.report.realizations import realization_mean
+
+@dataclass(frozen=True)
+class ClaimTolerances:
+    """Tolerances of the claim criteria; each is a keyword argument of `p1_validation`.
+
+    rho_tolerance : "near ρ_J" means |ρ − ρ_J| ≤ this; "below" and "beyond ρ_J" mean ρ < ρ_J − this and
+        ρ > ρ_J + this.
+        None: the larger of P1's Δρ = 0.02 and the system's own ρ step.
+    rho_window : width of the ρ window of "a rise close to ρ_J" (ρ_J ± this) and of "a plateau near ρ_max"
+        (the last window before ρ_max). None: twice the system's rho_tolerance.
+    min_prominence : a peak of a curve versus ρ needs a topographic prominence ≥ this fraction of its scale
+        (B0/N ridge and ⟨S⟩/N peak: the largest value over (ρ, F_th); persistence bins: the curve's maximum).
+    negligible_fraction : "B_k = 0", "TP2 ≈ 0": the largest value below ρ_J ≤ this fraction of the largest
+        value of the curve; a rise is real when it exceeds this fraction of the maximum.
+    monotone_tolerance : "grows monotonically": no drop between consecutive ρ beyond ρ_J larger than this
+        fraction of the curve's maximum.
+    plateau_fraction : "plateaus near ρ_max": the change over the last `rho_window` before ρ_max ≤ this
+        fraction of the whole rise up to ρ_max.
+    threshold_tolerance : an F_th P1 quotes (1.25, 1.5, 2.0) is met within this (P1 quotes multiples of 0.25).
+    unity_tolerance : "S_p ≈ 1": |median S_p − 1| ≤ this.
+    shape_difference : "S_p significantly larger": the means differ by at least this.
+    almost_all : "almost all the particles" in the percolating cluster: median N_per/N ≥ this.
+    small_share : "a very small number of particles" in the percolating cluster: N_per/N ≤ this (P1's own
+        estimate φ_c ≈ 0.2 in 3D sets the scale).
+    similar_ratio : "very similar" across systems: largest / smallest ≤ this.
+    jump_factor : "a sudden increase beyond jamming": the value at the first ρ beyond ρ_J ≥ this × the value at
+        the last ρ below it.
+    steeper_factor : "a significantly more prominent increase close to ρ_J" in 3D: its rise over ρ_J ±
+        rho_window ≥ this × the larger 2D rise.
+    pdf_distance : "significantly different" force PDFs: total-variation distance ½ ∫|p − q| dF ≥ this.
+    min_clusters : "a non-vanishing number of clusters": realization-mean count per snapshot ≥ this.
+    """
+
+    rho_tolerance: float | None = None
+    rho_window: float | None = None
+    min_prominence: float = 0.2
+    negligible_fraction: float = 0.05
+    monotone_tolerance: float = 0.1
+    plateau_fraction: float = 0.25
+    threshold_tolerance: float = 0.25
+    unity_tolerance: float = 0.25
+    shape_difference: float = 0.1
+    almost_all: float = 0.8
+    small_share: float = 0.3
+    similar_ratio: float = 1.5
+    jump_factor: float = 2.0
+    steeper_factor: float = 1.5
+    pdf_distance: float = 0.1
+    min_clusters: float = 1.0
+
+
+@dataclass(frozen=True)
+class SystemData:
+    """One system as the judges see it.
+
+    data : total-force measures over the judged ρ range (all ρ, or ρ ≤ ρ_max with ``judge_up_to_rho_max``);
+    full : total-force measures over every simulated ρ; rho_j : ρ_J (inflection of Z, from every ρ); rho_max :
+    ρ_max under the table's force unit; tolerance, window : `ClaimTolerances.rho_tolerance`/`rho_window` resolved
+    for this system.
+    """
+
+    name: str
+    dimension: int
+    force_law: str
+    data: xr.Dataset
+    full: xr.Dataset
+    rho_j: float
+    rho_max: float
+    tolerance: float
+    window: float
+
+    @property
+    def role(self) -> tuple[int, str]:
+        """(dimension, force law): how P1 tells its systems apart."""
+        return (self.dimension, self.force_law)
+
+    @property
+    def rho(self) -> np.ndarray:
+        """The judged packing fractions ρ, (n_rho,)."""
+        return rho_values(self.data)
+
+    @property
+    def below(self) -> np.ndarray:
+        """ρ < ρ_J − tolerance (mask over `data`'s ρ)."""
+        return self.rho < self.rho_j - self.tolerance - 1e-12
+
+    @property
+    def beyond(self) -> np.ndarray:
+        """ρ > ρ_J + tolerance (mask over `data`'s ρ)."""
+        return self.rho > self.rho_j + self.tolerance + 1e-12
+
+    @property
+    def thresholds(self) -> np.ndarray:
+        """The force thresholds F_th [⟨F⟩], (n_threshold,)."""
+        return np.asarray(self.data["threshold"].values, dtype=float)
+
+    @property
+    def lowest_threshold(self) -> float:
+        """The smallest F_th of the grid [⟨F⟩] (P1's "F_th = min", the whole network)."""
+        return float(self.thresholds.min())
+
+    def mean(self, name: str, per_n: bool = True, full: bool = False, **selection) -> xr.DataArray:
+        """Realization mean of ``name`` (divided by N when `per_n`), with `selection` applied."""
+        ds = self.full if full else self.data
+        values = per_particle(ds, name) if per_n else ds[name]
+        return realization_mean(values.sel(**selection))
+
+    def label(self) -> str:
+        """``name (rho_J=…)`` for the evidence texts."""
+        return f"{self.name} (rho_J={self.rho_j:.3f})"
+
+
+@dataclass(frozen=True)
+class ClaimContext:
+    """Every system present, for claims that compare systems."""
+
+    systems: Mapping[str, SystemData]
+    tolerances: ClaimTolerances
+
+    def role(self, role: tuple[int, str]) -> SystemData:
+        """The first system (P1's order) with this role; NotEvaluated when none is present or its ρ_J is NaN."""
+        for name in system_order(self.systems):
+            system = self.systems[name]
+            if system.role == role:
+                if not np.isfinite(system.rho_j):
+                    raise NotEvaluated(f"rho_J of {name} could not be located")
+                return system
+        raise NotEvaluated(f"no {role[0]}D {role[1]} system in the results")
+
+    def nonlinear(self) -> list[SystemData]:
+        """The non-linear (Hertzian) systems present, one per dimension, each with a located ρ_J."""
+        found = []
+        for role in (HERTZ_2D, HERTZ_3D):
+            try:
+                found.append(self.role(role))
+            except NotEvaluated:
+                pass
+        if not found:
+            raise NotEvaluated("no non-linear system with a located rho_J in the results")
+        return found
+
+
+ALL_2D = (HERTZ_2D, LINEAR_2D)
+
+
+# --- helpers the judges share ---------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class Peak:
+    """The highest point of a curve versus ρ: where, how high, its topographic prominence relative to a scale,
+    and whether it lies within the tolerance of ρ_J."""
+
+    rho: float
+    value: float
+    relative_prominence: float
+    near: bool
+
+
+def find_peak(curve, rho: np.ndarray, rho_j: float, tolerance: float, scale: float) -> Peak | None:
+    """The maximum of `curve` (ρ,) and its prominence: height above the higher of the lowest points on its two
+    sides (0 when the maximum is at an end of a monotonic curve), divided by `scale`. None if all NaN."""
+    curve = np.asarray(curve, dtype=float)
+    if not np.isfinite(curve).any() or not np.isfinite(scale) or scale <= 0:
+        return None
+    k = int(np.nanargmax(curve))
+    prominence = curve[k] - max(np.nanmin(curve[:k + 1]), np.nanmin(curve[k:]))
+    return Peak(float(rho[k]), float(curve[k]), float(prominence / scale),
+                bool(abs(rho[k] - rho_j) <= tolerance + 1e-12))
+
+
+def strongest_peak(values: xr.DataArray, system: SystemData, thresholds: np.ndarray,
+                    scale: float) -> tuple[Peak, float] | None:
+    """Among the curves values(ρ) at each F_th in `thresholds`, the peak that is near ρ_J with the largest
+    prominence (else the most prominent one); returns (peak, its F_th) or None."""
+    best = None
+    for threshold in thresholds:
+        peak = find_peak(values.sel(threshold=threshold).transpose("rho").values, system.rho, system.rho_j,
+                     system.tolerance, scale)
+        if peak is not None and (best is None or (peak.near, peak.relative_prominence)
+                                 > (best[0].near, best[0].relative_prominence)):
+            best = (peak, float(threshold))
+    return best
+
+
+def peak_verdict(peak: Peak | None, what: str, system: SystemData, tolerances: ClaimTolerances,
+                  expected: bool, threshold: float | None = None) -> Judgement:
+    """A peak near ρ_J is present iff near and relative prominence ≥ min_prominence; holds iff as expected."""
+    if peak is None:
+        raise NotEvaluated(f"{what} is NaN or zero everywhere")
+    present = peak.near and peak.relative_prominence >= tolerances.min_prominence
+    at = f" at F_th={threshold:.3g}" if threshold is not None else ""
+    evidence = (f"highest {what}{at}: {peak.value:.3g} at rho={peak.rho:.3f} ({system.label()}, tolerance "
+                f"{system.tolerance:.3g}), relative prominence {peak.relative_prominence:.2f}; peak "
+                f"{'present' if present else 'absent'}, expected {'present' if expected else 'absent'} for a "
+                f"{system.force_law} law")
+    return Judgement(peak.relative_prominence, evidence, present == expected)
+
+
+def expected_for_law(system: SystemData, nonlinear: bool) -> bool:
+    """True where P1 expects the feature: for the non-linear (Hertz) laws if `nonlinear`, else for the linear law."""
+    if system.force_law not in ("hertz", "linear"):
+        raise NotEvaluated(f"force law '{system.force_law}' unknown")
+    return (system.force_law == "hertz") == nonlinear
+
+
+def betti_curve(system: SystemData, k: int, full: bool = False) -> xr.DataArray:
+    """Realization mean of max over F_th of B_k/N, versus ρ."""
+    ds = system.full if full else system.data
+    if k not in ds["homology_dim"].values:
+        raise NotEvaluated(f"no B{k} in the results")
+    return realization_mean(per_particle(ds, "betti").sel(homology_dim=k).max("threshold", skipna=True))
+
+
+def persistence_curve(system: SystemData, k: int) -> xr.DataArray:
+    """Realization mean of TP_k/N versus ρ."""
+    if k not in system.data["homology_dim"].values:
+        raise NotEvaluated(f"no TP{k} in the results")
+    return system.mean("total_persistence", homology_dim=k)
+
+
+def bin_curve(system: SystemData, bin_name: str) -> xr.DataArray:
+    """Realization mean of the PD0 points per particle in a P1 §5.3 persistence bin, versus ρ."""
+    return system.mean("persistence_bin_count", persistence_bin=bin_name)
+
+
+def require(mask: np.ndarray, what: str) -> np.ndarray:
+    """`mask` (boolean, any shape) when any entry is set; NotEvaluated("no <what>") otherwise."""
+    if not np.any(mask):
+        raise NotEvaluated(f"no {what}")
+    return mask
+
+
+def finite_values(values, what: str) -> np.ndarray:
+    """The finite entries of `values` (any shape) as a flat array; NotEvaluated when there are none."""
+    values = np.asarray(values, dtype=float).ravel()
+    values = values[np.isfinite(values)]
+    if values.size == 0:
+        raise NotEvaluated(f"{what}: no finite values")
+    return values
+
+
+def interp_at(curve: xr.DataArray, rho: float) -> float:
+    """Linear interpolation of a curve versus ρ at `rho`, clipped to its finite range."""
+    grid, values = rho_values(curve), np.asarray(curve.values, dtype=float)
+    ok = np.isfinite(values)
+    if not ok.any():
+        return math.nan
+    return float(np.interp(np.clip(rho, grid[ok].min(), grid[ok].max()), grid[ok], values[ok]))
+
+
+def fmt_values(values, digits: int = 3) -> str:
+    """``[v0, v1, …]`` to `digits` significant digits ("nan" where not finite), for the evidence texts."""
+    return "[" + ", ".join("nan" if not np.isfinite(v) else f"{v:.{digits}g}" for v in np.asarray(values, float)) + "]"
+
+
+def zero_below(curve: xr.DataArray, system: SystemData, tolerances: ClaimTolerances, what: str) -> Judgement:
+    """`what` ≈ 0 below ρ_J: its largest value at ρ < ρ_J − tolerance ≤ negligible_fraction × its maximum."""
+    below = require(system.below, f"rho below rho_J - {system.tolerance:.3g}")
+    values = np.asarray(curve.values, dtype=float)
+    below_max, overall = finite_max(values[below]), finite_max(values)
+    if not np.isfinite(overall):
+        raise NotEvaluated(f"{what} is NaN everywhere")
+    holds = below_max == 0 or below_max <= tolerances.negligible_fraction * overall
+    evidence = (f"max {what} for rho < {system.rho_j - system.tolerance:.3f}: {below_max:.3g}; max over all rho "
+                f"{overall:.3g} ({system.label()})")
+    return Judgement(below_max, evidence, bool(holds))
+
+
+def grows_beyond(curve: xr.DataArray, system: SystemData, tolerances: ClaimTolerances, what: str) -> Judgement:
+    """`what` grows monotonically beyond ρ_J: over ρ ≥ ρ_J − tolerance it rises by more than negligible_fraction
+    of its maximum and never drops between consecutive ρ by more than monotone_tolerance of it."""
+    require(system.beyond, "rho beyond rho_J")
+    from_jamming = system.rho >= system.rho_j - system.tolerance - 1e-12
+    values = np.asarray(curve.values, dtype=float)[from_jamming]
+    values = values[np.isfinite(values)]
+    if values.size < 2:
+        raise NotEvaluated(f"fewer than 2 rho from rho_J - {system.tolerance:.3g} on")
+    top = float(values.max())
+    growth = float(values[-1] - values[0])
+    drop = float(max(0.0, np.max(values[:-1] - values[1:])))
+    holds = top > 0 and growth > tolerances.negligible_fraction * top and drop <= tolerances.monotone_tolerance * top
+    evidence = (f"{what} from rho={system.rho[from_jamming][0]:.3f} on: {fmt_values(values)} ({system.label()}); "
+                "growth "
+                f"{growth:.3g}, largest drop {drop:.3g}, max {top:.3g}")
+    return Judgement(growth, evidence, bool(holds))

@@ -1,0 +1,558 @@
+"""P2's claims (§III D Tables I–III, §IV A–C, §V): one `forcenet.report.claims.Claim` each in `CLAIMS`, judged on
+the realization-mean distance curves and Tables I–III (`forcenet.report.p2_judging.Context`).
+
+A judge returns (evidence, holds) or raises `NotEvaluated`; criteria are functions of `ValidationTolerances`, so
+every verdict uses the documented tolerances and nothing else. The only numbers typed in are P2's own: the
+``paper`` column (its statement), the ρ ranges it names and its printed tables. Why a claim does not hold is
+`forcenet.report.p2_explanations`; the table is `forcenet.report.p2_validation`.
+"""
+from __future__ import annotations
+
+import math
+from typing import Callable, Sequence
+
+import numpy as np
+import pandas as pd
+
+from forcenet.report.claims import Claim, NotEvaluated, claim_register
+from forcenet.report.p2 import (METRIC_SYMBOLS, METRICS, P2_HOMOLOGY_DIMS, TABLE_PAIRS,
+                                jamming_density_per_realization, table_column)
+from forcenet.report.p2_judging import (B, NORMAL, TANGENTIAL, W1, W2, Context, Curves, ValidationTolerances,
+                                        coefficient_of_variation, fmt, log10_ratio, on_grid, pearson,
+                                        per_dim_metric_text, per_metric_text, rate_quotient, spearman, within_factor)
+
+
+CLAIMS: list[Claim] = []  # in the order of the table
+claim = claim_register(CLAIMS)
+
+
+@claim("III.D-1", "§III D, Table I",
+       "No single dramatic change between nearby states: d_B(a,b) and d_B(a,c) are small",
+       lambda t: f"d_B(a,b) <= 0.10·{t.value_factor} and d_B(a,c) <= 0.15·{t.value_factor} for beta0 and beta1",
+       paper="< 0.10 and < 0.15 <F>", scope="tables")
+def _t_bottleneck_small(ctx: Context) -> tuple[str, bool]:
+    """Judge of claim III.D-1: (evidence, holds) by its criterion."""
+    t = ctx.table("table1")
+    values = {(pair, h): float(t.loc[pair, table_column(h, B)]) for pair in TABLE_PAIRS for h in P2_HOMOLOGY_DIMS}
+    limits = {"(a,b)": 0.10, "(a,c)": 0.15}
+    ok = all(v <= limits[pair] * ctx.tol.value_factor for (pair, _), v in values.items())
+    return "Table I d_B: " + ", ".join(f"{p} beta{h} {fmt(v, 2)}" for (p, h), v in values.items()), ok
+
+
+@claim("III.D-2", "§III D, Table I",
+       "c differs from a by many more small changes than b does: d_W1 grows from (a,b) to (a,c) relatively more "
+       "than d_W2",
+       lambda t: "d_W1(a,c)/d_W1(a,b) > d_W2(a,c)/d_W2(a,b) for beta0 and beta1",
+       paper="beta0: 14.0/4.18 vs 0.89/0.50; beta1: 19.2/3.8 vs 0.99/0.57", scope="tables")
+def _t_relative_w1(ctx: Context) -> tuple[str, bool]:
+    """Judge of claim III.D-2: (evidence, holds) by its criterion."""
+    t = ctx.table("table1")
+    growth = {}
+    for h in P2_HOMOLOGY_DIMS:
+        for m in (W1, W2):
+            col = table_column(h, m)
+            growth[h, m] = float(t.loc["(a,c)", col]) / float(t.loc["(a,b)", col])
+    ok = all(growth[h, W1] > growth[h, W2] for h in P2_HOMOLOGY_DIMS)
+    return f"Table I (a,c)/(a,b): {per_dim_metric_text(growth)}", ok
+
+
+def quadrant_dominance(table: pd.DataFrame) -> pd.DataFrame:
+    """Per column of a quadrant table: the largest quadrant, largest/second largest, largest/smallest."""
+    rows = {}
+    for col in table.columns:
+        values = table[col].astype(float).sort_values(ascending=False)
+        first, second, last = values.iloc[0], values.iloc[1], values.iloc[-1]
+        rows[col] = {"largest": values.index[0],
+                     "dominance": first / second if second > 0 else math.inf,
+                     "max_over_min": first / last if last > 0 else math.inf}
+    return pd.DataFrame.from_dict(rows, orient="index")
+
+
+@claim("III.D-3", "§III D, Table II",
+       "The (a,b) differences are concentrated in one quadrant (bottom left in P2)",
+       lambda t: f"one quadrant largest in most columns and median largest/second largest >= {t.dominance}",
+       paper="bottom left largest in every column", scope="tables")
+def _t_localised(ctx: Context) -> tuple[str, bool]:
+    """Judge of claim III.D-3: (evidence, holds) by its criterion."""
+    stats = quadrant_dominance(ctx.table("table2"))
+    top = stats["largest"].value_counts()
+    quadrant, count = str(top.index[0]), int(top.iloc[0])
+    median = float(stats["dominance"].median())
+    ok = count > len(stats) / 2 and median >= ctx.tol.dominance
+    return (f"Table II: '{quadrant}' is largest in {count} of {len(stats)} columns; median largest/second largest "
+            f"= {fmt(median, 2)}", ok)
+
+
+@claim("III.D-4", "§III D, Table III",
+       "The (a,c) differences are distributed evenly over the domain",
+       lambda t: f"median over columns of largest/smallest quadrant <= {t.spread}",
+       paper="similar values in all quadrants", scope="tables")
+def _t_spread(ctx: Context) -> tuple[str, bool]:
+    """Judge of claim III.D-4: (evidence, holds) by its criterion."""
+    stats = quadrant_dominance(ctx.table("table3"))
+    median = float(stats["max_over_min"].median())
+    return f"Table III: median over columns of largest/smallest quadrant = {fmt(median, 2)}", median <= ctx.tol.spread
+
+
+@claim("IV.A-1", "§IV A, Fig. 6",
+       "The most pronounced feature is the dramatic change around rho_J (Z ≈ 3)",
+       lambda t: f"argmax of mean d_W1 (beta0 and beta1) within ±{t.peak_window} of rho_J",
+       paper="rate of change peaks at rho_J", scope="frictional")
+def _a_peak_near_jamming(ctx: Context) -> tuple[str, bool]:
+    """Judge of claim IV.A-1: (evidence, holds) by its criterion."""
+    c = ctx.system(ctx.frictional)
+    rho_j = c.jammed()
+    peaks = {h: c.argmax(c.mean(NORMAL, h, W1)) for h in P2_HOMOLOGY_DIMS}
+    ok = all(abs(p - rho_j) <= ctx.tol.peak_window for p in peaks.values())
+    return (f"rho_J = {fmt(rho_j)}; argmax of mean d_W1: beta0 at {fmt(peaks[0])}, beta1 at {fmt(peaks[1])}", ok)
+
+
+@claim("IV.A-2", "§IV A, Fig. 6(a)",
+       "Before jamming d_B (beta0) is an order of magnitude greater than one for most of the regime",
+       lambda t: f"median of mean d_B over rho < rho_J >= 10/{t.value_factor}",
+       paper="≈ 10 <F>", scope="frictional")
+def _a_db_large_before(ctx: Context) -> tuple[str, bool]:
+    """Judge of claim IV.A-2: (evidence, holds) by its criterion."""
+    c = ctx.system(ctx.frictional)
+    s = c.window(c.mean(NORMAL, 0, B), hi=c.jammed())
+    median = float(s.median())
+    return (f"median d_B(beta0) over rho < rho_J = {fmt(c.rho_j)}: {fmt(median)} <F>",
+            median >= 10 / ctx.tol.value_factor)
+
+
+def _ratio_constant(denominator: str, reference: float):
+    """(criterion, evaluate) of "for rho < 0.75, d_B/d_Wq (beta0) is roughly constant and ≈ `reference`"."""
+    def criterion(t: ValidationTolerances) -> str:
+        """The criterion with the tolerances `t` filled in."""
+        return f"median within a factor {t.value_factor} of {fmt(reference)} and CV <= {t.max_cv}"
+
+    def evaluate(ctx: Context) -> tuple[str, bool]:
+        """(evidence, holds): median and CV of the ratio over rho < 0.75."""
+        c = ctx.system(ctx.frictional)
+        s = c.window(c.ratio(NORMAL, 0, denominator), hi=0.75)
+        median, cv = float(s.median()), coefficient_of_variation(s)
+        ok = within_factor(median, reference, ctx.tol.value_factor) and cv <= ctx.tol.max_cv
+        return (f"median d_B/{METRIC_SYMBOLS[denominator]} = {fmt(median)}, CV = {fmt(cv, 2)} over {len(s)} rho values "
+                f"< 0.75 (rho_J = {fmt(c.rho_j)})", ok)
+    return criterion, evaluate
+
+
+_criterion, _judge = _ratio_constant(W2, 0.75)
+claim("IV.A-3", "§IV A, Fig. 7(a)",
+      "For rho < 0.75, d_B/d_W2 (beta0) is roughly constant and ≈ 0.75",
+      _criterion, paper="0.75", scope="frictional")(_judge)
+
+
+_criterion, _judge = _ratio_constant(W1, 0.2)
+claim("IV.A-4", "§IV A, Fig. 7(a)",
+      "For rho < 0.75, d_B/d_W1 (beta0) is roughly constant and ≈ 0.2",
+      _criterion, paper="0.2", scope="frictional")(_judge)
+
+
+@claim("IV.A-5", "§IV A, Fig. 6(a)",
+       "At rho ≈ 0.75 the rate of change measured by d_B (beta0) decreases dramatically",
+       lambda t: f"median d_B over [0.75, rho_J) <= median over rho < 0.75 / {t.drop_factor}",
+       paper="drop at 0.75", scope="frictional")
+def _a_db_drops_at_075(ctx: Context) -> tuple[str, bool]:
+    """Judge of claim IV.A-5: (evidence, holds) by its criterion."""
+    c = ctx.system(ctx.frictional)
+    s = c.mean(NORMAL, 0, B)
+    before, after = c.window(s, hi=0.75), c.window(s, 0.75, c.jammed())
+    m0, m1 = float(before.median()), float(after.median())
+    return (f"median d_B(beta0): {fmt(m0)} for rho < 0.75, {fmt(m1)} for 0.75 <= rho < rho_J = {fmt(c.rho_j)}",
+            m1 <= m0 / ctx.tol.drop_factor)
+
+
+@claim("IV.A-6", "§IV A, Figs 6(a), 7(a)",
+       "For 0.75 < rho < rho_J, d_W1 (beta0) increases dramatically and d_B/d_W1 decreases",
+       lambda t: f"Spearman(rho, d_W1) >= {t.trend} and Spearman(rho, d_B/d_W1) <= -{t.trend}",
+       paper="increase / decrease", scope="frictional")
+def _a_w1_grows_before_jamming(ctx: Context) -> tuple[str, bool]:
+    """Judge of claim IV.A-6: (evidence, holds) by its criterion."""
+    c = ctx.system(ctx.frictional)
+    w1 = c.window(c.mean(NORMAL, 0, W1), 0.75, c.jammed())
+    r1 = c.window(c.ratio(NORMAL, 0, W1), 0.75, c.jammed())
+    s_w1, s_r1 = spearman(w1), spearman(r1)
+    return (f"Spearman(rho, d_W1) = {fmt(s_w1, 2)}, Spearman(rho, d_B/d_W1) = {fmt(s_r1, 2)} over "
+            f"0.75 <= rho < rho_J = {fmt(c.rho_j)} ({len(w1)} values)",
+            s_w1 >= ctx.tol.trend and s_r1 <= -ctx.tol.trend)
+
+
+@claim("IV.A-7", "§IV A, Fig. 7(a)",
+       "For 0.75 < rho < rho_J, d_B/d_W2 (beta0) stays roughly constant until just before jamming, "
+       "where it plunges",
+       lambda t: (f"CV <= {t.max_cv} over [0.75, rho_J - {t.near_jamming}) and the minimum over [rho_J - "
+                  f"{t.near_jamming}, rho_J] <= plateau median / {t.drop_factor}"),
+       paper="constant, then plunge", scope="frictional")
+def _a_w2_ratio_plunges(ctx: Context) -> tuple[str, bool]:
+    """Judge of claim IV.A-7: (evidence, holds) by its criterion."""
+    c = ctx.system(ctx.frictional)
+    rho_j, near = c.jammed(), ctx.tol.near_jamming
+    r2 = c.ratio(NORMAL, 0, W2)
+    plateau = c.window(r2, 0.75, rho_j - near)
+    before_jamming = c.window(r2, rho_j - near, rho_j, closed_hi=True)
+    cv, median, low = coefficient_of_variation(plateau), float(plateau.median()), float(before_jamming.min())
+    ok = cv <= ctx.tol.max_cv and low <= median / ctx.tol.drop_factor
+    return (f"d_B/d_W2 over [0.75, rho_J - {near}): median {fmt(median)}, CV {fmt(cv, 2)}; minimum over "
+            f"[rho_J - {near}, rho_J = {fmt(rho_j)}]: {fmt(low)}", ok)
+
+
+@claim("IV.A-8", "§IV A, Fig. 6(b)",
+       "Before jamming the rate of change of the loop structure (beta1) generally increases with rho",
+       lambda t: f"median over d_B, d_W1, d_W2 of Spearman(rho, d) over rho < min(0.77, rho_J) >= {t.trend}",
+       paper="increase", scope="frictional")
+def _a_loops_increase(ctx: Context) -> tuple[str, bool]:
+    """Judge of claim IV.A-8: (evidence, holds) by its criterion."""
+    c = ctx.system(ctx.frictional)
+    hi = min(0.77, c.jammed())
+    rhos = {m: spearman(c.window(c.mean(NORMAL, 1, m), hi=hi)) for m in METRICS}
+    median = float(np.nanmedian(list(rhos.values())))
+    return f"Spearman(rho, d) for beta1 over rho < {fmt(hi)}: {per_metric_text(rhos)}", median >= ctx.tol.trend
+
+
+@claim("IV.A-9", "§IV A, Fig. 6(b)",
+       "At rho ≈ 0.77 d_B (beta1) starts decreasing",
+       lambda t: f"argmax of mean d_B(beta1) within 0.77 ± {t.peak_window}",
+       paper="peak at 0.77", scope="frictional")
+def _a_loops_db_peak(ctx: Context) -> tuple[str, bool]:
+    """Judge of claim IV.A-9: (evidence, holds) by its criterion."""
+    c = ctx.system(ctx.frictional)
+    peak = c.argmax(c.mean(NORMAL, 1, B))
+    return (f"argmax of mean d_B(beta1): rho = {fmt(peak)} (rho_J = {fmt(c.rho_j)})",
+            abs(peak - 0.77) <= ctx.tol.peak_window)
+
+
+@claim("IV.A-10", "§IV A, Fig. 7(b)",
+       "Both ratios d_B/d_W2 and d_B/d_W1 (beta1) decrease from rho ≈ 0.76 on",
+       lambda t: f"Spearman(rho, ratio) <= -{t.trend} over 0.76 <= rho <= rho_J for both ratios",
+       paper="decrease", scope="frictional")
+def _a_loop_ratios_decrease(ctx: Context) -> tuple[str, bool]:
+    """Judge of claim IV.A-10: (evidence, holds) by its criterion."""
+    c = ctx.system(ctx.frictional)
+    hi = c.jammed()
+    s = {d: spearman(c.window(c.ratio(NORMAL, 1, d), 0.76, hi, closed_hi=True)) for d in (W2, W1)}
+    return (f"Spearman(rho, ratio) for beta1 over 0.76 <= rho <= rho_J = {fmt(hi)}: d_B/d_W2 {fmt(s[W2], 2)}, "
+            f"d_B/d_W1 {fmt(s[W1], 2)}", all(v <= -ctx.tol.trend for v in s.values()))
+
+
+def _fall_after_jamming(role: str):
+    """The judge of "after jamming the rate of change slows dramatically" for the system of `role`."""
+    def evaluate(ctx: Context) -> tuple[str, bool]:
+        """(evidence, holds): median before / median after rho_J, every metric, beta0 and beta1."""
+        c = ctx.system(ctx.frictional if role == "frictional" else ctx.frictionless)
+        rho_j = c.jammed()
+        factors = {}
+        for h in P2_HOMOLOGY_DIMS:
+            for m in METRICS:
+                s = c.mean(NORMAL, h, m)
+                before, after = c.window(s, hi=rho_j).median(), c.window(s, lo=rho_j, closed_lo=False).median()
+                factors[h, m] = rate_quotient(before, after,
+                                              f"beta{h} {METRIC_SYMBOLS[m]} median before and after rho_J")
+        worst = min(factors.values())
+        text = f"rho_J = {fmt(rho_j)}; median(rho < rho_J) / median(rho > rho_J): {per_dim_metric_text(factors)}"
+        return text, worst >= ctx.tol.fall_factor
+    return evaluate
+
+
+for suffix, figure, role in (("a", 6, "frictional"), ("b", 9, "frictionless")):
+    claim(f"IV.A-11{suffix}", f"§IV A, Fig. {figure}; §V",
+          "After jamming the rate of change slows dramatically (distances fall sharply)",
+          lambda t: (f"median over rho > rho_J <= median over rho < rho_J / {t.fall_factor}, every metric, "
+                     "beta0 and beta1"),
+          paper="much smaller", scope=role)(_fall_after_jamming(role))
+
+
+def _ratios_after_jamming(dim: int):
+    """The judge of "after jamming d_B/d_W2 and d_B/d_W1 (beta`dim`) are constant and 1 and 3 decades smaller"."""
+    def evaluate(ctx: Context) -> tuple[str, bool]:
+        """(evidence, holds): the drop in decades and the CV after rho_J of both ratios."""
+        c = ctx.system(ctx.frictional)
+        rho_j = c.jammed()
+        parts, ok = [], True
+        for den, decades in ((W2, 1.0), (W1, 3.0)):
+            r = c.ratio(NORMAL, dim, den)
+            before = c.window(r, hi=min(0.75, rho_j))
+            after = c.window(r, lo=rho_j, closed_lo=False)
+            drop = math.log10(float(before.median()) / float(after.median()))
+            cv = coefficient_of_variation(after)
+            ok &= abs(drop - decades) <= ctx.tol.decades and cv <= ctx.tol.max_cv
+            parts.append(f"d_B/{METRIC_SYMBOLS[den]}: drop {fmt(drop, 2)} decades, CV after {fmt(cv, 2)}")
+        return f"beta{dim}, rho_J = {fmt(rho_j)}: " + "; ".join(parts), ok
+    return evaluate
+
+
+for panel, dim in (("a", 0), ("b", 1)):
+    claim(f"IV.A-12{panel}", f"§IV A, Fig. 7({panel})",
+          f"After jamming d_B/d_W2 and d_B/d_W1 (beta{dim}) are essentially constant and about one and three "
+          "orders of magnitude smaller than before",
+          lambda t: (f"log10(median before / median after) within ±{t.decades} of 1 and 3 (before: rho < "
+                     f"min(0.75, rho_J)); CV after <= {t.max_cv}"),
+          paper="1 and 3 decades", scope="frictional")(_ratios_after_jamming(dim))
+
+
+def _near(c: Curves, s: pd.Series, tol: ValidationTolerances) -> pd.Series:
+    """The values of `s` with |rho - rho_J| <= near_jamming."""
+    return s[np.abs(s.index.values - c.jammed()) <= tol.near_jamming]
+
+
+def _away(c: Curves, s: pd.Series, tol: ValidationTolerances) -> pd.Series:
+    """The values of `s` with |rho - rho_J| > near_jamming."""
+    return s[np.abs(s.index.values - c.jammed()) > tol.near_jamming]
+
+
+def _tangential_log_ratios(c: Curves, metrics: Sequence[str]) -> pd.Series:
+    """log10(tangential / normal) of the mean curves of beta0 and beta1 for each of `metrics`, stacked into one
+    Series over rho (one entry per dimension, metric and rho where both curves are positive)."""
+    parts = [log10_ratio(c.mean(TANGENTIAL, h, m), c.mean(NORMAL, h, m)) for h in P2_HOMOLOGY_DIMS for m in metrics]
+    return pd.Series(np.concatenate([p.values for p in parts]), index=np.concatenate([p.index.values for p in parts]),
+                     dtype=float)
+
+
+@claim("IV.B-1", "§IV B, Fig. 8",
+       "Tangential-force distances track the normal-force ones (beta0 and beta1) away from rho_J",
+       lambda t: (f"median Pearson correlation of log10 curves with |rho - rho_J| > {t.near_jamming} "
+                  f">= {t.correlation}"),
+       paper="similar curves", scope="frictional")
+def _b_tracks(ctx: Context) -> tuple[str, bool]:
+    """Judge of claim IV.B-1: (evidence, holds) by its criterion."""
+    c = ctx.system(ctx.frictional)
+    c.jammed()
+    corr = {}
+    for h in P2_HOMOLOGY_DIMS:
+        for m in METRICS:
+            n, t = c.mean(NORMAL, h, m), c.mean(TANGENTIAL, h, m)
+            common = n.index.intersection(t.index)
+            n, t = _away(c, n[common], ctx.tol), _away(c, t[common], ctx.tol)
+            ok = (n > 0) & (t > 0)
+            if ok.sum() < ctx.tol.correlation_points:
+                raise NotEvaluated(f"fewer than {ctx.tol.correlation_points} rho values away from rho_J")
+            corr[h, m] = pearson(np.log10(n[ok].values), np.log10(t[ok].values))
+    median = float(np.nanmedian(list(corr.values())))
+    return ("Pearson correlation of log10 normal vs tangential curves, |rho - rho_J| > "
+            f"{ctx.tol.near_jamming}: {per_dim_metric_text(corr)}; median {fmt(median, 2)}",
+            median >= ctx.tol.correlation)
+
+
+@claim("IV.B-2", "§IV B, Fig. 8",
+       "Normal and tangential distances deviate more near rho_J than elsewhere",
+       lambda t: f"median |log10(tangential/normal)| within ±{t.near_jamming} of rho_J > away from it",
+       paper="larger deviation near rho_J", scope="frictional")
+def _b_deviation_near_jamming(ctx: Context) -> tuple[str, bool]:
+    """Judge of claim IV.B-2: (evidence, holds) by its criterion."""
+    c = ctx.system(ctx.frictional)
+    c.jammed()
+    dev = _tangential_log_ratios(c, METRICS).abs()
+    near, away = _near(c, dev, ctx.tol).values, _away(c, dev, ctx.tol).values
+    if not len(near) or len(away) < ctx.tol.min_points:
+        raise NotEvaluated(f"no rho value within {ctx.tol.near_jamming} of rho_J, or too few away from it")
+    m_near, m_away = float(np.median(near)), float(np.median(away))
+    return (f"median |log10(tangential/normal)|: {fmt(m_near, 2)} within ±{ctx.tol.near_jamming} of rho_J = "
+            f"{fmt(c.rho_j)}, {fmt(m_away, 2)} away from it", m_near > m_away)
+
+
+@claim("IV.B-3", "§IV B, Fig. 8",
+       "Near rho_J, d_W1 and d_W2 are significantly smaller for tangential forces",
+       lambda t: (f"median tangential/normal within ±{t.near_jamming} of rho_J <= 1/{t.value_factor} "
+                  "for d_W1 and d_W2"),
+       paper="smaller", scope="frictional")
+def _b_wasserstein_smaller_near_jamming(ctx: Context) -> tuple[str, bool]:
+    """Judge of claim IV.B-3: (evidence, holds) by its criterion."""
+    c = ctx.system(ctx.frictional)
+    c.jammed()
+    medians = {}
+    for m in (W1, W2):
+        values = _near(c, _tangential_log_ratios(c, (m,)), ctx.tol).values
+        if not len(values):
+            raise NotEvaluated(f"no rho value within {ctx.tol.near_jamming} of rho_J")
+        medians[m] = 10 ** float(np.median(values))
+    return (f"median tangential/normal within ±{ctx.tol.near_jamming} of rho_J = {fmt(c.rho_j)}: "
+            + per_metric_text(medians),
+            all(v <= 1 / ctx.tol.value_factor for v in medians.values()))
+
+
+@claim("IV.B-4", "§IV B, Fig. 8",
+       "d_B is similar for normal and tangential forces throughout, including near rho_J",
+       lambda t: f"median factor between the d_B curves <= {t.value_factor}, over all rho and near rho_J",
+       paper="similar", scope="frictional")
+def _b_bottleneck_similar(ctx: Context) -> tuple[str, bool]:
+    """Judge of claim IV.B-4: (evidence, holds) by its criterion."""
+    c = ctx.system(ctx.frictional)
+    c.jammed()
+    dev = _tangential_log_ratios(c, (B,))
+    everywhere, near = dev.values, _near(c, dev, ctx.tol).values
+    if len(everywhere) < ctx.tol.min_points or not len(near):
+        raise NotEvaluated("too few rho values with both curves positive")
+    f_all, f_near = 10 ** float(np.median(np.abs(everywhere))), 10 ** float(np.median(np.abs(near)))
+    limit = ctx.tol.value_factor
+    return (f"median factor between tangential and normal d_B: {fmt(f_all, 2)} over all rho, {fmt(f_near, 2)} "
+            f"within ±{ctx.tol.near_jamming} of rho_J = {fmt(c.rho_j)}", f_all <= limit and f_near <= limit)
+
+
+@claim("IV.C-1", "§IV C, Fig. 9",
+       "The frictionless system jams at larger rho",
+       lambda t: "rho where the mean Z reaches d+1 is larger for mu = 0",
+       paper="rho_J(mu=0) > rho_J(mu=0.5)", scope="both")
+def _c_jams_later(ctx: Context) -> tuple[str, bool]:
+    """Judge of claim IV.C-1: (evidence, holds) by its criterion."""
+    f, n = ctx.both()
+    rf, rn = f.jammed(), n.jammed()
+    pf = jamming_density_per_realization(f.ds, f.dimension)
+    pn = jamming_density_per_realization(n.ds, n.dimension)
+    spread = (f"per realization {ctx.frictional} [{fmt(np.nanmin(pf))}, {fmt(np.nanmax(pf))}], "
+              f"{ctx.frictionless} [{fmt(np.nanmin(pn))}, {fmt(np.nanmax(pn))}]")
+    return f"rho_J (mean Z = d+1): {ctx.frictional} {fmt(rf)}, {ctx.frictionless} {fmt(rn)}; {spread}", rn > rf
+
+
+def _median_quotient(ctx: Context, dim: int, metrics: Sequence[str], lo: float = -np.inf, hi: float = np.inf, *,
+                     closed_lo: bool = True) -> dict[str, float]:
+    """{metric: median of the mu = 0 curve / median of the mu = 0.5 curve} (normal forces, PD_dim), both over
+    the same rho `window`."""
+    f, n = ctx.both()
+
+    def median(c: Curves, metric: str) -> float:
+        """Median of one system's curve over the window."""
+        return float(c.window(c.mean(NORMAL, dim, metric), lo, hi, closed_lo=closed_lo).median())
+
+    return {m: rate_quotient(median(n, m), median(f, m), f"beta{dim} {METRIC_SYMBOLS[m]} medians of both systems")
+            for m in metrics}
+
+
+def _peak_quotient(ctx: Context, dim: int, bounds: Callable[[Curves], tuple[float, float]], *,
+                   numerator: str) -> dict[str, float]:
+    """{metric: largest value of one system's curve / largest value of the other's} (normal forces, PD_dim), each
+    over its own closed rho range ``bounds(curves)``; `numerator` is ``"frictional"`` or ``"frictionless"``."""
+    f, n = ctx.both()
+    quotient = {}
+    for m in METRICS:
+        peak_f, peak_n = (c.window(c.mean(NORMAL, dim, m), *bounds(c), closed_hi=True).max() for c in (f, n))
+        what = f"beta{dim} {METRIC_SYMBOLS[m]} peaks of both systems"
+        quotient[m] = (rate_quotient(peak_f, peak_n, what) if numerator == "frictional"
+                       else rate_quotient(peak_n, peak_f, what))
+    return quotient
+
+
+@claim("IV.C-2", "§IV C, Fig. 9(a)",
+       "For rho < 0.65, d_B and d_W2 (beta0) are about the same with and without friction; d_W1 is ≈ 40 % smaller "
+       "for mu = 0",
+       lambda t: f"ratios of medians within a factor {t.value_factor} of 1 (d_B, d_W2) and 0.6 (d_W1)",
+       paper="mu=0/mu=0.5: 1, 1, 0.6", scope="both")
+def _c_low_density(ctx: Context) -> tuple[str, bool]:
+    """Judge of claim IV.C-2: (evidence, holds) by its criterion."""
+    ratio = _median_quotient(ctx, 0, METRICS, hi=0.65)
+    tol = ctx.tol.value_factor
+    ok = within_factor(ratio[B], 1.0, tol) and within_factor(ratio[W2], 1.0, tol) and within_factor(ratio[W1], 0.6, tol)
+    return f"median over rho < 0.65, mu=0 / mu=0.5 (beta0): {per_metric_text(ratio)}", ok
+
+
+def _shifted_comparison(ctx: Context, dim: int, denominator: str) -> tuple[np.ndarray, np.ndarray]:
+    """mu = 0 ratio and the mu = 0.5 ratio interpolated at the same rho - rho_J."""
+    f, n = ctx.both()
+    rf, rn = f.jammed(), n.jammed()
+    sf, sn = (c.window(c.ratio(NORMAL, dim, denominator)) for c in (f, n))
+    sf = pd.Series(sf.values, index=sf.index.values - rf)
+    x = sn.index.values - rn
+    other = on_grid(sf, x)
+    ok = np.isfinite(other) & (other > 0)
+    if ok.sum() < ctx.tol.min_points:
+        raise NotEvaluated("the two systems' rho - rho_J ranges overlap at too few points")
+    return sn.values[ok], other[ok]
+
+
+@claim("IV.C-3", "§IV C, Figs 7(a), 10(a)",
+       "At equal rho - rho_J, d_B/d_W1 (beta0) is consistently larger for mu = 0 while d_B/d_W2 is roughly "
+       "the same",
+       lambda t: (f"mu=0 ratio larger at >= {100 * t.consistently:.0f} % of the points; median d_B/d_W2 quotient "
+                  f"within a factor {t.value_factor} of 1"),
+       paper="larger / same", scope="both")
+def _c_ratios_adjusted(ctx: Context) -> tuple[str, bool]:
+    """Judge of claim IV.C-3: (evidence, holds) by its criterion."""
+    mu0, mu05 = _shifted_comparison(ctx, 0, W1)
+    larger = float(np.mean(mu0 > mu05))
+    a, b = _shifted_comparison(ctx, 0, W2)
+    same = 10 ** float(np.median(np.log10(a / b)))
+    ok = larger >= ctx.tol.consistently and within_factor(same, 1.0, ctx.tol.value_factor)
+    return (f"at equal rho - rho_J (beta0): d_B/d_W1 larger for mu=0 at {fmt(100 * larger, 2)} % of {len(mu0)} points; "
+            f"median (d_B/d_W2 at mu=0) / (at mu=0.5) = {fmt(same, 2)}", ok)
+
+
+@claim("IV.C-4", "§IV C, Figs 6(a), 9(a)",
+       "d_B and d_W2 (beta0) begin slowing down at a much lower rho relative to rho_J in the frictional system",
+       lambda t: "argmax(rho) - rho_J of mean d_B and d_W2 smaller for mu = 0.5 than for mu = 0",
+       paper="earlier peak with friction", scope="both")
+def _c_slowing_earlier(ctx: Context) -> tuple[str, bool]:
+    """Judge of claim IV.C-4: (evidence, holds) by its criterion."""
+    f, n = ctx.both()
+    rf, rn = f.jammed(), n.jammed()
+    peaks = {m: (f.argmax(f.mean(NORMAL, 0, m)) - rf, n.argmax(n.mean(NORMAL, 0, m)) - rn) for m in (B, W2)}
+    return ("argmax(rho) - rho_J (beta0), mu=0.5 vs mu=0: "
+            + ", ".join(f"{METRIC_SYMBOLS[m]} {fmt(a, 2)} vs {fmt(b, 2)}" for m, (a, b) in peaks.items()),
+            all(a < b for a, b in peaks.values()))
+
+
+@claim("IV.C-5", "§IV C, Figs 6(b), 9(b)",
+       "For rho well below rho_J the loop structure (beta1) changes much less for mu = 0 (d_B and d_W2)",
+       lambda t: (f"medians over rho < min(rho_J) - {t.well_below}: mu=0 / mu=0.5 <= 1/{t.value_factor} for d_B "
+                  "and d_W2"),
+       paper="smaller", scope="both")
+def _c_loops_below_jamming(ctx: Context) -> tuple[str, bool]:
+    """Judge of claim IV.C-5: (evidence, holds) by its criterion."""
+    f, n = ctx.both()
+    hi = min(f.jammed(), n.jammed()) - ctx.tol.well_below
+    ratio = _median_quotient(ctx, 1, (B, W2), hi=hi)
+    return (f"median over rho < {fmt(hi)} (beta1), mu=0 / mu=0.5: {per_metric_text(ratio)}",
+            all(v <= 1 / ctx.tol.value_factor for v in ratio.values()))
+
+
+@claim("IV.C-6", "§IV C, Figs 6(b), 9(b)",
+       "Close to jamming the loop structure (beta1) changes much more dramatically for mu = 0 "
+       "(all three distances)",
+       lambda t: f"largest value within ±{t.peak_window} of each rho_J: mu=0 / mu=0.5 >= {t.value_factor}",
+       paper="larger", scope="both")
+def _c_loops_near_jamming(ctx: Context) -> tuple[str, bool]:
+    """Judge of claim IV.C-6: (evidence, holds) by its criterion."""
+    w = ctx.tol.peak_window
+    peak = _peak_quotient(ctx, 1, lambda c: (c.jammed() - w, c.jammed() + w), numerator="frictionless")
+    return (f"largest value within ±{w} of each system's rho_J (beta1), mu=0 / mu=0.5: {per_metric_text(peak)}",
+            all(v >= ctx.tol.value_factor for v in peak.values()))
+
+
+def _quotient_after_jamming(dim: int, reference: float):
+    """(criterion, evaluate) of "after jamming the PD_dim rates of mu = 0 are `reference` times those of
+    mu = 0.5": medians over rho above both rho_J, every metric, within a factor value_factor of `reference`."""
+    def criterion(t: ValidationTolerances) -> str:
+        """The criterion with the tolerances `t` filled in."""
+        return (f"median over rho > both rho_J, mu=0 / mu=0.5 within a factor {t.value_factor} of {fmt(reference)}, "
+                "every metric")
+
+    def evaluate(ctx: Context) -> tuple[str, bool]:
+        """(evidence, holds): the medians' quotients over rho above both rho_J."""
+        f, n = ctx.both()
+        ratio = _median_quotient(ctx, dim, METRICS, lo=max(f.jammed(), n.jammed()), closed_lo=False)
+        return (f"median over rho > both rho_J (beta{dim}), mu=0 / mu=0.5: {per_metric_text(ratio)}",
+                all(within_factor(v, reference, ctx.tol.value_factor) for v in ratio.values()))
+    return criterion, evaluate
+
+
+_criterion, _judge = _quotient_after_jamming(1, 2.0)
+claim("IV.C-7", "§IV C, Figs 6(b), 9(b)",
+      "After jamming the loop structure (beta1) changes about twice as fast for mu = 0 as for mu = 0.5",
+      _criterion, paper="2", scope="both")(_judge)
+
+
+@claim("V-1", "§V (conclusions)",
+       "Peak rates of evolution of the components (beta0) before jamming are 20-40 % higher with friction",
+       lambda t: f"peak over rho <= rho_J, mu=0.5 / mu=0 in (max(1, 1.2/{t.value_factor}), 1.4·{t.value_factor}], "
+                  "every metric",
+       paper="1.2-1.4", scope="both")
+def _v_peak_components(ctx: Context) -> tuple[str, bool]:
+    """Judge of claim V-1: (evidence, holds) by its criterion."""
+    ratio = _peak_quotient(ctx, 0, lambda c: (-np.inf, c.jammed()), numerator="frictional")
+    lo, hi = max(1.0, 1.2 / ctx.tol.value_factor), 1.4 * ctx.tol.value_factor
+    return (f"peak over rho <= rho_J (beta0), mu=0.5 / mu=0: {per_metric_text(ratio)}",
+            all(lo < v <= hi for v in ratio.values()))
+
+
+_criterion, _judge = _quotient_after_jamming(0, 1.0)
+claim("V-2", "§V (conclusions)",
+      "After jamming the component (beta0) rates become quite similar with and without friction",
+      _criterion, paper="1", scope="both")(_judge)

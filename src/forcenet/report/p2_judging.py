@@ -1,0 +1,210 @@
+"""What P2's claims are judged on: the tolerances that turn P2's words into tests (`ValidationTolerances`), one
+system's realization-mean curves over ρ (`Curves`), everything a claim may need (`Context`), and the statistics and
+text helpers the judges of `forcenet.report.p2_claims` and the diagnostics of `forcenet.report.p2_explanations`
+share. Curves are realization means (`forcenet.report.realizations`) of ``distances.nc``; ρ_J is where the mean Z(ρ)
+first reaches d + 1 (P2 §IV A).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Mapping
+
+import numpy as np
+import pandas as pd
+import xarray as xr
+
+from forcenet.report.claims import NotEvaluated
+from forcenet.report.p2 import METRIC_SYMBOLS, format_number, jamming_density, mean_distance_ratio
+from forcenet.report.realizations import realization_mean
+
+
+@dataclass(frozen=True)
+class ValidationTolerances:
+    """How P2's qualitative words are turned into tests. Every verdict uses these and nothing else."""
+
+    value_factor: float = 1.5  # "≈ x", "roughly the same", "similar": measured within [x / f, x · f]
+    max_cv: float = 0.5  # "roughly / essentially constant": coefficient of variation over the ρ range ≤ this
+    fall_factor: float = 10.0  # "slows dramatically" after ρ_J: median after ≤ median before / this
+    drop_factor: float = 2.0  # "decreases dramatically" / "plunges" inside the unjammed regime
+    decades: float = 0.5  # "n orders of magnitude smaller": measured log10 drop within n ± this
+    trend: float = 0.5  # "increases" / "decreases" with ρ: Spearman rank correlation ≥ this / ≤ −this
+    correlation: float = 0.7  # "tracks" / "follows": Pearson correlation of the log10 curves ≥ this
+    near_jamming: float = 0.02  # "near / close to ρ_J": |ρ − ρ_J| ≤ this
+    peak_window: float = 0.03  # "at ρ ≈ x" for an extremum: it lies within x ± this
+    well_below: float = 0.05  # "ρ significantly less than ρ_J": ρ < ρ_J − this
+    consistently: float = 0.8  # "consistently larger": true at this fraction of the compared ρ values
+    dominance: float = 2.0  # "concentrated in one quadrant": largest ≥ this × second largest (median over columns)
+    spread: float = 2.0  # "distributed evenly": largest / smallest quadrant ≤ this (median over columns)
+    min_points: int = 2  # fewer ρ values than this in a range: the claim is not evaluated
+    correlation_points: int = 3  # fewer ρ values than this: no correlation is computed (2 points always give ±1)
+
+
+@dataclass
+class Curves:
+    """Realization-mean curves of one system, as pandas Series over ρ (NaN dropped)."""
+
+    name: str
+    ds: xr.Dataset
+    dimension: int
+    tol: ValidationTolerances
+    rho_j: float = field(init=False)
+
+    def __post_init__(self):
+        """ρ_J of the mean Z, and every realization-mean distance curve, keyed (force kind, k, metric)."""
+        self.rho_j = jamming_density(self.ds, self.dimension)
+        mean = realization_mean(self.ds["distance"])
+        self._curves = {(k, int(h), m): as_series(mean.sel(force_kind=k, homology_dim=h, metric=m))
+                        for k in mean["force_kind"].values for h in mean["homology_dim"].values
+                        for m in mean["metric"].values}
+
+    @property
+    def n_realizations(self) -> int:
+        """How many realizations the system's distances hold."""
+        return int(self.ds.sizes.get("realization", 1))
+
+    def mean(self, kind: str, dim: int, metric: str) -> pd.Series:
+        """Realization-mean distance curve over ρ."""
+        try:
+            return self._curves[kind, dim, metric]
+        except KeyError:
+            raise NotEvaluated(f"{self.name}: no {kind} PD{dim} {metric} distances") from None
+
+    def ratio(self, kind: str, dim: int, denominator: str) -> pd.Series:
+        """d_B / d_Wq of the realization-mean curves where d_Wq > 0: `mean_distance_ratio`, the curves the
+        figures draw (P2 Figs 7, 10)."""
+        for metric in (B, denominator):
+            self.mean(kind, dim, metric)  # not evaluated unless both curves exist
+        return as_series(mean_distance_ratio(self.ds, denominator).sel(force_kind=kind, homology_dim=dim))
+
+    def jammed(self) -> float:
+        """ρ_J; not evaluated when the mean Z never reaches d + 1 inside the ρ range."""
+        if not np.isfinite(self.rho_j):
+            raise NotEvaluated(f"{self.name}: the mean Z does not rise through d+1 = {self.dimension + 1} "
+                                "inside the rho range")
+        return self.rho_j
+
+    def window(self, s: pd.Series, lo: float = -np.inf, hi: float = np.inf, *, closed_lo: bool = True,
+               closed_hi: bool = False) -> pd.Series:
+        """The finite values of curve `s` with ρ between `lo` and `hi` ([lo, hi) unless `closed_lo` /
+        `closed_hi` say otherwise); not evaluated when fewer than `min_points` are left (an empty or all-NaN
+        curve included)."""
+        rho = s.index.values
+        inside = ((rho >= lo) if closed_lo else (rho > lo)) & ((rho <= hi) if closed_hi else (rho < hi))
+        part = s[inside & np.isfinite(s.values)]
+        if len(part) < self.tol.min_points:
+            interval = f"{'[' if closed_lo else '('}{lo:.3f}, {hi:.3f}{']' if closed_hi else ')'}"
+            raise NotEvaluated(f"{self.name}: {len(part)} rho value(s) in {interval} (need {self.tol.min_points})")
+        return part
+
+    def argmax(self, s: pd.Series, lo: float = -np.inf, hi: float = np.inf, **closed: bool) -> float:
+        """ρ of the largest value of `s` in a `window` (not evaluated if the window has too few values)."""
+        return float(self.window(s, lo, hi, **closed).idxmax())
+
+
+def as_series(da: xr.DataArray) -> pd.Series:
+    """A curve over ρ (1-D DataArray with a ``rho`` coordinate) as a pandas Series indexed by ρ, NaN dropped."""
+    s = pd.Series(np.asarray(da.values, dtype=float), index=np.asarray(da["rho"].values, dtype=float))
+    return s[np.isfinite(s.values)]
+
+
+def coefficient_of_variation(s: pd.Series) -> float:
+    """std / |mean| of the values of `s` (population std), inf when the mean is 0."""
+    mean = float(np.mean(s.values))
+    return float(np.std(s.values) / abs(mean)) if mean != 0 else math.inf
+
+
+def ranks(x: np.ndarray) -> np.ndarray:
+    """Ranks of the values of `x` (n,), ties sharing their mean rank."""
+    return pd.Series(x).rank(method="average").to_numpy()
+
+
+def pearson(x: np.ndarray, y: np.ndarray) -> float:
+    """Pearson correlation of x and y (both (n,)); NaN for fewer than 2 points or a constant input."""
+    x, y = np.asarray(x, float), np.asarray(y, float)
+    if len(x) < 2 or np.std(x) == 0 or np.std(y) == 0:
+        return math.nan
+    return float(np.corrcoef(x, y)[0, 1])
+
+
+def spearman(s: pd.Series) -> float:
+    """Rank correlation of a curve with ρ (+1: increases monotonically, −1: decreases)."""
+    return pearson(ranks(s.index.values), ranks(s.values))
+
+
+def within_factor(value: float, reference: float, factor: float) -> bool:
+    """True when `value` is finite and within [reference / factor, reference · factor]."""
+    return bool(np.isfinite(value) and reference / factor <= value <= reference * factor)
+
+
+def log10_ratio(num: pd.Series, den: pd.Series) -> pd.Series:
+    """log10(num/den) at the ρ both curves share (positive values only)."""
+    common = num.index.intersection(den.index)
+    n, d = num[common], den[common]
+    ok = (n > 0) & (d > 0)
+    return np.log10(n[ok] / d[ok])
+
+
+def on_grid(s: pd.Series, x: np.ndarray) -> np.ndarray:
+    """Linear interpolation of a curve onto x (NaN outside its range)."""
+    return np.interp(x, s.index.values, s.values, left=np.nan, right=np.nan)
+
+
+def fmt(value: float, digits: int = 3) -> str:
+    """A number for the evidence texts: `digits` significant digits, "n/a" if not finite."""
+    return format_number(float(value), digits)
+
+
+def per_metric_text(values: Mapping[str, float]) -> str:
+    """``d_B 1.2, d_W1 0.34, …`` for {metric: value}."""
+    return ", ".join(f"{METRIC_SYMBOLS[m]} {fmt(v, 2)}" for m, v in values.items())
+
+
+def per_dim_metric_text(values: Mapping[tuple[int, str], float]) -> str:
+    """``beta0 d_B 1.2, …`` for {(homology_dim, metric): value}."""
+    return ", ".join(f"beta{h} {METRIC_SYMBOLS[m]} {fmt(v, 2)}" for (h, m), v in values.items())
+
+
+def rate_quotient(numerator: float, denominator: float, what: str = "") -> float:
+    """numerator / denominator of two non-negative values, inf where only the denominator is 0. Both 0 (no
+    change at all in either curve, e.g. no loops yet) cannot be compared: the claim is not evaluated."""
+    if denominator > 0:
+        return float(numerator) / float(denominator)
+    if numerator > 0:
+        return math.inf
+    raise NotEvaluated(f"both rates are 0{' (' + what + ')' if what else ''}: nothing to compare")
+
+
+@dataclass
+class Context:
+    """Everything P2's claims are judged on: the curves of each system present, Tables I–III (frictional system),
+    the tolerances, the names of the frictional and frictionless systems, and for the explanations the network
+    measures (never-dying class counts) and the candidate states a, b, c."""
+
+    curves: dict[str, Curves]
+    tables: Mapping[str, pd.DataFrame] | None
+    tol: ValidationTolerances
+    frictional: str
+    frictionless: str
+    measures: Mapping[str, xr.Dataset] = field(default_factory=dict)
+    states: pd.DataFrame | None = None
+
+    def system(self, name: str) -> Curves:
+        """The curves of system `name`; not evaluated when it is not in the results."""
+        if name not in self.curves:
+            raise NotEvaluated(f"system {name} not in the results")
+        return self.curves[name]
+
+    def both(self) -> tuple[Curves, Curves]:
+        """(frictional, frictionless) curves; not evaluated unless both systems are in the results."""
+        return self.system(self.frictional), self.system(self.frictionless)
+
+    def table(self, name: str) -> pd.DataFrame:
+        """Table I, II or III (``"table1"`` …); not evaluated when not given."""
+        if not self.tables or name not in self.tables:
+            raise NotEvaluated(f"{name} not given")
+        return self.tables[name]
+
+
+NORMAL, TANGENTIAL = "normal", "tangential"
+B, W1, W2 = "bottleneck", "wasserstein_1", "wasserstein_2"

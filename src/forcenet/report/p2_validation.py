@@ -1,0 +1,134 @@
+"""P2's validation table (``results/tables/p2_validation.{md,csv}``): each claim of `forcenet.report.p2_claims`
+with the measured evidence, the criterion, a computed verdict and, where it does not hold, the explanation of
+`forcenet.report.p2_explanations`; judged and written with the framework of `forcenet.report.claims`. In the
+default build a column beside P2's values gives our value at P2's size from the committed campaign table
+``docs/validation/p2.csv`` (`write_p2_validation`).
+"""
+from __future__ import annotations
+
+import math
+import os
+from typing import Mapping
+
+import pandas as pd
+import xarray as xr
+
+from forcenet.report.claims import (FAILS, HOLDS, NOT_EVALUATED, Judgement, TableLayout, TableSection, claims_frame,
+                                    judge_claim, validation_markdown, verdict_counts, with_paper_size,
+                                    write_validation_table)
+from forcenet.report.p2 import FRICTIONAL, FRICTIONLESS, format_number
+from forcenet.report.p2_claims import CLAIMS
+from forcenet.report.p2_explanations import explain
+from forcenet.report.p2_judging import Context, Curves, ValidationTolerances
+
+#: the table's columns (CSV names → `JudgedClaim` fields); the Markdown heads claim_id "id" and reference "P2"
+P2_LAYOUT = TableLayout(columns={"claim_id": "id", "section": "section", "system": "system", "claim": "statement",
+                                 "reference": "paper", "criterion": "criterion", "measured": "evidence",
+                                 "verdict": "verdict", "explanation": "explanation"},
+                        headers={"claim_id": "id", "reference": "P2"}, id_column="claim_id",
+                        paper_column="reference")
+VALIDATION_COLUMNS = tuple(P2_LAYOUT.columns)
+
+
+def p2_validation(distances: Mapping[str, xr.Dataset], tables: Mapping[str, pd.DataFrame] | None = None, *,
+                  frictional: str = FRICTIONAL, frictionless: str = FRICTIONLESS,
+                  tolerances: ValidationTolerances | None = None, measures: Mapping[str, xr.Dataset] | None = None,
+                  states: pd.DataFrame | None = None) -> pd.DataFrame:
+    """Judge each claim of P2 §III D–§IV (and §V's summary of them) on the measured data.
+
+    Parameters
+    ----------
+    distances : ``{system: distances.nc dataset}`` (`forcenet.report.p2_distances.stack_distances`); the
+        frictional (μ = 0.5) and the frictionless (μ = 0) system under the names `frictional`, `frictionless`. A
+        missing system leaves its claims "not evaluated".
+    tables : ``{"table1": …, "table2": …, "table3": …}`` from `forcenet.report.p2_tables.p2_tables` or
+        `read_table` (frictional system).
+    tolerances : how "≈", "roughly constant", "dramatically" … are tested (`ValidationTolerances`).
+    measures : ``{system: network_measures.nc dataset}`` (never-dying class counts) and `states` (the
+        `table_state_candidates` of Tables I–III): what the explanations of failed claims measure (optional).
+
+    Returns
+    -------
+    DataFrame with columns ``VALIDATION_COLUMNS`` (`P2_LAYOUT`): claim id, section, system, claim, P2's reference, the
+    criterion, the measured evidence, the verdict ("holds", "does not hold", "not evaluated") and, for a claim
+    that does not hold, the explanation (`EXPLANATIONS`: why, measured on these data where it can be). Curves
+    are realization means; ρ_J is where the mean Z(ρ) first reaches d + 1 (P2 §IV A).
+    """
+    tol = tolerances or ValidationTolerances()
+    curves = {name: Curves(name, ds, _dimension(ds), tol) for name, ds in distances.items()
+              if name in (frictional, frictionless)}
+    ctx = Context(curves, tables, tol, frictional, frictionless, dict(measures or {}), states)
+    systems = {"frictional": frictional, "frictionless": frictionless, "both": f"{frictional} vs {frictionless}",
+               "tables": f"{frictional} (one realization)"}
+    judged = []
+    for claim in CLAIMS:
+        def judge(claim=claim) -> Judgement:
+            """The claim's (evidence, holds) as a Judgement (P2's claims have no single key number)."""
+            return Judgement(math.nan, *claim.judge(ctx))
+
+        def explanation(verdict: str, claim=claim) -> str:
+            """Why the claim does not hold (nothing where it does)."""
+            return explain(claim.id, ctx) if verdict != HOLDS else ""
+
+        judged.append(judge_claim(claim, systems[claim.scope], claim.paper_value(), claim.criterion_text(tol), judge,
+                                  explanation))
+    table = claims_frame(judged, P2_LAYOUT)
+    table.attrs["systems"] = {name: {"rho_J": c.rho_j, "realizations": c.n_realizations,
+                                     "rho_range": (float(c.ds["rho"].min()), float(c.ds["rho"].max())),
+                                     "snapshot_pairs": int(c.ds.sizes["rho"]),
+                                     "essential_convention": c.ds.attrs.get("essential_convention", ""),
+                                     "rattler_rule": c.ds.attrs.get("rattler_rule", "")}
+                              for name, c in curves.items()}
+    table.attrs["tolerances"] = tol
+    return table
+
+
+def _dimension(ds: xr.Dataset) -> int:
+    """The spatial dimension of a distances dataset (its ``dimension`` attribute; 2 when absent, as P2)."""
+    return int(ds.attrs.get("dimension", 2))
+
+
+def _markdown_head(table: pd.DataFrame) -> list[str]:
+    """The lines above the claims: what is judged, the systems measured and the tolerances."""
+    lines = ["# P2 validation", "",
+             "Each claim of P2 (evolution of force networks) §III D–§IV, judged on the measured distances between "
+             "consecutive persistence diagrams (realization means) and on Tables I–III. rho_J is where the mean "
+             "Z(rho) first reaches d + 1 (P2 §IV A). The reference column is P2's statement; verdicts are computed "
+             "from the criterion column.", ""]
+    systems = table.attrs.get("systems", {})
+    if systems:
+        lines += ["## Systems", "",
+                  "| system | realizations | snapshot pairs | rho range | rho_J | never-dying classes | rattler rule |",
+                  "|---|---|---|---|---|---|---|"]
+        for name, info in systems.items():
+            lo, hi = info["rho_range"]
+            lines.append(f"| {name} | {info['realizations']} | {info['snapshot_pairs']} | {lo:.3f}–{hi:.3f} | "
+                         f"{format_number(info['rho_J'], 4)} | {info['essential_convention']} | "
+                         f"{info.get('rattler_rule', '')} |")
+        lines.append("")
+    tol = table.attrs.get("tolerances")
+    if tol is not None:
+        lines += ["## Tolerances", "", ", ".join(f"{k} = {v}" for k, v in vars(tol).items()), ""]
+    return lines
+
+
+def _markdown_sections(table: pd.DataFrame) -> list[TableSection]:
+    """One section: the verdict counts, then one row per claim."""
+    counts = verdict_counts(table)
+    return [TableSection("Claims", ["; ".join(f"{v}: {counts[v]}" for v in (HOLDS, FAILS, NOT_EVALUATED)), ""],
+                         list(VALIDATION_COLUMNS))]
+
+
+def p2_validation_markdown(table: pd.DataFrame) -> str:
+    """The validation table as Markdown: the systems measured, the tolerances, one row per claim."""
+    return validation_markdown(table, P2_LAYOUT, _markdown_head(table), _markdown_sections(table))
+
+
+def write_p2_validation(table: pd.DataFrame, md_path: str | os.PathLike, csv_path: str | os.PathLike | None = None,
+                        paper_size: str | os.PathLike | None = None) -> None:
+    """Write ``results/tables/p2_validation.md`` (and optionally the same rows as CSV); with `paper_size` (the
+    campaign's ``docs/validation/p2.csv``) a column beside P2's values gives our value at P2's size
+    (`forcenet.report.claims.with_paper_size`)."""
+    if paper_size is not None:
+        table = with_paper_size(table, P2_LAYOUT, paper_size)
+    write_validation_table(table, P2_LAYOUT, csv_path, md_path, _markdown_head(table), _markdown_sections(table))

@@ -1,0 +1,175 @@
+"""The parts of report/ both papers share: the mean and spread over realizations, the claims framework, and the
+column of paper-size values read from the validation campaign's committed tables (docs/validation/)."""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import pandas as pd
+import pytest
+import xarray as xr
+
+from forcenet.report import claims, p1_validation, p2_validation, realizations
+from forcenet.report.claims import PAPER_SIZE, PAPER_SIZE_HEADER
+
+
+# --- reductions over realizations -------------------------------------------------------------------------------
+def per_realization(values) -> xr.DataArray:
+    """(realization, rho) values on ρ = 0.70, 0.71, …"""
+    values = np.asarray(values, dtype=float)
+    return xr.DataArray(values, dims=("realization", "rho"),
+                        coords={"rho": 0.70 + 0.01 * np.arange(values.shape[1])})
+
+
+def test_mean_and_spread_are_the_mean_and_sample_std_of_the_finite_realizations():
+    da = per_realization([[1.0, 2.0, np.nan], [2.0, 4.0, 5.0], [3.0, 9.0, np.nan]])
+    mean, spread = realizations.mean_and_spread(da)
+    np.testing.assert_allclose(mean, [2.0, 5.0, 5.0])
+    # ρ0: std of 1, 2, 3 with ddof = 1 is 1; ρ1: of 2, 4, 9 is sqrt(13); ρ2: one finite value, spread 0
+    np.testing.assert_allclose(spread, [1.0, math.sqrt(13.0), 0.0])
+
+
+def test_a_single_realization_has_no_spread_and_a_selected_one_is_unchanged():
+    one = per_realization([[1.0, 3.0]])
+    np.testing.assert_array_equal(realizations.realization_spread(one), [0.0, 0.0])
+    np.testing.assert_array_equal(realizations.realization_mean(one), [1.0, 3.0])
+    selected = one.isel(realization=0)
+    assert realizations.realization_mean(selected) is selected
+    np.testing.assert_array_equal(realizations.realization_spread(selected), [0.0, 0.0])
+
+
+def test_all_nan_point_has_a_nan_mean():
+    mean, spread = realizations.mean_and_spread(per_realization([[np.nan, 1.0], [np.nan, 3.0]]))
+    assert np.isnan(mean[0]) and spread[0] == 0 and mean[1] == 2.0
+
+
+# --- the claims framework ---------------------------------------------------------------------------------------
+@dataclass(frozen=True)
+class Tolerances:
+    factor: float = 1.5
+    window: float | None = None
+
+
+def record(criterion="value within a factor {factor} (window {window})", paper=2.0) -> claims.Claim:
+    return claims.Claim(id="x-1", section="4", statement="x is about 2", criterion=criterion, judge=lambda: None,
+                        paper=paper)
+
+
+@pytest.mark.parametrize("measured, expected", [(2.5, claims.HOLDS), (4.0, claims.FAILS)])
+def test_a_judgement_gives_the_verdict_and_the_difference(measured, expected):
+    claim = record()
+    judged = claims.judge_claim(claim, "sys", claim.paper_value(), claim.criterion_text(Tolerances()),
+                                lambda: claims.Judgement(measured, f"x = {measured}", measured <= 2.0 * 1.5))
+    assert judged.verdict == expected and judged.evidence == f"x = {measured}"
+    assert judged.criterion == "value within a factor 1.5 (window per system)"
+    assert judged.difference == pytest.approx(measured - 2.0)
+
+
+def test_a_claim_the_data_cannot_decide_is_not_evaluated_with_the_reason():
+    def judge():
+        raise claims.NotEvaluated("no rho below rho_J")
+
+    judged = claims.judge_claim(record(), "sys", 2.0, "c", judge, explain=lambda verdict: f"why: {verdict}")
+    assert (judged.verdict, judged.evidence, judged.explanation) == (claims.NOT_EVALUATED, "no rho below rho_J",
+                                                                     "why: not evaluated")
+    assert math.isnan(judged.measured) and math.isnan(judged.difference)
+
+
+def test_the_paper_value_is_per_role_or_words():
+    per_role = record(paper={(2, "hertz"): 1.5})
+    assert per_role.paper_value((2, "hertz")) == 1.5 and math.isnan(per_role.paper_value((3, "hertz")))
+    assert record(paper="larger / same").paper_value() == "larger / same"
+    assert record(criterion=lambda t: f"f = {t.factor}").criterion_text(Tolerances()) == "f = 1.5"
+
+
+def test_claim_register_keeps_the_definition_order():
+    registered: list[claims.Claim] = []
+    claim = claims.claim_register(registered)
+
+    @claim("b-2", "5", "second", "c")
+    def second():
+        return "judged"
+
+    claim("a-1", "4", "first", "c", paper=1.0)(lambda: None)
+    assert [c.id for c in registered] == ["b-2", "a-1"] and second() == "judged"
+
+
+# --- the paper-size column (issue #14) ----------------------------------------------------------------------------
+def judged_rows() -> list[claims.JudgedClaim]:
+    common = dict(section="4", statement="s", criterion="c", evidence="e")
+    return [claims.JudgedClaim(id="rho_J", system="2d_hertz", paper=0.842, measured=0.78, verdict="", kind="value",
+                               **common),
+            claims.JudgedClaim(id="p1-4-x", system="2d_hertz", paper=math.nan, measured=0.5, verdict=claims.HOLDS,
+                               **common),
+            claims.JudgedClaim(id="p1-4-x", system="3d_hertz", paper=math.nan, measured=0.1, verdict=claims.FAILS,
+                               **common)]
+
+
+def campaign_csv(path, rows: list[dict]) -> str:
+    """A campaign table as `forcenet.report.validation` writes it: provenance lines, then the rows."""
+    text = "# study: p1\n# git_commit: abc\n" + pd.DataFrame(rows).to_csv(index=False)
+    path.write_text(text)
+    return str(path)
+
+
+def test_paper_size_values_stand_beside_the_papers_matched_by_id_and_system(tmp_path):
+    table = claims.claims_frame(judged_rows(), p1_validation.P1_LAYOUT)
+    docs = campaign_csv(tmp_path / "p1.csv", [
+        {"table": "P1 validation table", "kind": "value", "id": "rho_J", "system": "2d_hertz", "measured": 0.80512,
+         "verdict": ""},
+        {"table": "P1 validation table", "kind": "claim", "id": "p1-4-x", "system": "2d_hertz", "measured": 0.25,
+         "verdict": "does not hold"}])
+    shown = claims.with_paper_size(table, p1_validation.P1_LAYOUT, docs)
+    columns = list(shown.columns)
+    assert columns.index(PAPER_SIZE) == columns.index("paper") + 1
+    assert list(shown[PAPER_SIZE]) == ["0.8051", "0.25 (does not hold)", f"not in {docs}"]
+    assert list(shown.drop(columns=PAPER_SIZE).columns) == list(table.columns)  # every other column kept
+
+
+def test_a_missing_campaign_table_gives_the_placeholder(tmp_path):
+    table = claims.claims_frame(judged_rows(), p1_validation.P1_LAYOUT)
+    missing = tmp_path / "docs" / "p1.csv"
+    shown = claims.with_paper_size(table, p1_validation.P1_LAYOUT, missing)
+    assert set(shown[PAPER_SIZE]) == {f"not yet run ({missing} missing)"}
+
+
+def test_a_campaign_table_without_the_key_columns_is_refused(tmp_path):
+    table = claims.claims_frame(judged_rows(), p1_validation.P1_LAYOUT)
+    docs = campaign_csv(tmp_path / "p1.csv", [{"claim": "x", "verdict": "holds"}])
+    with pytest.raises(ValueError, match="not a validation table"):
+        claims.with_paper_size(table, p1_validation.P1_LAYOUT, docs)
+
+
+def test_p1_table_writes_the_paper_size_column_in_csv_and_markdown(tmp_path):
+    table = claims.claims_frame(judged_rows(), p1_validation.P1_LAYOUT)
+    docs = campaign_csv(tmp_path / "p1.csv", [{"id": "rho_J", "system": "2d_hertz", "measured": 0.805,
+                                               "verdict": ""}])
+    p1_validation.write_p1_validation(table, tmp_path / "t.csv", tmp_path / "t.md", paper_size=docs)
+    back = pd.read_csv(tmp_path / "t.csv")
+    assert list(back.columns) == [*p1_validation.COLUMNS[:7], PAPER_SIZE, *p1_validation.COLUMNS[7:]]
+    assert back.loc[0, PAPER_SIZE] == "0.805"
+    md = (tmp_path / "t.md").read_text()
+    assert f"| item | system | measured | paper | {PAPER_SIZE_HEADER} | difference |" in md
+    assert "| 0.78 | 0.842 | 0.805 | -0.062 |" in md and docs in md
+    p1_validation.write_p1_validation(table, tmp_path / "plain.csv", tmp_path / "plain.md")  # no campaign table
+    assert PAPER_SIZE not in pd.read_csv(tmp_path / "plain.csv") and PAPER_SIZE_HEADER not in (
+        tmp_path / "plain.md").read_text()
+
+
+def test_p2_table_shows_the_campaign_evidence_and_verdict_beside_p2s_words(tmp_path):
+    row = claims.JudgedClaim(id="IV.C-1", section="§IV C", statement="jams later", system="mu05 vs mu0",
+                             paper="rho_J(mu=0) > rho_J(mu=0.5)", criterion="c", measured=math.nan,
+                             evidence="rho_J 0.80, 0.83", verdict=claims.HOLDS)
+    table = claims.claims_frame([row], p2_validation.P2_LAYOUT)
+    docs = campaign_csv(tmp_path / "p2.csv", [
+        {"table": "P2 validation table", "claim_id": "IV.C-1", "system": "mu05 vs mu0", "measured": "rho_J 0.802, 0.833",
+         "verdict": "holds"},
+        {"table": "Table I", "claim_id": "", "system": "", "measured": "", "verdict": ""}])
+    p2_validation.write_p2_validation(table, tmp_path / "t.md", tmp_path / "t.csv", paper_size=docs)
+    back = pd.read_csv(tmp_path / "t.csv")
+    assert list(back.columns).index(PAPER_SIZE) == list(back.columns).index("reference") + 1
+    assert back.loc[0, PAPER_SIZE] == "rho_J 0.802, 0.833 (holds)"
+    md = (tmp_path / "t.md").read_text()
+    assert f"| id | section | system | claim | P2 | {PAPER_SIZE_HEADER} | criterion | measured | verdict | explanation |" in md
+    assert "| rho_J(mu=0) > rho_J(mu=0.5) | rho_J 0.802, 0.833 (holds) | c |" in md
