@@ -1,5 +1,9 @@
 """The diagram-matching solver: numba kernels for the optimal matchings behind the exact bottleneck and
-Wasserstein distances between persistence diagrams (driven by `topology.distances`).
+Wasserstein distances between persistence diagrams (driven by `topology.distances`). One algorithm, kept in one
+module although over 600 lines: the bottleneck distance (is there a perfect matching within a threshold:
+`threshold_graph` + Hopcroft–Karp, `has_perfect_matching`) and the W_q distance (a min-cost transport between the
+points and the diagonal: `diagram_transport`, augmenting row reduction then shortest augmenting paths) work on the
+same point pairs, candidate graphs and dual checks.
 
 Kernels live apart from their drivers and import only numpy, numba and math (and the numba options of
 `forcenet._numba`). Bipartite graphs are in CSR form: row r has columns ``column[row_start[r]:row_start[r + 1]]``
