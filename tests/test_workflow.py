@@ -29,7 +29,7 @@ pytestmark = pytest.mark.workflow
 def test_every_netcdf_output_validates(smoke_run):
     files = sorted((smoke_run / "results").rglob("*.nc"))
     config = yaml.safe_load((REPO / "config/smoke.yaml").read_text())
-    n_snapshots = sum(1 for _ in (smoke_run / "results/sim").rglob("rho*.nc"))
+    n_snapshots = len(glob.glob(paths.snapshot(smoke_run / "results", "*", "*", "*")))
     assert n_snapshots >= len(config["systems"]) * config["realizations"] * 3
     assert len(files) >= 2 * n_snapshots
     for path in files:
