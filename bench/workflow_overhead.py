@@ -150,6 +150,7 @@ def main() -> None:
 
     # (b) inputs: paper-size snapshots through the workflow's own simulate job
     from forcenet.cost import simulation_cost
+    from forcenet.datasets import paths
     from forcenet.systems import validate_config
 
     local = root / "local"
@@ -157,12 +158,12 @@ def main() -> None:
     config_path = bench_config(root / "bench.yaml")
     config = yaml.safe_load(config_path.read_text())
     labels = validate_config(config)[SYSTEM].rho_labels
-    snapshots = [f"results/sim/{SYSTEM}/r00/rho{label}.nc" for label in labels]
-    analyses = [f"results/analysis/{SYSTEM}/r00/rho{label}.nc" for label in labels]
+    snapshots = [paths.snapshot("results", SYSTEM, "r00", label) for label in labels]
+    analyses = [paths.analysis("results", SYSTEM, "r00", label) for label in labels]
     for path in analyses + snapshots:
         (local / path).unlink(missing_ok=True)
     sim_wall, _ = snakemake(local, config_path, "--cores", "1", snapshots[0])
-    sim_inside = log_span_s(local / f"results/logs/simulate/{SYSTEM}/r00.log")
+    sim_inside = log_span_s(local / paths.run_log("results", "simulate", SYSTEM, "r00"))
     dry_wall, _ = snakemake(local, config_path, "--cores", "1", "-n", *analyses)
     ana_wall, _ = snakemake(local, config_path, "--cores", "1", *analyses)
     per_job_local = (ana_wall - dry_wall) / len(analyses)
@@ -208,7 +209,7 @@ def main() -> None:
     else:
         cluster = root / "slurm"
         shutil.rmtree(cluster, ignore_errors=True)
-        (cluster / f"results/sim/{SYSTEM}/r00").mkdir(parents=True)
+        (cluster / paths.run_dir("results", SYSTEM, "r00")).mkdir(parents=True)
         for path in snapshots:
             shutil.copy2(local / path, cluster / path)
         slurm_wall, _ = snakemake(cluster, config_path, "--workflow-profile", str(REPO / "workflow/profiles/slurm"),

@@ -36,7 +36,7 @@ import numpy as np
 import xarray as xr
 from matplotlib.collections import LineCollection
 
-from forcenet.datasets import diagram_points, open_dataset
+from forcenet.datasets import diagram_points, open_dataset, paths
 from forcenet.topology import PersistenceDiagrams, diagram_distances
 
 RESULTS = Path(os.environ.get("FORCENET_RESULTS", "results"))
@@ -50,7 +50,7 @@ print("reading", RESULTS.resolve())
 
 # %%
 system = "2d_hertz"
-measures = xr.open_dataset(RESULTS / system / "network_measures.nc")
+measures = xr.open_dataset(paths.network_measures(RESULTS, system))  # every file's path: forcenet.datasets.paths
 print(measures["betti"].attrs["long_name"], "[", measures["betti"].attrs["units"], "]")
 print(dict(measures.sizes))
 print("forcenet", measures.attrs["forcenet_version"], "commit", measures.attrs["git_commit"][:10])
@@ -91,7 +91,7 @@ assert np.all(np.isfinite(mean.values)) and np.all(mean.values > 0)  # every sna
 # tangential force. P1 uses the total force |F_n + F_t|, in units of its mean ⟨F⟩.
 
 # %%
-snapshot = open_dataset(RESULTS / "sim" / system / "r00" / f"rho{snapshot_rho:.3f}.nc")
+snapshot = open_dataset(paths.snapshot(RESULTS, system, paths.realization_name(0), f"{snapshot_rho:.3f}"))
 force = np.linalg.norm(snapshot["force_normal"].values + snapshot["force_tangential"].values, axis=1)
 loaded = force > 0
 relative = force[loaded] / force[loaded].mean()
@@ -120,7 +120,7 @@ assert abs(relative.mean() - 1) < 1e-12
 # birth ≥ death. `forcenet.datasets.diagram_points` selects one snapshot's diagram of one force kind.
 
 # %%
-diagrams = xr.open_dataset(RESULTS / system / "diagrams.nc")
+diagrams = xr.open_dataset(paths.diagrams(RESULTS, system))
 print("force kinds:", list(diagrams["force_kind"].values))  # total (P1), normal and tangential (P2)
 
 

@@ -24,7 +24,7 @@ import xarray as xr
 import yaml
 
 from conftest import REPO
-from forcenet.datasets import open_dataset
+from forcenet.datasets import open_dataset, paths
 from forcenet.systems import validate_config
 
 pytestmark = [pytest.mark.slurm, pytest.mark.workflow, pytest.mark.slow]
@@ -79,7 +79,7 @@ def slurm_cluster():
 
 def _targets() -> list[str]:
     config = yaml.safe_load(SMOKE.read_text())
-    return [f"results/{system}/{name}.nc" for system in config["systems"] for name in ("network_measures", "diagrams")]
+    return [path("results", system) for system in config["systems"] for path in (paths.network_measures, paths.diagrams)]
 
 
 def _snakemake(workdir: Path, *args: str) -> list[str]:
@@ -107,7 +107,7 @@ def runs(slurm_cluster, tmp_path_factory):
 
 
 def _netcdf_files(root: Path) -> list[Path]:
-    return sorted(p.relative_to(root) for p in (root / "results").rglob("*.nc") if ".partial" not in p.parts)
+    return sorted(p.relative_to(root) for p in (root / "results").rglob("*.nc") if paths.STAGING_DIR not in p.parts)
 
 
 def test_slurm_submitted_jobs(runs):

@@ -3,6 +3,7 @@ readable as the umask allows, the HTML report drawn by a browser, a bad input st
 README's resume commands after a SIGKILL."""
 from __future__ import annotations
 
+import glob
 import os
 import re
 import shutil
@@ -20,7 +21,7 @@ import xarray as xr
 import yaml
 
 from conftest import REPO, snakemake
-from forcenet.datasets import open_dataset, validate_dataset
+from forcenet.datasets import open_dataset, paths, validate_dataset
 
 pytestmark = pytest.mark.workflow
 
@@ -28,7 +29,7 @@ pytestmark = pytest.mark.workflow
 def test_every_netcdf_output_validates(smoke_run):
     files = sorted((smoke_run / "results").rglob("*.nc"))
     config = yaml.safe_load((REPO / "config/smoke.yaml").read_text())
-    n_snapshots = sum(1 for _ in (smoke_run / "results/sim").rglob("rho*.nc"))
+    n_snapshots = len(glob.glob(paths.snapshot(smoke_run / "results", "*", "*", "*")))
     assert n_snapshots >= len(config["systems"]) * config["realizations"] * 3
     assert len(files) >= 2 * n_snapshots
     for path in files:
@@ -93,16 +94,17 @@ def test_a_broken_input_stops_its_job_with_one_line(smoke_run, tmp_path):
     """Through Snakemake: an analysis file without `betti` fed to the aggregation (it used to give rc 0 and NaN)."""
     workdir = tmp_path / "copy"
     shutil.copytree(smoke_run, workdir, symlinks=True)
-    target = next((workdir / "results/analysis/2d_linear/r00").glob("rho*.nc"))
+    target = workdir / paths.analysis("results", "2d_linear", "r00", "0.880")
     ds = open_dataset(target).drop_vars("betti")
     ds.to_netcdf(target)
-    result = snakemake(workdir, "results/2d_linear/network_measures.nc", "--forcerun", "aggregate_system")
+    measures = paths.network_measures("results", "2d_linear")
+    result = snakemake(workdir, measures, "--forcerun", "aggregate_system")
     output = result.stdout + result.stderr
     assert result.returncode != 0 and "Traceback" not in output
     relative = target.relative_to(workdir)
     lines = [line for line in output.splitlines() if f"{relative}: not a valid analysis file" in line]
     assert len(lines) == 1 and "variable 'betti' missing" in lines[0], output[-3000:]
-    assert not (workdir / "results/2d_linear/network_measures.nc").exists()
+    assert not (workdir / measures).exists()
 
 
 def readme_resume_commands() -> list[list[str]]:
@@ -128,7 +130,7 @@ def test_the_readme_resume_instructions_work_after_sigkill(tmp_path):
     path.write_text(yaml.safe_dump(config))
     grid = {"start": 0.74, "stop": 0.88, "step": 0.01}
     assert config["systems"]["2d_linear"]["rho"] == grid
-    target = "results/sim/2d_linear/r00/rho0.880.nc"
+    target = paths.snapshot("results", "2d_linear", "r00", "0.880")
 
     def run_readme_command(command, workdir, **kwargs):
         """One README command, `.venv/bin/snakemake` being this interpreter's Snakemake, in `workdir` with `config`
@@ -145,7 +147,7 @@ def test_the_readme_resume_instructions_work_after_sigkill(tmp_path):
     proc = subprocess.Popen([sys.executable, "-m", "snakemake", target, "--cores", "2", "--snakefile",
                              str(REPO / "Snakefile"), "--directory", str(killed), "--configfile", str(path)],
                             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True)
-    checkpoint = killed / "results/sim/2d_linear/r00/.partial/checkpoint.npz"
+    checkpoint = paths.staging_dir(killed / target) / paths.CHECKPOINT
     deadline = time.monotonic() + 300
     while not checkpoint.exists() and time.monotonic() < deadline and proc.poll() is None:
         time.sleep(0.01)
@@ -158,9 +160,9 @@ def test_the_readme_resume_instructions_work_after_sigkill(tmp_path):
     for command in commands:
         done = run_readme_command(command, killed)
         assert done.returncode == 0, done.stderr[-3000:]
-    log = (killed / "results/logs/simulate/2d_linear/r00.log").read_text()
+    log = (killed / paths.run_log("results", "simulate", "2d_linear", "r00")).read_text()
     assert "resuming from" in log
-    for reference_file in sorted((reference / "results/sim/2d_linear/r00").glob("rho*.nc")):
+    for reference_file in sorted((reference / paths.run_dir("results", "2d_linear", "r00")).glob(paths.rho_file("*"))):
         resumed = killed / reference_file.relative_to(reference)
         with xr.open_dataset(reference_file) as a, xr.open_dataset(resumed) as b:
             for name in a.data_vars:
@@ -172,14 +174,14 @@ def test_each_study_uses_its_rattler_rule_and_p2_products_show_p2(smoke_run):
     rules = {s: "once" for s in config["studies"]["p1"]["systems"]} | {
         s: "none" for s in config["studies"]["p2"]["systems"]}  # smoke: P1 removes rattlers, P2 keeps them
     for system, rule in rules.items():
-        analysis = next((results / "analysis" / system).rglob("rho*.nc"))
+        analysis = sorted(glob.glob(paths.analysis(results, system, "r00", "*")))[0]
         assert open_dataset(analysis).attrs["rattler_rule"] == rule, system
-        assert open_dataset(results / system / "network_measures.nc").attrs["rattler_rule"] == rule, system
+        assert open_dataset(paths.network_measures(results, system)).attrs["rattler_rule"] == rule, system
     for system in config["studies"]["p2"]["systems"]:
-        assert open_dataset(results / system / "distances.nc").attrs["rattler_rule"] == "none"
-    table1 = (results / "tables/p2_table1.md").read_text()
+        assert open_dataset(paths.distances(results, system)).attrs["rattler_rule"] == "none"
+    table1 = Path(paths.p2_table(results, 1, "md")).read_text()
     assert "(a,b), P2 | 0.089" in table1 and "ours / P2" in table1 and "rattler rule 'none'" in table1
-    states = (results / "tables/p2_table_states.csv").read_text().splitlines()
+    states = Path(paths.p2_table_states(results)).read_text().splitlines()
     assert states[0].startswith("realization,rho_a") and len(states) == 1 + config["realizations"]
 
 

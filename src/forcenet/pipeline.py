@@ -14,6 +14,7 @@ from contextlib import contextmanager
 from pathlib import Path
 from typing import Any, Iterator, Mapping, Sequence
 
+from forcenet.datasets.paths import CHECKPOINT, realization_index, rho_file, staging_dir
 from forcenet.errors import ForcenetError
 from forcenet.systems import config_sha256, material_from_config, realization_seed, system_from_config
 
@@ -50,11 +51,6 @@ def job_logger(log_path: str | os.PathLike | None, name: str) -> Iterator[loggin
             handler.close()
 
 
-def realization_index(label: str) -> int:
-    """'r03' → 3."""
-    return int(str(label).lstrip("r"))
-
-
 def run_attrs(config: Mapping[str, Any], system: str, realization: int, title: str) -> dict[str, Any]:
     from forcenet.datasets import provenance_attrs
 
@@ -73,11 +69,6 @@ def simulation_params(config: Mapping[str, Any], system: str) -> dict[str, Any]:
     return params
 
 
-def staging_dir(output: str | os.PathLike) -> Path:
-    """Where a run keeps its snapshots and checkpoint until it completes: {run dir}/.partial/."""
-    return Path(output).parent / ".partial"
-
-
 def prepare_stage(stage: Path, config: Mapping[str, Any], system: str) -> Path:
     """Create (or keep) the staging folder of a run. A stage written under other simulation settings is
     discarded (its checkpoint must not be resumed); one whose config differs only in what the run does not depend
@@ -94,8 +85,9 @@ def simulate(*, config: Mapping[str, Any], system: str, realization: str, output
              cost_path: str | None = None, log_path: str | None = None) -> None:
     """One compression run of `system`: snapshots at every ρ of its grid, published only when all exist.
 
-    Snapshots and the checkpoint live in `.partial/` while the run is in progress (Snakemake deletes declared
-    outputs of an interrupted job; the staged ones survive, so a rerun resumes from the checkpoint).
+    Snapshots and the checkpoint live in the run's staging folder (`forcenet.datasets.paths.staging_dir`) while the
+    run is in progress (Snakemake deletes declared outputs of an interrupted job; the staged ones survive, so a rerun
+    resumes from the checkpoint).
     cost_path: a JSON record of what the run cost (CPU seconds over every session that resumed it, particles,
     snapshots), written last; the validation report sums it into its provenance.
     """
@@ -110,7 +102,7 @@ def simulate(*, config: Mapping[str, Any], system: str, realization: str, output
         log.info("system %s realization %s seed %d: %d snapshots, staging in %s", system, realization,
                  attrs["seed"], len(outputs), stage)
         cpu_seconds = run_compression(spec, seed=attrs["seed"], snapshot_paths=staged,
-                                      checkpoint_path=stage / "checkpoint.npz", attrs=attrs, log=log)
+                                      checkpoint_path=stage / CHECKPOINT, attrs=attrs, log=log)
         for source, target in zip(staged, outputs):
             os.replace(source, target)
         shutil.rmtree(stage, ignore_errors=True)
@@ -475,19 +467,19 @@ def p2_sampling_study(*, config: Mapping[str, Any], system: str, wall_speeds: Se
         run_config = {**config, "realizations": 1, "systems": {system: entry}}
         spec = system_from_config(system, run_config)
         directory = Path(out) / f"v{speed:g}"
-        paths = [str(directory / f"rho{label}.nc") for label in spec.rho_labels]
+        files = [str(directory / rho_file(label)) for label in spec.rho_labels]
         seconds = float("nan")
-        if not all(Path(p).exists() for p in paths):
+        if not all(Path(p).exists() for p in files):
             start = time.perf_counter()
-            simulate(config=run_config, system=system, realization="r00", outputs=paths,
+            simulate(config=run_config, system=system, realization="r00", outputs=files,
                      log_path=str(directory / "simulate.log"))
             seconds = time.perf_counter() - start
-        runs[float(speed)] = (paths, seconds)
+        runs[float(speed)] = (files, seconds)
     if simulate_only:
         return ""
     summaries = {}
-    for speed, (paths, seconds) in runs.items():
-        snapshots = [read_snapshot(p) for p in paths]
+    for speed, (files, seconds) in runs.items():
+        snapshots = [read_snapshot(p) for p in files]
         diagrams = [snapshot_diagrams(s, "normal", rattler_rule) for s in snapshots]
         rho = [float(s["rho"]) for s in snapshots]
         z = [float(s["Z"]) for s in snapshots]

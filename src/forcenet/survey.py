@@ -74,6 +74,7 @@ def run_survey(config: Mapping[str, Any], system: str, realization: int = 0, log
                ) -> SurveyRun:
     """Compress realization `realization` of `system` through its grid (snapshots in a temporary folder)."""
     from forcenet.datasets import read_snapshot
+    from forcenet.datasets.paths import CHECKPOINT, rho_file
     from forcenet.dem.protocol import SimulationBlowUp, run_compression
     from forcenet.measures.jamming import jamming_point
     from forcenet.pipeline import run_attrs
@@ -83,10 +84,10 @@ def run_survey(config: Mapping[str, Any], system: str, realization: int = 0, log
     log = log or logging.getLogger(f"forcenet.survey.{system}")
     failure = None
     with tempfile.TemporaryDirectory(prefix="forcenet-survey-") as folder:
-        paths = [Path(folder) / f"rho{label}.nc" for label in spec.rho_labels]
+        paths = [Path(folder) / rho_file(label) for label in spec.rho_labels]
         start = time.process_time()
         try:
-            cpu = run_compression(spec, seed=seed, snapshot_paths=paths, checkpoint_path=Path(folder) / "checkpoint.npz",
+            cpu = run_compression(spec, seed=seed, snapshot_paths=paths, checkpoint_path=Path(folder) / CHECKPOINT,
                             attrs=run_attrs(config, system, realization, f"forcenet survey, {system}"), log=log)
         except SimulationBlowUp as error:
             failure = str(error)

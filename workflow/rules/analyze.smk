@@ -12,7 +12,7 @@ for _name, _spec in SYSTEMS.items():
         output:
             [analysis_path(_name, "{realization}", rho) for rho in _spec.rho_labels],
         log:
-            f"{LOGS}/analyze/{_name}/{{realization}}.log",
+            paths.run_log(RESULTS, "analyze", _name, "{realization}"),
         params:
             # only the keys the snapshot analysis reads, with the rattler rule of the system's study: changing
             # another `analysis:` key (P2's distance settings) must not rerun every snapshot analysis
@@ -33,10 +33,10 @@ rule aggregate_system:
     input:
         system_analyses,
     output:
-        measures=f"{RESULTS}/{{system}}/network_measures.nc",
-        diagrams=f"{RESULTS}/{{system}}/diagrams.nc",
+        measures=paths.network_measures(RESULTS, "{system}"),
+        diagrams=paths.diagrams(RESULTS, "{system}"),
     log:
-        f"{LOGS}/aggregate/{{system}}.log",
+        paths.log(RESULTS, "aggregate", "{system}"),
     params:
         realizations=lambda wildcards: [realization_index(r) for r in REALIZATIONS for _ in SYSTEMS[wildcards.system].rho_grid],
         rhos=lambda wildcards: [rho for _ in REALIZATIONS for rho in SYSTEMS[wildcards.system].rho_grid],

@@ -9,8 +9,10 @@ from snakemake.exceptions import WorkflowError
 
 sys.path.insert(0, str(Path(workflow.basedir) / "src"))  # works before `pip install -e .` too
 
+from forcenet.datasets import paths  # every file name of the build (standard library only)
+from forcenet.datasets.paths import realization_index
 from forcenet.errors import ForcenetError
-from forcenet.pipeline import realization_index, simulation_params, snapshot_analysis_params
+from forcenet.pipeline import simulation_params, snapshot_analysis_params
 from forcenet.workflow_io import CONFIG_SCHEMA, DEFAULT_CONFIG, checked_config, read_config_file
 
 # A config given with --configfile stands alone: the default is read only when none is given (Snakemake's
@@ -29,14 +31,13 @@ except ForcenetError as error:
     raise WorkflowError(f"Invalid config: {error}") from None
 
 RESULTS = config.get("results_dir", "results").rstrip("/")
-LOGS = f"{RESULTS}/logs"
 # The committed tables of the validation campaign (docs/validation/, written by validation_report): their values
 # stand beside the papers' in this build's validation tables. A config at the papers' sizes (validation.yaml,
 # paper.yaml) sets null: its tables are the paper-size values and get no such column.
-PAPER_SIZE_TABLES = config.get("paper_size_tables", "docs/validation")
+PAPER_SIZE_TABLES = config.get("paper_size_tables", paths.VALIDATION_DIR)
 P1_SYSTEMS = list(config["studies"].get("p1", {}).get("systems", []))
 P2_SYSTEMS = list(config["studies"].get("p2", {}).get("systems", []))
-REALIZATIONS = [f"r{r:02d}" for r in range(config["realizations"])]
+REALIZATIONS = [paths.realization_name(r) for r in range(config["realizations"])]
 
 wildcard_constraints:
     system="|".join(SYSTEMS) or "NONE",
@@ -47,7 +48,7 @@ wildcard_constraints:
 def paper_size_table(study):
     """The campaign table (docs/validation/{study}.csv) whose values the study's validation table sets beside the
     paper's, or None in a paper-size config."""
-    return None if PAPER_SIZE_TABLES is None else f"{PAPER_SIZE_TABLES.rstrip('/')}/{study}.csv"
+    return None if PAPER_SIZE_TABLES is None else paths.campaign_table(study, "csv", PAPER_SIZE_TABLES)
 
 
 def paper_size_input(study):
@@ -60,16 +61,11 @@ def paper_size_input(study):
 
 
 def snapshot_path(system, realization, rho_label):
-    return f"{RESULTS}/sim/{system}/{realization}/rho{rho_label}.nc"
-
-
-def run_cost_path(system, realization):
-    """CPU time and size of one compression run (JSON, written when the run completes)."""
-    return f"{RESULTS}/sim/{system}/{realization}/run_cost.json"
+    return paths.snapshot(RESULTS, system, realization, rho_label)
 
 
 def analysis_path(system, realization, rho_label):
-    return f"{RESULTS}/analysis/{system}/{realization}/rho{rho_label}.nc"
+    return paths.analysis(RESULTS, system, realization, rho_label)
 
 
 def system_analyses(wildcards):
@@ -105,11 +101,11 @@ def figure_outputs(name, category):
     """The PDF, PNG and source-data CSV of one figure, both in the HTML report (`snakemake --report`): the PNG is what the report shows
     inline (every browser draws it; a PDF is blank without a PDF viewer), and its caption links the PDF."""
     return dict(
-        pdf=report(f"{RESULTS}/figures/{name}.pdf", caption="../report/figure_pdf.rst", category=category,
+        pdf=report(paths.figure(RESULTS, name, "pdf"), caption="../report/figure_pdf.rst", category=category,
                    subcategory=REPORT_PDFS, labels={"figure": name, "format": "PDF"}),
-        png=report(f"{RESULTS}/figures/{name}.png", caption="../report/figure.rst", category=category,
+        png=report(paths.figure(RESULTS, name, "png"), caption="../report/figure.rst", category=category,
                    subcategory=REPORT_FIGURES, labels={"figure": name, "format": "PNG"}),
-        csv=f"{RESULTS}/figures/{name}.csv",  # the values the figure draws (forcenet.plotting.figure_data)
+        csv=paths.figure(RESULTS, name, "csv"),  # the values the figure draws (forcenet.plotting.figure_data)
     )
 
 
@@ -118,13 +114,14 @@ REPORT_FIGURES, REPORT_PDFS, REPORT_TABLES = "Figures", "Figures as PDF (vector,
 
 def all_targets():
     """Everything `snakemake` builds by default: figures and tables of the studies in the config."""
-    targets = [f"{RESULTS}/config/resolved.yaml"]
-    targets += [f"{RESULTS}/{s}/network_measures.nc" for s in dict.fromkeys(P1_SYSTEMS + P2_SYSTEMS)]
-    targets += [f"{RESULTS}/figures/{name}.pdf" for name in BUILT_FIGURES]  # figures.smk, from the registry
+    targets = [paths.resolved_config(RESULTS)]
+    targets += [paths.network_measures(RESULTS, s) for s in dict.fromkeys(P1_SYSTEMS + P2_SYSTEMS)]
+    targets += [paths.figure(RESULTS, name, "pdf") for name in BUILT_FIGURES]  # figures.smk, from the registry
     if P1_SYSTEMS:
-        targets += [f"{RESULTS}/tables/p1_validation.md"]
-        targets += [f"{RESULTS}/movies/{name}.mp4" for name in P1_MOVIES]
+        targets += [paths.p1_validation_table(RESULTS, "md")]
+        targets += [paths.movie(RESULTS, name) for name in P1_MOVIES]
     if P2_SYSTEMS:
-        targets += [f"{RESULTS}/{s}/distances.nc" for s in P2_SYSTEMS]
-        targets += [f"{RESULTS}/tables/p2_table{i}.md" for i in (1, 2, 3)] + [f"{RESULTS}/tables/p2_validation.md"]
+        targets += [paths.distances(RESULTS, s) for s in P2_SYSTEMS]
+        targets += [paths.p2_table(RESULTS, i, "md") for i in paths.P2_TABLE_NUMBERS]
+        targets += [paths.p2_validation_table(RESULTS, "md")]
     return targets

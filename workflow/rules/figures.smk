@@ -8,7 +8,7 @@ FORCE_UNIT = config["analysis"]["p1_force_unit"]  # P1's F_max rule: ρ_max mark
 
 
 def p1_measures(wildcards=None):
-    return [f"{RESULTS}/{s}/network_measures.nc" for s in P1_SYSTEMS]
+    return [paths.network_measures(RESULTS, s) for s in P1_SYSTEMS]
 
 
 def figure_systems(entry):
@@ -22,9 +22,9 @@ def figure_systems(entry):
 def figure_input_files(kind, systems):
     """The files of one input kind (forcenet.plotting.registry.INPUT_KINDS) of a figure reading `systems`."""
     if kind == "measures":
-        return [f"{RESULTS}/{s}/network_measures.nc" for s in systems]
+        return [paths.network_measures(RESULTS, s) for s in systems]
     if kind == "diagrams":
-        return [f"{RESULTS}/{s}/diagrams.nc" for s in systems]
+        return [paths.diagrams(RESULTS, s) for s in systems]
     if kind == "example_snapshots":
         return [snapshot_path(s, REALIZATIONS[0], SYSTEMS[s].rho_labels[-1]) for s in systems]
     if kind == "state_snapshots":
@@ -32,7 +32,7 @@ def figure_input_files(kind, systems):
     if kind == "state_analysis":
         return p2_table_candidates(analysis_path, states="a")
     if kind == "distances":
-        return [f"{RESULTS}/{systems[0]}/distances.nc"]
+        return [paths.distances(RESULTS, systems[0])]
     raise WorkflowError(f"figure input kind {kind!r} has no files in workflow/rules/figures.smk")
 
 
@@ -57,7 +57,7 @@ for _figure, (_entry, _systems) in BUILT_FIGURES.items():
         output:
             **figure_outputs(_figure, _entry.study.upper()),
         log:
-            f"{LOGS}/figures/{_figure}.log",
+            paths.log(RESULTS, "figures", _figure),
         params:
             figure=_figure,
             caption=_entry.report_caption,
@@ -74,11 +74,11 @@ rule p1_validation_table:
         measures=p1_measures(),
         paper_size=paper_size_input("p1"),
     output:
-        csv=f"{RESULTS}/tables/p1_validation.csv",
-        md=report(f"{RESULTS}/tables/p1_validation.md", caption="../report/table.rst", category="P1",
+        csv=paths.p1_validation_table(RESULTS, "csv"),
+        md=report(paths.p1_validation_table(RESULTS, "md"), caption="../report/table.rst", category="P1",
                   subcategory=REPORT_TABLES),
     log:
-        f"{LOGS}/tables/p1_validation.log",
+        paths.log(RESULTS, "tables", "p1_validation"),
     params:
         systems=P1_SYSTEMS,
         force_unit=FORCE_UNIT,
@@ -90,7 +90,7 @@ rule p1_validation_table:
 # Compression movies (MP4, ffmpeg from the imageio-ffmpeg wheel): per P1 system, its force network through the ρ
 # grid (realization 0, rattlers removed by P1's rule as in the analysis) and one turn around its B0/N surface (the
 # data of Fig. 2). Part of the default build; `snakemake --cores 2 movies` builds only them.
-P1_MOVIES = {f"{kind}_{system}": (kind, system) for system in P1_SYSTEMS for kind in ("network", "b0_surface")}
+P1_MOVIES = {paths.movie_name(kind, system): (kind, system) for system in P1_SYSTEMS for kind in ("network", "b0_surface")}
 
 
 def movie_inputs(kind, system):
@@ -108,9 +108,9 @@ for _movie, (_kind, _system) in P1_MOVIES.items():
         input:
             movie_inputs(_kind, _system),
         output:
-            f"{RESULTS}/movies/{_movie}.mp4",
+            paths.movie(RESULTS, _movie),
         log:
-            f"{LOGS}/movies/{_movie}.log",
+            paths.log(RESULTS, "movies", _movie),
         params:
             kind=_kind,
             system=_system,
@@ -123,4 +123,4 @@ rule movies:
     """Every compression movie (and what they need)."""
     localrule: True
     input:
-        [f"{RESULTS}/movies/{name}.mp4" for name in P1_MOVIES],
+        [paths.movie(RESULTS, name) for name in P1_MOVIES],

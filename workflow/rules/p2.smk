@@ -26,7 +26,7 @@ def p2_table_candidates(path=snapshot_path, states="abc"):
     return [path(P2_FRICTIONAL, r, rho) for r in REALIZATIONS for rho in labels]
 
 
-P2_TABLE_STATES = f"{RESULTS}/tables/p2_table_states.csv"
+P2_TABLE_STATES = paths.p2_table_states(RESULTS)
 # the P2 products read networks made by the P2 study's rattler rule (P2 §III C keeps rattlers)
 P2_RATTLER_RULE = study_rattler_rule(config, P2_FRICTIONAL) if P2_FRICTIONAL else None
 
@@ -36,9 +36,9 @@ rule p2_distances:
     input:
         system_analyses,
     output:
-        f"{RESULTS}/{{system}}/distances.nc",
+        paths.distances(RESULTS, "{system}"),
     log:
-        f"{LOGS}/distances/{{system}}.log",
+        paths.log(RESULTS, "distances", "{system}"),
     params:
         realizations=[realization_index(r) for r in REALIZATIONS],
         essential_convention=config["analysis"]["essential_convention"],
@@ -57,7 +57,7 @@ rule p2_table_states:
     output:
         P2_TABLE_STATES,
     log:
-        f"{LOGS}/tables/p2_table_states.log",
+        paths.log(RESULTS, "tables", "p2_table_states"),
     script:
         "../scripts/p2_table_states.py"
 
@@ -68,11 +68,11 @@ rule p2_tables:
         snapshots=p2_table_candidates(),
         states=P2_TABLE_STATES,
     output:
-        csv=[f"{RESULTS}/tables/p2_table{i}.csv" for i in (1, 2, 3)],
-        md=[report(f"{RESULTS}/tables/p2_table{i}.md", caption="../report/p2_tables.rst", category="P2",
-                   subcategory=REPORT_TABLES) for i in (1, 2, 3)],
+        csv=[paths.p2_table(RESULTS, i, "csv") for i in paths.P2_TABLE_NUMBERS],
+        md=[report(paths.p2_table(RESULTS, i, "md"), caption="../report/p2_tables.rst", category="P2",
+                   subcategory=REPORT_TABLES) for i in paths.P2_TABLE_NUMBERS],
     log:
-        f"{LOGS}/tables/p2_tables.log",
+        paths.log(RESULTS, "tables", "p2_tables"),
     params:
         rattler_rule=P2_RATTLER_RULE,
         essential_convention=config["analysis"]["essential_convention"],
@@ -83,17 +83,17 @@ rule p2_tables:
 rule p2_validation:
     localrule: True
     input:
-        distances=[f"{RESULTS}/{s}/distances.nc" for s in P2_SYSTEMS],
+        distances=[paths.distances(RESULTS, s) for s in P2_SYSTEMS],
         tables=rules.p2_tables.output.csv,
-        measures=[f"{RESULTS}/{s}/network_measures.nc" for s in P2_SYSTEMS],
+        measures=[paths.network_measures(RESULTS, s) for s in P2_SYSTEMS],
         states=P2_TABLE_STATES,
         paper_size=paper_size_input("p2"),
     output:
-        md=report(f"{RESULTS}/tables/p2_validation.md", caption="../report/table.rst", category="P2",
+        md=report(paths.p2_validation_table(RESULTS, "md"), caption="../report/table.rst", category="P2",
                   subcategory=REPORT_TABLES),
-        csv=f"{RESULTS}/tables/p2_validation.csv",
+        csv=paths.p2_validation_table(RESULTS, "csv"),
     log:
-        f"{LOGS}/tables/p2_validation.log",
+        paths.log(RESULTS, "tables", "p2_validation"),
     params:
         frictional=P2_FRICTIONAL,
         frictionless=P2_FRICTIONLESS,

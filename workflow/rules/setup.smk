@@ -2,9 +2,9 @@ rule resolved_config:
     localrule: True
     """The config as the workflow understands it: every system in reduced units with its ρ grid."""
     output:
-        f"{RESULTS}/config/resolved.yaml",
+        paths.resolved_config(RESULTS),
     log:
-        f"{LOGS}/resolved_config.log",
+        paths.log(RESULTS, "", "resolved_config"),
     params:
         config=config,
     script:

@@ -1,7 +1,7 @@
 # One compression run per (system, realization) → one snapshot per ρ of the system's grid.
 # One rule per system because each system has its own ρ grid (hence its own list of outputs).
-# Snapshots are staged in .partial/ with the checkpoint and published when the run completes, so a run
-# killed half-way resumes from its checkpoint and never leaves outputs that look complete.
+# Snapshots are staged with the checkpoint in .partial/ (forcenet.datasets.paths.staging_dir) and published when the
+# run completes, so a run killed half-way resumes from its checkpoint and never leaves outputs that look complete.
 for _name, _spec in SYSTEMS.items():
 
     rule:
@@ -9,9 +9,9 @@ for _name, _spec in SYSTEMS.items():
             f"simulate_{_name}"
         output:
             snapshots=[snapshot_path(_name, "{realization}", rho) for rho in _spec.rho_labels],
-            cost=run_cost_path(_name, "{realization}"),
+            cost=paths.run_cost(RESULTS, _name, "{realization}"),
         log:
-            f"{LOGS}/simulate/{_name}/{{realization}}.log",
+            paths.run_log(RESULTS, "simulate", _name, "{realization}"),
         params:
             system=_name,
             depends_on=system_params(_name),

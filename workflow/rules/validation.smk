@@ -4,12 +4,9 @@
 #   snakemake validation_report --configfile config/validation.yaml --cores N
 # Every other config reads them instead (the paper-size column of its validation tables, common.smk), so it
 # defines no rule that could overwrite them with its small systems' values.
-VALIDATION_DIR = "docs/validation"
-
-
 def run_costs(systems):
-    """The cost records (run_cost.json) of every compression run of `systems`."""
-    return [run_cost_path(s, r) for s in systems for r in REALIZATIONS]
+    """The cost records of every compression run of `systems`."""
+    return [paths.run_cost(RESULTS, s, r) for s in systems for r in REALIZATIONS]
 
 
 if PAPER_SIZE_TABLES is not None:
@@ -18,7 +15,7 @@ if PAPER_SIZE_TABLES is not None:
         localrule: True
         run:
             raise WorkflowError(
-                f"validation_report writes docs/validation/ from runs at the papers' sizes, but this config reads "
+                f"validation_report writes {paths.VALIDATION_DIR}/ from runs at the papers' sizes, but this config reads "
                 f"them (paper_size_tables: {PAPER_SIZE_TABLES}): run it with --configfile config/validation.yaml "
                 "(or a config that sets paper_size_tables: null)")
 
@@ -27,12 +24,12 @@ else:
     rule validation_report_p1:
         localrule: True
         input:
-            md=f"{RESULTS}/tables/p1_validation.md",
-            csv=f"{RESULTS}/tables/p1_validation.csv",
+            md=paths.p1_validation_table(RESULTS, "md"),
+            csv=paths.p1_validation_table(RESULTS, "csv"),
             costs=run_costs(P1_SYSTEMS),
         output:
-            md=f"{VALIDATION_DIR}/p1.md",
-            csv=f"{VALIDATION_DIR}/p1.csv",
+            md=paths.campaign_table("p1", "md"),
+            csv=paths.campaign_table("p1", "csv"),
         params:
             study="p1",
             systems=P1_SYSTEMS,
@@ -45,12 +42,12 @@ else:
     rule validation_report_p2:
         localrule: True
         input:
-            md=[f"{RESULTS}/tables/p2_validation.md"] + [f"{RESULTS}/tables/p2_table{i}.md" for i in (1, 2, 3)],
-            csv=[f"{RESULTS}/tables/p2_validation.csv"] + [f"{RESULTS}/tables/p2_table{i}.csv" for i in (1, 2, 3)],
+            md=[paths.p2_validation_table(RESULTS, "md")] + [paths.p2_table(RESULTS, i, "md") for i in paths.P2_TABLE_NUMBERS],
+            csv=[paths.p2_validation_table(RESULTS, "csv")] + [paths.p2_table(RESULTS, i, "csv") for i in paths.P2_TABLE_NUMBERS],
             costs=run_costs(P2_SYSTEMS),
         output:
-            md=f"{VALIDATION_DIR}/p2.md",
-            csv=f"{VALIDATION_DIR}/p2.csv",
+            md=paths.campaign_table("p2", "md"),
+            csv=paths.campaign_table("p2", "csv"),
         params:
             study="p2",
             systems=P2_SYSTEMS,

@@ -1,10 +1,31 @@
-"""netCDF data model of forcenet: schema, provenance, atomic writing, validation at write and read time, and the
-readers of what the files hold (snapshots, diagram points)."""
-from forcenet.datasets.diagrams import DiagramPoints, diagram_points
-from forcenet.datasets.io import (DatasetError, SchemaError, git_commit, open_dataset, provenance_attrs, read_dataset,
-                                  validate_dataset, write_netcdf)
-from forcenet.datasets.snapshot import read_snapshot, snapshot_dataset, write_snapshot
+"""netCDF data model of forcenet: schema, provenance, atomic writing, validation at write and read time, the
+readers of what the files hold (snapshots, diagram points) and the paths of every file a build writes (`paths`).
 
-__all__ = ["DatasetError", "DiagramPoints", "SchemaError", "diagram_points", "git_commit", "open_dataset",
-           "provenance_attrs", "read_dataset", "read_snapshot", "snapshot_dataset", "validate_dataset", "write_netcdf",
-           "write_snapshot"]
+The names below are imported on first use (PEP 562), so that `forcenet.datasets.paths` and
+`forcenet.datasets.schema` load without xarray: the workflow imports `paths` when it is parsed."""
+from __future__ import annotations
+
+import importlib
+from typing import Any
+
+#: public name → the submodule that defines it
+_EXPORTS = {
+    "DiagramPoints": "diagrams", "diagram_points": "diagrams",
+    "DatasetError": "io", "SchemaError": "io", "git_commit": "io", "open_dataset": "io", "provenance_attrs": "io",
+    "read_dataset": "io", "validate_dataset": "io", "write_netcdf": "io",
+    "read_snapshot": "snapshot", "snapshot_dataset": "snapshot", "write_snapshot": "snapshot",
+}
+
+__all__ = sorted(_EXPORTS)
+
+
+def __getattr__(name: str) -> Any:
+    if name not in _EXPORTS:
+        raise AttributeError(f"module 'forcenet.datasets' has no attribute {name!r}")
+    value = getattr(importlib.import_module(f"forcenet.datasets.{_EXPORTS[name]}"), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted([*globals(), *_EXPORTS])
