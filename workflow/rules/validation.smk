@@ -24,8 +24,8 @@ else:
     rule validation_report_p1:
         localrule: True
         input:
-            md=paths.p1_validation_table(RESULTS, "md"),
-            csv=paths.p1_validation_table(RESULTS, "csv"),
+            md=[paths.p1_validation_table(RESULTS, "md")],  # lists, one per heading, as for P2
+            csv=[paths.p1_validation_table(RESULTS, "csv")],
             costs=run_costs(P1_SYSTEMS),
         output:
             md=paths.campaign_table("p1", "md"),
