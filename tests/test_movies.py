@@ -46,6 +46,21 @@ def test_network_movie_has_one_labelled_frame_per_snapshot(dimension, tmp_path, 
         assert f"{float(snapshot['rho']):.3f}" in titles[0]  # the ρ label of that frame
 
 
+@pytest.mark.parametrize("dimension", [2, 3])
+def test_network_movie_frame_of_an_unjammed_snapshot_without_loaded_contacts(dimension, tmp_path, frames_seen):
+    """Below jamming every particle can be a rattler: that frame has no edge (and its table no contact columns),
+    but it is drawn, with its ρ label, beside a frame that has edges."""
+    loose = make_snapshot(dimension, seed=0)
+    loose = loose.assign(force_normal=0.0 * loose["force_normal"], force_tangential=0.0 * loose["force_tangential"],
+                         rho=0.44)
+    output = tmp_path / "network.mp4"
+    assert movies.network_movie([loose, make_snapshot(dimension, seed=1)], output, rattler_rule="once") == 2
+    assert frame_count(output) == 2
+    assert "0.440" in frames_seen[0][1][0]
+    # only loose snapshots: one colour scale still exists
+    assert movies.network_movie([loose], tmp_path / "loose.mp4", rattler_rule="once") == 1
+
+
 def test_b0_surface_movie_turns_around_the_surface(tmp_path, frames_seen):
     output = tmp_path / "surface.mp4"
     assert movies.b0_surface_movie(make_p1_measures(), "3d_hertz", output, frames=8) == 8

@@ -85,6 +85,8 @@ def draw_p1_fig01_networks(data: FigureData) -> Figure:
 
 def network_color_scale(table: pd.DataFrame) -> Normalize:
     """F/⟨F⟩ colour scale of network drawings: 0 to the 99 % quantile of the table's contacts."""
+    if cols.FORCE not in table:  # no snapshot has a loaded contact (e.g. every particle a rattler at low ρ)
+        return Normalize(0.0, 1.0)
     everything = table.loc[table["element"] == "contact", cols.FORCE].to_numpy()
     return Normalize(0.0, float(np.quantile(everything, 0.99)) if everything.size else 1.0)
 
@@ -93,16 +95,21 @@ def draw_network_panel(ax, rows: pd.DataFrame, box, norm: Normalize) -> None:
     """One snapshot's network (rows of `prepare_p1_fig01_networks`) in `ax` (a 3D axes for a 3D snapshot)."""
     dim = int(rows["dimension"].iloc[0])
     contacts, particles = rows[rows["element"] == "contact"], rows[rows["element"] == "particle"]
-    relative = contacts[cols.FORCE].to_numpy()
-    segments = np.stack([contacts[list(END_I[:dim])].to_numpy(), contacts[list(END_J[:dim])].to_numpy()], axis=1)
+    if len(contacts):
+        relative = contacts[cols.FORCE].to_numpy(float)
+        segments = np.stack([contacts[list(END_I[:dim])].to_numpy(), contacts[list(END_J[:dim])].to_numpy()],
+                            axis=1)
+    else:  # an unjammed snapshot whose every particle is a rattler: the table has no contact columns
+        relative, segments = np.empty(0), np.empty((0, 2, dim))
     widths = 0.3 + NETWORK_MAX_LINE_WIDTH * np.clip(relative / max(norm.vmax, 1e-12), 0, 1)
     lo, hi = box
     if dim == 3:
         from mpl_toolkits.mplot3d.art3d import Line3DCollection
 
-        lines = Line3DCollection(segments, cmap=FORCE_CMAP, norm=norm, linewidths=widths)
-        lines.set_array(relative)
-        ax.add_collection3d(lines)
+        if len(segments):  # mplot3d cannot draw an empty collection
+            lines = Line3DCollection(segments, cmap=FORCE_CMAP, norm=norm, linewidths=widths)
+            lines.set_array(relative)
+            ax.add_collection3d(lines)
         ax.set_zlim(lo[2], hi[2])
         ax.set_zlabel(POSITION_LABELS[2])
     else:
