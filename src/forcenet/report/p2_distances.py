@@ -1,7 +1,7 @@
 """P2's data product ``results/{system}/distances.nc`` and the adapters every P2 distance goes through.
 
 - Adapters to `forcenet.network` / `forcenet.topology` (the only places the P2 report calls them): a snapshot's
-  force network (`snapshot_network`), its persistence diagrams, whole box and per quadrant, the diagram stored in
+  force network (`p2_network`), its persistence diagrams, whole box and per quadrant, the diagram stored in
   an analysis file (`diagram_points`, `analysis_diagram`), distances between two diagrams (`pair_distances`),
   edge forces and their changes for P2 Fig. 1 (`contact_forces`, `force_differences`).
 - `consecutive_distances` / `stack_distances` — d_B, d_W1, d_W2 between consecutive snapshots of each realization,
@@ -62,8 +62,9 @@ def _consecutive_distances(diagrams: Sequence, homology_dim: int, essential_conv
     return np.stack([result[metric][:, 0] for metric in METRICS], axis=-1)
 
 
-def snapshot_network(snapshot: xr.Dataset, kind: str, remove_rattlers: bool | str):
-    """The force network of one snapshot, forces in units of that network's mean (P2 §II)."""
+def p2_network(snapshot: xr.Dataset, kind: str, remove_rattlers: bool | str):
+    """P2's force network of one snapshot (`forcenet.network.snapshot_network` with P2's choices: wall contacts
+    ignored, the study's rattler rule), forces in units of that network's mean (P2 §II)."""
     from forcenet.network import snapshot_network
 
     return snapshot_network(snapshot, kind, rattler_rule=remove_rattlers, wall_contacts="ignored")
@@ -80,7 +81,7 @@ class EdgeValues:
 
 def contact_forces(snapshot: xr.Dataset, kind: str = "normal", *, remove_rattlers: bool | str = False) -> EdgeValues:
     """Edge forces of one snapshot's network in units of its own mean (P2 Fig. 1(a–c))."""
-    net = snapshot_network(snapshot, kind, remove_rattlers)
+    net = p2_network(snapshot, kind, remove_rattlers)
     return EdgeValues(np.asarray(net.edge_i), np.asarray(net.edge_j), np.asarray(net.force, dtype=float))
 
 
@@ -271,7 +272,7 @@ SAMPLING_WINDOWS = ("rho < 0.75", "0.75 <= rho < rho_J", "rho > rho_J")
 def snapshot_diagrams(snapshot: xr.Dataset, kind: str = "normal", rattler_rule: bool | str = "none"):
     """PD0 and PD1 of one snapshot's force network of `kind` (forces in units of its own mean) built with
     `rattler_rule` (P2: ``"none"``, rattlers kept as components born at 0)."""
-    return network_diagrams(snapshot_network(snapshot, kind, rattler_rule))
+    return network_diagrams(p2_network(snapshot, kind, rattler_rule))
 
 
 def lagged_distances(diagrams: Sequence, rho: Sequence[float], lag: int, *, essential_convention: str = "minus_one",

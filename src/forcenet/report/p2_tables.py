@@ -22,7 +22,7 @@ import xarray as xr
 from forcenet.datasets.schema import FORCE_KINDS
 from forcenet.report.p2 import (METRICS, P2_HOMOLOGY_DIMS, QUADRANTS, TABLE_PAIRS, TABLE_RHO_KEYS, format_number,
                                 pretty_column, table_column)
-from forcenet.report.p2_distances import network_diagrams, pair_distances, quadrant_diagrams, snapshot_network
+from forcenet.report.p2_distances import network_diagrams, pair_distances, p2_network, quadrant_diagrams
 
 
 def p2_tables(snapshots: Sequence[xr.Dataset], *, kind: str = "normal", remove_rattlers: bool | str = True,
@@ -41,7 +41,7 @@ def p2_tables(snapshots: Sequence[xr.Dataset], *, kind: str = "normal", remove_r
     rho = [float(s["rho"]) for s in snapshots]
     if not rho[0] < rho[1] < rho[2]:
         raise ValueError(f"snapshots a, b, c must be in increasing rho, got {rho}")
-    networks = [snapshot_network(s, kind, remove_rattlers) for s in snapshots]
+    networks = [p2_network(s, kind, remove_rattlers) for s in snapshots]
     whole = [network_diagrams(n) for n in networks]
     parts = [quadrant_diagrams(n, s) for n, s in zip(networks, snapshots)]
 
