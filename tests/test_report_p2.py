@@ -35,7 +35,7 @@ def analysis_factory(rho: float, z: float, diagrams: dict) -> xr.Dataset:
         "death": ("point", death),
         "essential": ("point", (~np.isfinite(death)).astype(np.int8)),
         "rho": ((), rho), "Z": ((), z),
-    })
+    }, coords={"force_kind": list(FORCE_KINDS)})  # what diagram_force_kind indexes, as in an analysis file
 
 
 # P2 §III D worked example (Fig. 5): PD0(f) = {(5, -1)}, PD0(g) = {(3, -1)} + 7 x (1, 0)

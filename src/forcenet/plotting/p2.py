@@ -25,7 +25,7 @@ from forcenet.plotting.figure_data import FigureData, concat, curve_rows
 from forcenet.plotting.style import (FALLBACK_COLORS, FORCE_KIND_WORDS, LABELS, apply_style, system_color,
                                      system_label)
 from forcenet.report import p2 as report
-from forcenet.report.p2_distances import diagram_points
+from forcenet.datasets import diagram_points
 from forcenet.report.realizations import realization_mean, realization_spread
 
 METRIC_COLORS = {metric: FALLBACK_COLORS[i] for i, metric in enumerate(report.METRICS)}
@@ -47,7 +47,8 @@ def prepare_p2_fig03_diagrams(analysis: xr.Dataset, *, kind: str = "normal", sys
     drawn at death = `essential_death` (P2's −1), given in the column "death drawn [<F>]"."""
     blocks = []
     for h in report.P2_HOMOLOGY_DIMS:
-        birth, death, essential = diagram_points(analysis, kind, h)
+        points = diagram_points(analysis, kind, h)
+        birth, death, essential = points.birth, points.death, points.essential
         blocks.append(pd.DataFrame({cols.PANEL: h, cols.SYSTEM: system, "force_kind": kind,
                                     cols.RHO: float(analysis["rho"]), "homology_dim": h, cols.BIRTH: birth,
                                     cols.DEATH: np.where(essential, -np.inf, death), "essential": essential,

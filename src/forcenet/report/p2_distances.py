@@ -2,7 +2,7 @@
 
 - Adapters to `forcenet.network` / `forcenet.topology` (the only places the P2 report calls them): a snapshot's
   force network (`p2_network`), its persistence diagrams, whole box and per quadrant, the diagram stored in
-  an analysis file (`diagram_points`, `analysis_diagram`), distances between two diagrams (`pair_distances`),
+  an analysis file (`analysis_diagram`), distances between two diagrams (`pair_distances`),
   edge forces and their changes for P2 Fig. 1 (`contact_forces`, `force_differences`).
 - `consecutive_distances` / `stack_distances` — d_B, d_W1, d_W2 between consecutive snapshots of each realization,
   dims (realization, rho, force_kind, homology_dim, metric), with Z(ρ). ``rho`` is the packing fraction of the
@@ -20,7 +20,7 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
-from forcenet.datasets.schema import DIMENSIONLESS, FORCE_KINDS, NETWORK_FORCE_UNITS
+from forcenet.datasets.schema import DIMENSIONLESS, NETWORK_FORCE_UNITS
 from forcenet.report.p2 import (METRIC_LONG_NAMES, METRICS, P2_FORCE_KINDS, P2_HOMOLOGY_DIMS, format_number,
                                 pretty_column, rho_at_isostatic_crossing, table_column)
 
@@ -122,22 +122,13 @@ def quadrant_diagrams(network, snapshot: xr.Dataset) -> dict:
 # =============================================================================================================
 # Distances between consecutive snapshots (P2 §IV, Figs 6–10)
 # =============================================================================================================
-def diagram_points(analysis: xr.Dataset, kind: str, homology_dim: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(birth, death, essential) of one diagram stored in a per-snapshot analysis dataset."""
-    kind_index = FORCE_KINDS.index(kind)
-    if "point" not in analysis.dims or analysis.sizes["point"] == 0:
-        return np.empty(0), np.empty(0), np.empty(0, dtype=bool)
-    mask = ((analysis["diagram_force_kind"].values == kind_index)
-            & (analysis["diagram_homology_dim"].values == homology_dim))
-    birth = analysis["birth"].values[mask].astype(float)
-    death = analysis["death"].values[mask].astype(float)
-    essential = analysis["essential"].values[mask].astype(bool) | ~np.isfinite(death)
-    return birth, death, essential
-
-
 def analysis_diagram(analysis: xr.Dataset, kind: str, homology_dim: int):
-    """The `PersistenceDiagrams` of one force kind and homology dimension of an analysis dataset."""
-    return diagram_from_points(*diagram_points(analysis, kind, homology_dim), homology_dim)
+    """The `PersistenceDiagrams` of one force kind and homology dimension of an analysis dataset (read by the one
+    reader of diagram points, `forcenet.datasets.diagram_points`)."""
+    from forcenet.datasets import diagram_points
+
+    points = diagram_points(analysis, kind, homology_dim)
+    return diagram_from_points(points.birth, points.death, points.essential, homology_dim)
 
 
 def consecutive_distances(analyses: Sequence[xr.Dataset], essential_convention: str = "minus_one", *,
