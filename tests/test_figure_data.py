@@ -227,3 +227,15 @@ def test_p2_network_and_diagram_csvs_hold_the_drawn_edges_and_points(tmp_path):
                                    rows.loc[~rows["essential"], [cols.BIRTH, "death drawn [<F>]"]].to_numpy())
         assert len(rows) == len(DIAGRAMS["normal", h])
         assert (rows.loc[rows["essential"], "death drawn [<F>]"] == -1.0).all()
+
+
+def test_concat_keeps_the_columns_of_an_empty_block():
+    """A block without rows (a network with no loaded contact) still brings its columns; it adds no rows."""
+    from forcenet.plotting.figure_data import concat
+
+    contacts = pd.DataFrame({"element": [], "F/<F>": []})
+    particles = pd.DataFrame({"element": ["particle", "particle"], "radius [d_ave]": [0.5, 0.7]})
+    table = concat([contacts, particles])
+    assert list(table.columns) == ["element", "F/<F>", "radius [d_ave]"] and len(table) == 2
+    assert table["F/<F>"].isna().all()
+    assert list(concat([contacts]).columns) == ["element", "F/<F>"] and concat([]).empty

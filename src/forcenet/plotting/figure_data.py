@@ -62,12 +62,16 @@ def curve_rows(x_name: str, x, mean, spread_low, spread_high, **columns) -> pd.D
 
 
 def concat(frames) -> pd.DataFrame:
-    """Stack row blocks; when every block is empty, an empty table with the first block's columns."""
+    """Stack row blocks. Every block's columns are kept, an empty block's too (a network without loaded contacts
+    still has the contact columns), in the order they first appear; empty blocks add no rows."""
     frames = list(frames)
+    if not frames:
+        return pd.DataFrame()
+    columns = list(dict.fromkeys(column for frame in frames for column in frame.columns))
     filled = [f for f in frames if len(f)]
-    if filled:
-        return pd.concat(filled, ignore_index=True)
-    return frames[0].iloc[0:0] if frames else pd.DataFrame()
+    if not filled:
+        return frames[0].iloc[0:0].reindex(columns=columns)
+    return pd.concat(filled, ignore_index=True).reindex(columns=columns)
 
 
 def write_csv(data: FigureData, path: str | os.PathLike) -> None:

@@ -85,8 +85,6 @@ def draw_p1_fig01_networks(data: FigureData) -> Figure:
 
 def network_color_scale(table: pd.DataFrame) -> Normalize:
     """F/⟨F⟩ colour scale of network drawings: 0 to the 99 % quantile of the table's contacts."""
-    if cols.FORCE not in table:  # no snapshot has a loaded contact (e.g. every particle a rattler at low ρ)
-        return Normalize(0.0, 1.0)
     everything = table.loc[table["element"] == "contact", cols.FORCE].to_numpy()
     return Normalize(0.0, float(np.quantile(everything, 0.99)) if everything.size else 1.0)
 
@@ -95,12 +93,9 @@ def draw_network_panel(ax, rows: pd.DataFrame, box, norm: Normalize) -> None:
     """One snapshot's network (rows of `prepare_p1_fig01_networks`) in `ax` (a 3D axes for a 3D snapshot)."""
     dim = int(rows["dimension"].iloc[0])
     contacts, particles = rows[rows["element"] == "contact"], rows[rows["element"] == "particle"]
-    if len(contacts):
-        relative = contacts[cols.FORCE].to_numpy(float)
-        segments = np.stack([contacts[list(END_I[:dim])].to_numpy(), contacts[list(END_J[:dim])].to_numpy()],
-                            axis=1)
-    else:  # an unjammed snapshot whose every particle is a rattler: the table has no contact columns
-        relative, segments = np.empty(0), np.empty((0, 2, dim))
+    relative = contacts[cols.FORCE].to_numpy(float)
+    segments = np.stack([contacts[list(END_I[:dim])].to_numpy(float), contacts[list(END_J[:dim])].to_numpy(float)],
+                        axis=1).reshape(-1, 2, dim)
     widths = 0.3 + NETWORK_MAX_LINE_WIDTH * np.clip(relative / max(norm.vmax, 1e-12), 0, 1)
     lo, hi = box
     if dim == 3:
