@@ -21,14 +21,16 @@ from pathlib import Path
 import numpy as np
 import xarray as xr
 
+from forcenet.datasets.paths import SIM_DIR
+
 #: relative and absolute tolerance outside the DEM's own output
 DEFAULT_RTOL = 1e-9
 DEFAULT_ATOL = 1e-12
 
 
 def _is_snapshot(relative: Path) -> bool:
-    """Whether a results-relative path is a DEM snapshot (compared bit for bit)."""
-    return "sim" in relative.parts[:-1]
+    """Whether a results-relative path is a DEM snapshot (compared bit for bit): a file of the runs' folder."""
+    return bool(relative.parts) and relative.parts[0] == SIM_DIR
 
 
 def _array_difference(name: str, a: np.ndarray, b: np.ndarray, exact: bool, rtol: float, atol: float) -> str | None:

@@ -38,6 +38,8 @@ from pathlib import Path
 #: a results folder: "results", or a Path
 Folder = str | os.PathLike
 
+#: the folder (below the results folder) that holds the DEM runs
+SIM_DIR = "sim"
 #: the folder of a run in progress (beside its outputs): Snakemake deletes the declared outputs of an interrupted
 #: job, not this folder, so a rerun resumes from the checkpoint in it
 STAGING_DIR = ".partial"
@@ -69,7 +71,7 @@ def rho_file(rho_label: str) -> str:
 
 def run_dir(results: Folder, system: str, realization: str) -> str:
     """The folder of one compression run: its snapshots and cost record."""
-    return f"{results}/sim/{system}/{realization}"
+    return f"{results}/{SIM_DIR}/{system}/{realization}"
 
 
 def snapshot(results: Folder, system: str, realization: str, rho_label: str) -> str:
