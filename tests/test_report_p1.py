@@ -546,6 +546,27 @@ VIOLATIONS = {
 }
 
 
+def _one_realization_unjammed(share: float) -> dict[str, xr.Dataset]:
+    """P1-like systems where, at the first 2D-linear ρ beyond ρ_J + 0.03, realization 0 has not jammed (Z 0.3, no
+    percolation) while the other two percolate with Z 2.6 and N_per/N = `share` at every F_th."""
+    measures = make_p1_measures()
+    ds = measures["2d_linear"]
+    at = {"rho": float(ds["rho"][ds["rho"] > RHO_J["2d_linear"] + 0.03][0])}
+    ds["Z"].loc[at] = [0.3, 2.6, 2.6]
+    ds["percolates"].loc[{**at, "realization": 0}] = 0
+    ds["percolating_size"].loc[{**at, "realization": 0}] = 0.0
+    ds["percolating_size"].loc[{**at, "realization": [1, 2]}] = share * N_PARTICLES
+    return measures
+
+
+@pytest.mark.parametrize("share, holds", [(0.7, True), (0.55, False)])
+def test_phi_c_bound_is_judged_on_the_percolating_realizations(share, holds):
+    # Eq. 6 with Z = 2.6 of the two percolating networks: phi_c = 1/1.6 = 0.625. The mean Z over all three
+    # realizations (1.83) would demand N_per/N >= 1.2, which no network can meet.
+    table = validation.p1_validation(_one_realization_unjammed(share))
+    assert verdict(table, "p1-4.3-phi-c-lower-bound", "2d_linear") == ("holds" if holds else "does not hold")
+
+
 def test_every_claim_has_a_violation():
     broken = {claim_id for _, _, failing, _ in VIOLATIONS.values() for claim_id, _ in failing}
     assert broken == {c.id for c in validation.CLAIMS} - NOT_MEASURED

@@ -18,7 +18,7 @@ import xarray as xr
 from forcenet.report.claims import Claim, Judgement, NotEvaluated, claim_register
 from forcenet.report.p1 import (HERTZ_2D, HERTZ_3D, LINEAR_2D, P1_HALF, P1_LARGE_THRESHOLD, P1_PERCOLATION_MAJORITY,
                                 P1_SMALL_THRESHOLD, PAPER_CLUSTER_SIZE_PEAK, cut_at_rho_max, finite_max, force_bins,
-                                force_pdf_width, percolating_size_mean, percolation_fraction)
+                                force_pdf_width, percolating_size_mean, percolation_fraction, select_total)
 from forcenet.report.p1_judging import (ALL_2D, ClaimContext, ClaimTolerances, SystemData, expected_for_law,
                                         finite_values, fmt_values, peak_verdict, require, strongest_peak)
 from forcenet.report.realizations import realization_mean
@@ -318,11 +318,15 @@ def percolating_smaller_in_3d(context: ClaimContext) -> Judgement:
 
 @claim("p1-4.3-phi-c-lower-bound", "4.3",
        "phi_c of Eq. 6 (<k^2> ~ <k>^2, so phi_c = 1/(Z - 1)) is a lower bound for N_per/N",
-       "at F_th = min and every shown rho: N_per/N >= 1/(Z - 1), Z the mean coordination number", needs_rho_j=False)
+       "at F_th = min and every shown rho: N_per/N >= 1/(Z - 1), both averaged over the realizations that "
+       "percolate", needs_rho_j=False)
 def phi_c_lower_bound(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
-    """Judge of claim p1-4.3-phi-c-lower-bound (per system)."""
+    """Judge of claim p1-4.3-phi-c-lower-bound (per system). Eq. 6 bounds the network that percolates, so Z is
+    averaged over the same realizations as N_per/N: at a ρ where one realization has jammed and another has not,
+    the mean Z over all of them would set a bound (1/(Z - 1) > 1 for Z < 2) that no percolating network can meet."""
     share = _percolating_share(system).sel(threshold=system.lowest_threshold).values
-    z = realization_mean(system.data["Z"]).values
+    percolates = select_total(system.data)["percolates"].sel(threshold=system.lowest_threshold) > 0
+    z = realization_mean(system.data["Z"].where(percolates)).transpose("rho").values
     shown = np.isfinite(share) & np.isfinite(z)
     if not shown.any():
         raise NotEvaluated("no percolation shown")
