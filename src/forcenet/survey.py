@@ -12,6 +12,11 @@ compressed through its ρ grid in a temporary folder, and per snapshot
 * relaxation steps,
 
 with the CPU-seconds of the run and ρ_J from the logistic fit of Z(ρ) (`forcenet.measures.jamming`).
+
+`snapshot_row` is that per-snapshot state, also for runs that have finished (`run_states`, through
+`scripts/run_states.py`): with the particles that have at least two particle contacts (P1's non-rattlers) and the
+mean contact force ⟨|F_n + F_t|⟩, in dyn where the system has a material — the measurements behind
+docs/validation/README.md (the unjammed states' contacts, the force scales behind ρ_max).
 """
 from __future__ import annotations
 
@@ -28,7 +33,7 @@ import yaml
 
 from forcenet.systems import realization_seed, system_from_config
 
-__all__ = ["apply_overrides", "pair_overlap_fractions", "SurveyRun", "run_survey"]
+__all__ = ["apply_overrides", "pair_overlap_fractions", "snapshot_row", "run_states", "SurveyRun", "run_survey"]
 
 
 def apply_overrides(config: Mapping[str, Any], system: str, overrides: Sequence[str]) -> dict[str, Any]:
@@ -56,6 +61,44 @@ def pair_overlap_fractions(position: np.ndarray, radius: np.ndarray, contact_i: 
     separation = np.linalg.norm(position[contact_i] - position[contact_j], axis=1)
     overlap = radius[contact_i] + radius[contact_j] - separation
     return overlap / (2.0 * np.minimum(radius[contact_i], radius[contact_j]))
+
+
+def snapshot_row(snap, force_unit_dyn: float = float("nan")) -> dict[str, float]:
+    """The state of one snapshot (an opened snapshot dataset), as listed in the module docstring.
+
+    Keys: rho, rho_centres [-]; Z, connected (particles with ≥ 2 particle contacts) [-]; kinetic_energy
+    [m̄ d_ave² τ_c⁻²]; pressure [m̄ d_ave⁻¹ τ_c⁻² in 2D]; damping_dt [-]; overlap_max, overlap_mean
+    (x / min(d_i, d_j)) [-]; mean_force (⟨|F_n + F_t|⟩ over the particle contacts) [m̄ d_ave τ_c⁻²] and
+    mean_force_dyn (the same times `force_unit_dyn`, one reduced force unit in dyn; NaN without); relaxation_steps.
+    """
+    contact_i, contact_j = snap.contact_i.values, snap.contact_j.values
+    fractions = pair_overlap_fractions(snap.position.values, snap.radius.values, contact_i, contact_j)
+    contacts = np.bincount(np.concatenate([contact_i, contact_j]), minlength=snap.sizes["particle"])
+    force = np.linalg.norm(snap.force_normal.values + snap.force_tangential.values, axis=1)
+    mean_force = float(force.mean()) if force.size else 0.0
+    span = snap.box_hi.values - snap.box_lo.values
+    # ρ over the region the centres of mean particles can reach (one d_ave less per axis): a candidate
+    # reading of P1's "domain volume" (docs/validation/README.md)
+    rho_centres = float(snap.rho) * float(np.prod(span / (span - 1.0)))
+    return dict(rho=float(snap.rho), rho_centres=rho_centres, Z=float(snap.Z), connected=int((contacts >= 2).sum()),
+                kinetic_energy=float(snap.kinetic_energy), pressure=float(snap.pressure),
+                damping_dt=float(snap.attrs["dem_damping_rate_time_step"]),
+                overlap_max=float(fractions.max()) if fractions.size else 0.0,
+                overlap_mean=float(fractions.mean()) if fractions.size else 0.0,
+                mean_force=mean_force, mean_force_dyn=mean_force * force_unit_dyn,
+                relaxation_steps=int(snap.relaxation_steps))
+
+
+def run_states(run_dir: str | Path, force_unit_dyn: float = float("nan")) -> list[dict[str, float]]:
+    """`snapshot_row` of every snapshot of a finished run folder (`forcenet.datasets.paths.run_dir`), in ρ order."""
+    from forcenet.datasets import read_snapshot
+    from forcenet.datasets.paths import rho_file
+
+    rows = []
+    for path in sorted(Path(run_dir).glob(rho_file("*"))):
+        with read_snapshot(path) as snap:
+            rows.append(snapshot_row(snap, force_unit_dyn))
+    return sorted(rows, key=lambda row: row["rho"])
 
 
 @dataclass
@@ -97,17 +140,7 @@ def run_survey(config: Mapping[str, Any], system: str, realization: int = 0, log
             if not path.exists():
                 break
             with read_snapshot(path) as snap:
-                fractions = pair_overlap_fractions(snap.position.values, snap.radius.values,
-                                                   snap.contact_i.values, snap.contact_j.values)
-                span = snap.box_hi.values - snap.box_lo.values
-                # ρ over the region the centres of mean particles can reach (one d_ave less per axis): a candidate
-                # reading of P1's "domain volume" (docs/validation/README.md)
-                rho_centres = float(snap.rho) * float(np.prod(span / (span - 1.0)))
-                rows.append(dict(rho=float(snap.rho), rho_centres=rho_centres, Z=float(snap.Z), kinetic_energy=float(snap.kinetic_energy),
-                                 pressure=float(snap.pressure), damping_dt=float(snap.attrs["dem_damping_rate_time_step"]),
-                                 overlap_max=float(fractions.max()) if fractions.size else 0.0,
-                                 overlap_mean=float(fractions.mean()) if fractions.size else 0.0,
-                                 relaxation_steps=int(snap.relaxation_steps)))
+                rows.append(snapshot_row(snap))
     rho_j = rho_j_centres = np.nan
     if len(rows) >= 4:
         z = [r["Z"] for r in rows]
