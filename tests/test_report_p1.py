@@ -535,6 +535,14 @@ VIOLATIONS = {
         {"3d_hertz": {"persistence": (0.1, 0.15, 0.1)}}, None, [("p1-5.3-tp0-steeper-in-3d", "all")], []),
     "TP1 rising as in 2D": (
         {"3d_hertz": {"persistence": (0.3, 0.05, 0.1)}}, None, [("p1-5.3-tp1-steeper-in-3d", "all")], []),
+    "a single cavity at the top of the grid": (
+        {}, _set("3d_hertz", "betti", lambda ds: xr.where(ds["rho"] >= ds["rho"].max(), 1.0, 0.0),
+                 homology_dim=lambda h: h == 2),
+        [("p1-5.1-b2-grows", "3d_hertz")], []),
+    "TP2 only at the top of the grid": (
+        {}, _set("3d_hertz", "total_persistence", lambda ds: xr.where(ds["rho"] >= ds["rho"].max(), 0.3, 0.0),
+                 homology_dim=lambda h: h == 2),
+        [("p1-5.3-tp2-grows", "3d_hertz")], []),
     "TP2 below jamming": (
         {}, _set("3d_hertz", "total_persistence", 0.05 * N_PARTICLES,
                  where=lambda ds: ds["rho"] < RHO_J["3d_hertz"] - 0.03, homology_dim=lambda h: h == 2),

@@ -142,8 +142,8 @@ _claim_absent_then_growing(
     ("p1-5.1-b2-zero-below", "in 3D B2 vanishes for rho < rho_J",
      "max over rho < rho_J - tol of the mean of max over F_th of B2/N <= {negligible_fraction} x its maximum"),
     ("p1-5.1-b2-grows", "in 3D B2 grows monotonically as rho increases beyond rho_J",
-     "B2/N (max over F_th) over rho >= rho_J - tol rises by > {negligible_fraction} of its maximum and never drops "
-     "between consecutive rho by more than {monotone_tolerance} of it"))
+     "B2/N (max over F_th) over rho >= rho_J - tol rises by > {negligible_fraction} of its maximum, never drops "
+     "between consecutive rho by more than {monotone_tolerance} of it, and is > 0 at every rho > rho_J + tol"))
 
 
 # --- §5.2 Shape of the clusters ----------------------------------------------------------------------------------
@@ -456,5 +456,5 @@ _claim_absent_then_growing(
     ("p1-5.3-tp2-zero-below", "in 3D TP2 ~ 0 for rho < rho_J",
      "max over rho < rho_J - tol of mean TP2/N <= {negligible_fraction} x its maximum"),
     ("p1-5.3-tp2-grows", "in 3D TP2 increases monotonically for rho > rho_J",
-     "mean TP2/N over rho >= rho_J - tol rises by > {negligible_fraction} of its maximum and never drops between "
-     "consecutive rho by more than {monotone_tolerance} of it"))
+     "mean TP2/N over rho >= rho_J - tol rises by > {negligible_fraction} of its maximum, never drops between "
+     "consecutive rho by more than {monotone_tolerance} of it, and is > 0 at every rho > rho_J + tol"))

@@ -284,18 +284,25 @@ def zero_below(curve: xr.DataArray, system: SystemData, tolerances: ClaimToleran
 
 def grows_beyond(curve: xr.DataArray, system: SystemData, tolerances: ClaimTolerances, what: str) -> Judgement:
     """`what` grows monotonically beyond ρ_J: over ρ ≥ ρ_J − tolerance it rises by more than negligible_fraction
-    of its maximum and never drops between consecutive ρ by more than monotone_tolerance of it."""
+    of its maximum and never drops between consecutive ρ by more than monotone_tolerance of it, and it is present
+    (> 0) at every ρ > ρ_J + tolerance — a quantity that stays zero until the top of the grid has not grown "as ρ
+    increases beyond ρ_J", however monotone its last step."""
     require(system.beyond, "rho beyond rho_J")
     from_jamming = system.rho >= system.rho_j - system.tolerance - 1e-12
-    values = np.asarray(curve.values, dtype=float)[from_jamming]
+    all_values = np.asarray(curve.values, dtype=float)
+    values = all_values[from_jamming]
     values = values[np.isfinite(values)]
     if values.size < 2:
         raise NotEvaluated(f"fewer than 2 rho from rho_J - {system.tolerance:.3g} on")
+    beyond = all_values[system.beyond]
+    absent = int(np.count_nonzero(~(beyond > 0)))
     top = float(values.max())
     growth = float(values[-1] - values[0])
     drop = float(max(0.0, np.max(values[:-1] - values[1:])))
-    holds = top > 0 and growth > tolerances.negligible_fraction * top and drop <= tolerances.monotone_tolerance * top
+    holds = (top > 0 and growth > tolerances.negligible_fraction * top and drop <= tolerances.monotone_tolerance * top
+             and absent == 0)
     evidence = (f"{what} from rho={system.rho[from_jamming][0]:.3f} on: {fmt_values(values)} ({system.label()}); "
                 "growth "
-                f"{growth:.3g}, largest drop {drop:.3g}, max {top:.3g}")
+                f"{growth:.3g}, largest drop {drop:.3g}, max {top:.3g}; zero at {absent} of {beyond.size} rho beyond "
+                "rho_J + tol")
     return Judgement(growth, evidence, bool(holds))
