@@ -94,7 +94,10 @@ def _markdown_head(table: pd.DataFrame) -> list[str]:
              "Each claim of P2 (evolution of force networks) §III D–§IV, judged on the measured distances between "
              "consecutive persistence diagrams (realization means) and on Tables I–III. rho_J is where the mean "
              "Z(rho) first reaches d + 1 (P2 §IV A). The reference column is P2's statement; verdicts are computed "
-             "from the criterion column.", ""]
+             "from the criterion column. The explanation of a claim that does not hold gives the cause measured in "
+             "docs/p2_sampling.md (400 disks at several wall speeds and sampling steps, and one realization at "
+             "P2's size, 'paper size' there: 'holds at paper size' means it held in that one realization), then "
+             "'Measured here:' the same diagnostics on the data of this table.", ""]
     systems = table.attrs.get("systems", {})
     if systems:
         lines += ["## Systems", "",
