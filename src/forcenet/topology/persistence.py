@@ -150,8 +150,9 @@ def persistence_diagrams(network: ForceNetwork, *, max_homology_dim: int | None 
     max_homology_dim : default d − 1 (1 in 2D, 2 in 3D).
     fill_tetrahedra : fill every 4-clique with a tetrahedron (default; config key ``analysis.fill_tetrahedra``).
         False stops the complex at triangles while homology is still computed up to `max_homology_dim`: in 3D
-        every hollow 4-clique is then a PD2 class that never dies (essential), born when its last triangle
-        enters. A 2D network is unaffected either way (PD0 and PD1 need no simplex above a triangle).
+        the four triangles of each hollow 4-clique then enclose a void, a PD2 class that never dies (essential),
+        born when the last of them enters (at the 4-clique's weakest contact). A 2D network is unaffected either
+        way (PD0 and PD1 need no simplex above a triangle).
 
     Returns
     -------
