@@ -60,9 +60,12 @@ def boundary_rank(higher, lower):
     return gf2_rank(rows)
 
 
-def betti_numbers(n_vertices, edges, force, threshold, max_homology_dim):
-    """B_0..B_max_homology_dim of the flag complex at θ (simplices up to dimension max_homology_dim + 1)."""
-    simplices = thresholded_complex(n_vertices, edges, force, threshold, max_homology_dim + 1)
+def betti_numbers(n_vertices, edges, force, threshold, max_homology_dim, max_simplex_dim=None):
+    """B_0..B_max_homology_dim of the flag complex at θ, with simplices up to dimension `max_simplex_dim`
+    (default max_homology_dim + 1; a lower one leaves the top cliques hollow)."""
+    top = max_homology_dim + 1 if max_simplex_dim is None else max_simplex_dim
+    simplices = thresholded_complex(n_vertices, edges, force, threshold, top)
+    simplices += [set()] * (max_homology_dim + 1 - top)  # no simplices above `top`
     ranks = [0] + [boundary_rank(simplices[k], simplices[k - 1]) for k in range(1, len(simplices))] + [0]
     return [len(simplices[k]) - ranks[k] - ranks[k + 1] for k in range(max_homology_dim + 1)]
 

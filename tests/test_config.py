@@ -59,6 +59,9 @@ BAD_CONFIGS = {
     "missing_damping_model": (["systems", "2d_linear", "damping_model"], KeyError, "damping_model"),
     "unknown_p1_force_unit": (["analysis", "p1_force_unit"], "newton", "p1_force_unit"),
     "missing_p1_force_unit": (["analysis", "p1_force_unit"], KeyError, "p1_force_unit"),
+    "string_fill_tetrahedra": (["analysis", "fill_tetrahedra"], "no", "fill_tetrahedra"),
+    "numeric_fill_tetrahedra": (["analysis", "fill_tetrahedra"], 0, "fill_tetrahedra"),
+    "missing_fill_tetrahedra": (["analysis", "fill_tetrahedra"], KeyError, "fill_tetrahedra"),
 }
 
 
@@ -96,6 +99,22 @@ def test_rattler_rule_is_chosen_per_study(default_config):
     config = _mutate(["studies", "p2", "systems"], ["2d_poly_mu05"], default_config)
     config["analysis"]["remove_rattlers"] = "iterative"
     assert study_rattler_rule(config, "2d_poly_mu0") == "iterative"
+
+
+@pytest.mark.parametrize("name", CONFIGS + ["validation.yaml"])
+def test_shipped_configs_fill_tetrahedra(name):
+    # the default recorded in docs/decisions.md: 4-cliques of the 3D flag complex are filled
+    assert load_config(name)["analysis"]["fill_tetrahedra"] is True
+
+
+@pytest.mark.parametrize("fill", [True, False])
+def test_fill_tetrahedra_reaches_only_the_3d_analyses(default_config, fill):
+    config = _mutate(["analysis", "fill_tetrahedra"], fill, default_config)
+    assert schema_errors(config) == []
+    assert snapshot_analysis_params(config, "3d_hertz")["fill_tetrahedra"] is fill
+    # a 2D complex has no tetrahedra either way: its analysis params (Snakemake's rerun key) do not change
+    for system in ("2d_hertz", "2d_poly_mu0"):
+        assert snapshot_analysis_params(config, system) == snapshot_analysis_params(default_config, system)
 
 
 def test_a_system_in_two_studies_with_different_rattler_rules_is_refused(default_config):
@@ -233,3 +252,19 @@ def test_yaml_error_in_the_default_config_names_file_and_line(tmp_path: Path):
     good = subprocess.run([sys.executable, "-m", "forcenet.workflow_io", str(REPO / "config/smoke.yaml")],
                           capture_output=True, text=True)
     assert good.returncode == 0 and "valid (5 systems" in good.stdout
+
+
+def test_check_config_names_a_non_boolean_fill_tetrahedra(tmp_path: Path, capsys):
+    # a quoted "false" is a string, not YAML's false: refused naming the key, not read as true
+    from forcenet.workflow_io import check_config_main
+
+    text = (REPO / "config/smoke.yaml").read_text()
+    assert "  fill_tetrahedra: true" in text
+    bad = tmp_path / "bad.yaml"
+    bad.write_text(text.replace("  fill_tetrahedra: true", '  fill_tetrahedra: "false"'))
+    assert check_config_main([str(bad)]) == 1
+    error = capsys.readouterr().err
+    assert "analysis.fill_tetrahedra" in error and "boolean" in error, error
+    good = tmp_path / "good.yaml"
+    good.write_text(text.replace("  fill_tetrahedra: true", "  fill_tetrahedra: false"))
+    assert check_config_main([str(good)]) == 0

@@ -5,6 +5,7 @@ import numpy as np
 import pytest
 import xarray as xr
 
+from forcenet import pipeline
 from forcenet.datasets import (SchemaError, diagram_points, open_dataset, provenance_attrs, read_dataset,
                                read_snapshot, validate_dataset, write_netcdf, write_snapshot)
 from forcenet.datasets.aggregate import stack_diagrams, stack_network_measures
@@ -84,6 +85,63 @@ def test_analysis_round_trip_and_stacking(tmp_path):
             selected = diagram_points(points, kind, realization=0, rho=rho)
             for stored, alone in zip(selected, diagram_points(analysis, kind)):
                 np.testing.assert_array_equal(stored, alone)
+
+
+def tetrahedron_snapshot(rho=0.6):
+    """Four unit spheres at the corners of a regular tetrahedron of edge 1: all six pairs touch, normal forces
+    1..6 (distinct) along the centre line, small tangential forces; sphere 0 touches the x_lo wall."""
+    position = np.array([[1.0, 1.0, 1.0], [2.0, 1.0, 1.0], [1.5, 1.0 + np.sqrt(3) / 2, 1.0],
+                         [1.5, 1.0 + np.sqrt(3) / 6, 1.0 + np.sqrt(2 / 3)]])
+    contact_i, contact_j = np.array([0, 0, 0, 1, 1, 2]), np.array([1, 2, 3, 2, 3, 3])
+    direction = position[contact_j] - position[contact_i]
+    force_normal = np.array([3.0, 1.0, 6.0, 2.0, 5.0, 4.0])[:, None] * direction
+    force_tangential = np.cross(direction, [0.0, 0.0, 1.0]) * 0.01 + [0.0, 0.0, 0.005]
+    return dict(position=position, radius=np.full(4, 0.5), velocity=np.zeros((4, 3)),
+                angular_velocity=np.zeros((4, 3)), contact_i=contact_i, contact_j=contact_j,
+                force_normal=force_normal, force_tangential=force_tangential, wall_contact_particle=[0],
+                wall_contact_wall=[0], wall_contact_force=[[0.1, 0.0, 0.0]], box_lo=[0.0, 0.0, 0.0],
+                box_hi=[3.0, 3.0, 3.0], rho=rho, Z=3.0, kinetic_energy=1e-9, pressure=0.01, time=12.5, step=625,
+                relaxation_steps=100)
+
+
+def test_analysis_config_fill_tetrahedra_reaches_the_3d_diagrams_and_is_recorded(tmp_path, default_config):
+    """analysis.fill_tetrahedra through the pipeline: four mutually touching spheres enclose no void when the
+    tetrahedron is filled, one never-dying void born at the weakest contact when it is not; each analysis file
+    names its complex, and stacking refuses to mix the two."""
+    snapshot = write_snapshot(tmp_path / "sim.nc", attrs={**attrs(), "system": "3d_test"}, **tetrahedron_snapshot())
+    analyses = {}
+    for fill in (True, False):
+        analysis = {**default_config["analysis"], "fill_tetrahedra": fill}
+        analyses[fill] = tmp_path / f"analysis_{fill}.nc"
+        pipeline.analyze_run(snapshots=[str(snapshot)], outputs=[str(analyses[fill])], analysis=analysis)
+    filled, hollow = (read_dataset(analyses[fill], "analysis") for fill in (True, False))
+    assert filled.attrs["flag_complex"] == "tetrahedra" and hollow.attrs["flag_complex"] == "triangles"
+    assert "4-clique" in hollow.attrs["flag_complex_description"]
+    arrays = tetrahedron_snapshot()
+    magnitudes = {"normal": np.linalg.norm(arrays["force_normal"], axis=1),
+                  "total": np.linalg.norm(arrays["force_normal"] + arrays["force_tangential"], axis=1)}
+    for kind, magnitude in magnitudes.items():
+        betti = {fill: ds.betti.sel(force_kind=kind) for fill, ds in ((True, filled), (False, hollow))}
+        assert int(betti[True].sel(homology_dim=2).max()) == 0 and int(betti[False].sel(homology_dim=2)[0]) == 1
+        assert int(betti[True].sel(homology_dim=1).max()) == 0 == int(betti[False].sel(homology_dim=1).max())
+        assert int(filled.essential_count.sel(force_kind=kind, homology_dim=2)) == 0
+        assert int(hollow.essential_count.sel(force_kind=kind, homology_dim=2)) == 1
+        assert diagram_points(filled, kind, 2).birth.size == 0
+        void = diagram_points(hollow, kind, 2)
+        # born when the last triangle enters, at the weakest contact (in units of the network's mean force)
+        assert void.birth.size == 1 and bool(void.essential[0])
+        assert float(void.birth[0]) == pytest.approx(magnitude.min() / magnitude.mean(), rel=1e-12)
+    xr.testing.assert_equal(filled.betti.sel(homology_dim=[0, 1]), hollow.betti.sel(homology_dim=[0, 1]))
+    with pytest.raises(ValueError, match="flag complexes"):
+        pipeline.aggregate(analyses=[str(analyses[True]), str(analyses[False])], realizations=[0, 0],
+                           rhos=[0.6, 0.6], measures_path=str(tmp_path / "m.nc"), diagrams_path=str(tmp_path / "d.nc"),
+                           config=default_config, system="3d_hertz")
+    assert not (tmp_path / "m.nc").exists() and not (tmp_path / "d.nc").exists()
+    pipeline.aggregate(analyses=[str(analyses[False])], realizations=[0], rhos=[0.6],
+                       measures_path=str(tmp_path / "m.nc"), diagrams_path=str(tmp_path / "d.nc"),
+                       config=default_config, system="3d_hertz")
+    for name in ("m.nc", "d.nc"):
+        assert open_dataset(tmp_path / name).attrs["flag_complex"] == "triangles"
 
 
 def test_validation_names_what_is_missing(tmp_path):

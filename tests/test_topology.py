@@ -71,19 +71,52 @@ def octahedron():
     return [e for e in itertools.combinations(range(6), 2) if e not in opposite]
 
 
-def test_a_3d_octahedron_shell_encloses_one_void():
-    edges = octahedron()
-    d = diagrams_of(edges, np.linspace(1.0, 2.0, len(edges)), dim=3)
+@pytest.mark.parametrize("fill_tetrahedra", [True, False])
+def test_a_3d_octahedron_shell_encloses_one_void(fill_tetrahedra):
+    # no 4-clique: filling tetrahedra or not gives the same complex
+    edges = np.asarray(octahedron())
+    network = network_from_edge_forces(edges[:, 0], edges[:, 1], np.linspace(1.0, 2.0, len(edges)), dim=3)
+    d = persistence_diagrams(network, fill_tetrahedra=fill_tetrahedra)
+    assert len(edges) == 12
     assert points(d, 2) == [(1.0, -np.inf)]  # closes with its weakest edge, never filled
     assert not d.essential[d.homology_dim == 1].any()  # loops appear while edges enter, all get filled
     np.testing.assert_array_equal(betti_curves(d, [0.0])[:, 0], [1, 0, 1])
     assert d.max_dim == 2
 
 
+def tetrahedron_network():
+    """Four mutually touching spheres: K4, six edges with distinct forces 1..6 ⟨F⟩."""
+    edges = np.array(list(itertools.combinations(range(4), 2)))
+    return network_from_edge_forces(edges[:, 0], edges[:, 1], [3.0, 1.0, 6.0, 2.0, 5.0, 4.0], dim=3)
+
+
 def test_a_tetrahedron_is_filled_in_3d():
-    edges = list(itertools.combinations(range(4), 2))
-    d = diagrams_of(edges, [1.0, 2.0, 3.0, 4.0, 5.0, 6.0], dim=3)
+    d = persistence_diagrams(tetrahedron_network())
     assert points(d, 2) == [] and points(d, 1) == []
+    np.testing.assert_array_equal(betti_curves(d, [0.0])[:, 0], [1, 0, 0])
+    assert len(flag_complex(tetrahedron_network()).tetrahedra) == 1
+
+
+def test_a_hollow_tetrahedron_encloses_one_void_that_never_dies():
+    # without the tetrahedron the four triangles are a closed shell: one void, born when the last triangle
+    # enters, i.e. at the weakest edge (1.0, shared by the two last triangles), and nothing fills it
+    d = persistence_diagrams(tetrahedron_network(), fill_tetrahedra=False)
+    assert points(d, 2) == [(1.0, -np.inf)]
+    assert d.essential[d.homology_dim == 2].all()
+    assert points(d, 1) == [] and points(d, 0) == [(6.0, -np.inf)]
+    np.testing.assert_array_equal(betti_curves(d, [0.0, 1.0, 1.5])[2], [1, 1, 0])
+    assert d.max_dim == 2
+
+
+def test_fill_tetrahedra_does_not_change_a_2d_network():
+    rng = np.random.default_rng(3)
+    for _ in range(5):
+        edges, force = random_graph(rng, 9, 0.6)  # dense: many 4-cliques
+        network = network_from_edge_forces(edges[:, 0], edges[:, 1], force, dim=2, n_particles=9)
+        filled, hollow = (persistence_diagrams(network, fill_tetrahedra=f) for f in (True, False))
+        for k in (0, 1):
+            assert points(filled, k) == points(hollow, k)
+        assert hollow.max_dim == 1
 
 
 def test_births_and_deaths_are_the_exact_float64_forces():
@@ -148,6 +181,23 @@ def test_betti_curves_match_gf2_homology_at_many_thresholds(dim, n, p):
         edge_list = [tuple(e) for e in edges.tolist()]
         for t, theta in enumerate(thresholds):
             assert curves[:, t].tolist() == betti_numbers(n, edge_list, list(force), theta, dim - 1)
+
+
+@pytest.mark.parametrize("n,p", [(9, 0.6), (8, 0.75)])
+def test_betti_curves_of_hollow_tetrahedra_match_gf2_homology(n, p):
+    # complex up to triangles (fill_tetrahedra=False), homology up to B2: every hollow 4-clique is a void
+    rng = np.random.default_rng(11 * n)
+    thresholds = np.linspace(0.0, 3.0, 25)
+    voids = 0
+    for _ in range(6):
+        edges, force = random_graph(rng, n, p)
+        network = network_from_edge_forces(edges[:, 0], edges[:, 1], force, dim=3, n_particles=n)
+        curves = betti_curves(persistence_diagrams(network, fill_tetrahedra=False), thresholds)
+        edge_list = [tuple(e) for e in edges.tolist()]
+        for t, theta in enumerate(thresholds):
+            assert curves[:, t].tolist() == betti_numbers(n, edge_list, list(force), theta, 2, max_simplex_dim=2)
+        voids += int(curves[2, 0])
+    assert voids > 0  # the random graphs do contain hollow 4-cliques
 
 
 @pytest.mark.parametrize("dim,n,p", [(2, 10, 0.4), (3, 8, 0.7)])

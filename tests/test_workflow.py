@@ -179,10 +179,29 @@ def test_each_study_uses_its_rattler_rule_and_p2_products_show_p2(smoke_run):
         assert open_dataset(paths.network_measures(results, system)).attrs["rattler_rule"] == rule, system
     for system in config["studies"]["p2"]["systems"]:
         assert open_dataset(paths.distances(results, system)).attrs["rattler_rule"] == "none"
+        assert open_dataset(paths.distances(results, system)).attrs["flag_complex"] == "triangles"
+    for system, spec in config["systems"].items():  # analysis.fill_tetrahedra: true fills 3D 4-cliques only
+        complex_ = "tetrahedra" if spec["dimension"] == 3 else "triangles"
+        analysis = sorted(glob.glob(paths.analysis(results, system, "r00", "*")))[0]
+        for path in (analysis, paths.network_measures(results, system), paths.diagrams(results, system)):
+            assert open_dataset(path).attrs["flag_complex"] == complex_, (system, path)
     table1 = Path(paths.p2_table(results, 1, "md")).read_text()
     assert "(a,b), P2 | 0.089" in table1 and "ours / P2" in table1 and "rattler rule 'none'" in table1
     states = Path(paths.p2_table_states(results)).read_text().splitlines()
     assert states[0].startswith("realization,rho_a") and len(states) == 1 + config["realizations"]
+
+
+def test_changing_fill_tetrahedra_reruns_the_3d_analyses_only(smoke_run):
+    # the text edited, not re-dumped: Snakemake compares params by their text, so sorted keys would look changed
+    text = (REPO / "config/smoke.yaml").read_text()
+    assert "  fill_tetrahedra: true" in text
+    hollow = smoke_run / "hollow.yaml"
+    hollow.write_text(text.replace("  fill_tetrahedra: true", "  fill_tetrahedra: false"))
+    dry = snakemake(smoke_run, "-n", config=hollow)
+    assert dry.returncode == 0, dry.stderr[-3000:]
+    rules = set(re.findall(r"^\s*rule (\w+):", dry.stdout, re.M))  # grouped jobs are indented
+    assert "analyze_3d_hertz" in rules and "aggregate_system" in rules
+    assert not {rule for rule in rules if rule.startswith(("simulate_", "analyze_2d"))}, sorted(rules)
 
 
 def planned_jobs(workdir: Path, target: str, config: Path) -> dict[str, list[str]]:

@@ -151,7 +151,7 @@ def aggregate(*, analyses: Sequence[str], realizations: Sequence[int], rhos: Seq
         attrs = provenance_attrs(system=system, realization=-1, seed=config["seed"], config=config,
                                  title=f"forcenet network measures, {system}, stacked over realization and rho")
         attrs.update(dimension=spec.dimension, force_law=spec.force_law, **force_constants(config, system))
-        attrs.update(rattler_attrs(common_rattler_rule(datasets)))
+        attrs.update(common_analysis_attrs(datasets))
         write_netcdf(stack_network_measures(datasets, realizations, rhos, attrs), measures_path,
                      kind="network_measures")
         attrs["title"] = f"forcenet persistence diagrams, {system}, all realizations and rho"
@@ -161,17 +161,21 @@ def aggregate(*, analyses: Sequence[str], realizations: Sequence[int], rhos: Seq
 
 #: the `analysis:` config keys that the per-snapshot analysis reads (`snapshot_measures`, `analysis_attrs`); the
 #: workflow passes only these to the analysis jobs, so that other keys do not rerun every snapshot analysis
-SNAPSHOT_ANALYSIS_KEYS = ("thresholds", "remove_rattlers", "force_pdf")
+SNAPSHOT_ANALYSIS_KEYS = ("thresholds", "remove_rattlers", "force_pdf", "fill_tetrahedra")
 
 
 def snapshot_analysis_params(config: Mapping[str, Any], system: str) -> dict[str, Any]:
     """What the analysis jobs of `system` read: the `SNAPSHOT_ANALYSIS_KEYS` of ``analysis:``, with
     ``remove_rattlers`` replaced by the rule of the system's study (`forcenet.systems.study_rattler_rule`:
-    P1 removes rattlers, P2 keeps them), so that changing one study's rule reruns only its systems' analyses."""
+    P1 removes rattlers, P2 keeps them), so that changing one study's rule reruns only its systems' analyses, and
+    ``fill_tetrahedra`` fixed at True for a 2D system (its complex has no tetrahedra either way,
+    `forcenet.topology.flag_complex_name`), so that changing it reruns only the 3D analyses."""
     from forcenet.systems import study_rattler_rule
 
     params = {key: config["analysis"][key] for key in SNAPSHOT_ANALYSIS_KEYS}
     params["remove_rattlers"] = study_rattler_rule(config, system)
+    if config["systems"][system]["dimension"] != 3:
+        params["fill_tetrahedra"] = True
     return params
 
 
@@ -220,17 +224,21 @@ def snapshot_measures(snap, analysis: Mapping[str, Any]) -> dict[str, Any]:
     for kind in FORCE_KINDS:
         # wall contacts kept for percolation, not counted by the rattler rule (forcenet.network.snapshot)
         network = snapshot_network(snap, kind, rattler_rule=analysis["remove_rattlers"], wall_contacts="kept")
-        measures[kind] = compute_snapshot_measures(network, thresholds=thresholds, force_bin_edges=edges)
+        measures[kind] = compute_snapshot_measures(network, thresholds=thresholds, force_bin_edges=edges,
+                                                   fill_tetrahedra=analysis["fill_tetrahedra"])
     return measures
 
 
 def analysis_attrs(snap, source: str, analysis: Mapping[str, Any]) -> dict[str, Any]:
     """Global attributes of an analysis file: the snapshot's provenance plus what the analysis used."""
+    from forcenet.topology import flag_complex_name
+
     attrs = {key: snap.attrs[key] for key in ("system", "realization", "seed", "forcenet_version", "git_commit",
                                                "config_sha256", "config", "Conventions", "dimension")}
     attrs["title"] = f"forcenet analysis of one snapshot, {attrs['system']}"
     attrs["source"] = str(source)
     attrs.update(rattler_attrs(analysis["remove_rattlers"]))
+    attrs.update(flag_complex_attrs(flag_complex_name(int(snap.attrs["dimension"]), analysis["fill_tetrahedra"])))
     return attrs
 
 
@@ -243,13 +251,29 @@ def rattler_attrs(remove_rattlers: bool | str) -> dict[str, str]:
     return {"rattler_rule": rule, "rattler_rule_description": RATTLER_RULE_DESCRIPTIONS[rule]}
 
 
-def common_rattler_rule(datasets: Sequence[Any]) -> str:
-    """The `rattler_rule` attribute shared by every dataset (analysis files); ValueError when they differ or
-    one lacks it (a product must not mix networks made by different rules)."""
-    rules = {ds.attrs.get("rattler_rule", "missing") for ds in datasets}
-    if len(rules) != 1 or "missing" in rules:
-        raise ValueError(f"analyses were made with different or unrecorded rattler rules: {sorted(rules)}")
-    return rules.pop()
+def flag_complex_attrs(name: str) -> dict[str, str]:
+    """Global attributes naming the flag complex whose diagrams a file holds (analysis, stacked and distance
+    files): ``flag_complex``, the highest filled simplex (`forcenet.topology.flag_complex_name`: "tetrahedra" or
+    "triangles"), and its description."""
+    from forcenet.topology import FLAG_COMPLEX_DESCRIPTIONS
+
+    return {"flag_complex": name, "flag_complex_description": FLAG_COMPLEX_DESCRIPTIONS[name]}
+
+
+def common_attribute(datasets: Sequence[Any], name: str, what: str) -> str:
+    """The global attribute `name` shared by every dataset (analysis files); ValueError when they differ or one
+    lacks it (a product must not mix diagrams made under different `what`)."""
+    values = {ds.attrs.get(name, "missing") for ds in datasets}
+    if len(values) != 1 or "missing" in values:
+        raise ValueError(f"analyses were made with different or unrecorded {what}: {sorted(values)}")
+    return values.pop()
+
+
+def common_analysis_attrs(datasets: Sequence[Any]) -> dict[str, str]:
+    """The rattler rule and flag complex shared by every analysis file that a product stacks or compares, as
+    its global attributes (`common_attribute`: ValueError when they differ or one lacks them)."""
+    return {**rattler_attrs(common_attribute(datasets, "rattler_rule", "rattler rules")),
+            **flag_complex_attrs(common_attribute(datasets, "flag_complex", "flag complexes"))}
 
 
 def _open_by_system(paths: Sequence[str], kind: str) -> dict[str, Any]:
@@ -375,7 +399,7 @@ def p2_distances(*, analyses: Sequence[str], realizations: Sequence[int], output
         attrs = provenance_attrs(system=system, realization=-1, seed=config["seed"], config=config,
                                  title=f"forcenet distances between consecutive persistence diagrams, {system}")
         attrs["dimension"] = spec.dimension
-        attrs.update(rattler_attrs(common_rattler_rule(datasets)))  # the rule that made every compared diagram
+        attrs.update(common_analysis_attrs(datasets))  # the rule and complex that made every compared diagram
         stacked = distances_on_grid(stack_distances(results, realizations, attrs), spec.rho_grid[1:])
         write_netcdf(stacked, output, kind="distances")
 

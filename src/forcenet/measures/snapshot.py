@@ -69,8 +69,8 @@ _CLUSTER_FIELDS = tuple(f.name for f in fields(ClusterCurves) if f.name != "thre
 
 
 def compute_snapshot_measures(network: ForceNetwork, *, thresholds=None, force_bin_edges=None,
-                              percolation_axes=None, diagrams: PersistenceDiagrams | None = None
-                              ) -> SnapshotMeasures:
+                              percolation_axes=None, diagrams: PersistenceDiagrams | None = None,
+                              fill_tetrahedra: bool = True) -> SnapshotMeasures:
     """All single-snapshot measures of one force network.
 
     Parameters
@@ -80,9 +80,11 @@ def compute_snapshot_measures(network: ForceNetwork, *, thresholds=None, force_b
     force_bin_edges : (B + 1,) PDF bins [⟨F⟩]; default 0 to 6 by 0.1.
     percolation_axes : axes whose opposite walls count for percolation (default all).
     diagrams : precomputed `persistence_diagrams(network)`, if any.
+    fill_tetrahedra : fill the 4-cliques of a 3D flag complex (``analysis.fill_tetrahedra``; False: each is an
+        enclosed void of B2, `forcenet.topology.persistence_diagrams`); no effect in 2D. Unused with `diagrams`.
     """
     thresholds = default_thresholds() if thresholds is None else np.asarray(thresholds, dtype=np.float64)
-    diagrams = persistence_diagrams(network) if diagrams is None else diagrams
+    diagrams = persistence_diagrams(network, fill_tetrahedra=fill_tetrahedra) if diagrams is None else diagrams
     max_dim = network.dim - 1
     pdf, bin_edges = force_pdf(network, force_bin_edges)
     return SnapshotMeasures(

@@ -1,8 +1,11 @@
 """The flag complex of a force network and its super-level filtration values (P2 §III A).
 
-Vertices are the network particles, edges its contacts; every triangle of edges is filled (and, in 3D, every
-4-clique is a filled tetrahedron), so that 3-particle loops never count as loops (P1 §5.1, P2 §III A:
-"we refer to a loop involving four or more particles as a defect"). Filtration values (P2 §III A):
+Vertices are the network particles, edges its contacts; every triangle of edges is filled, so that 3-particle
+loops never count as loops (P1 §5.1, P2 §III A: "we refer to a loop involving four or more particles as a
+defect"). In 3D every 4-clique (four mutually touching spheres) is by default a filled tetrahedron as well; left
+hollow (``fill_tetrahedra=False``, config key ``analysis.fill_tetrahedra``), each such tetrahedral interstice is
+an enclosed void of B2 (P1 §5.1 calls B2 "the number of enclosed voids"; docs/decisions.md). Filtration values
+(P2 §III A):
 
     f(edge)    = its force,
     f(vertex)  = max of its incident edges (0 for a vertex without edges: it appears at zero force),
@@ -116,6 +119,24 @@ def _later_positions(position: np.ndarray, row_end: np.ndarray) -> tuple[np.ndar
     owner = np.repeat(np.arange(len(position)), count)
     offset = np.arange(owner.size) - np.repeat(np.cumsum(count) - count, count)
     return owner, np.repeat(position, count) + 1 + offset
+
+
+#: the highest filled simplex of a force network's flag complex (global attribute ``flag_complex`` of analysis,
+#: stacked and distance files) → what that means
+FLAG_COMPLEX_DESCRIPTIONS = {
+    "tetrahedra": "flag complex of the contacts, every triangle and every 4-clique (tetrahedron) filled: "
+                  "3-particle loops are not loops and 4 mutually touching spheres enclose no void",
+    "triangles": "flag complex of the contacts up to triangles: every triangle filled, 4-cliques left hollow "
+                 "(in 3D each tetrahedral interstice of 4 mutually touching spheres is an enclosed void of B2; "
+                 "a 2D complex needs no tetrahedra)",
+}
+
+
+def flag_complex_name(dim: int, fill_tetrahedra: bool = True) -> str:
+    """Key of `FLAG_COMPLEX_DESCRIPTIONS` for the complex whose homology up to dimension d − 1 is computed:
+    "tetrahedra" in 3D with `fill_tetrahedra`, else "triangles" (2D needs no simplex above a triangle for
+    H0 and H1, so the option does not change a 2D complex)."""
+    return "tetrahedra" if dim == 3 and fill_tetrahedra else "triangles"
 
 
 def flag_complex(network: ForceNetwork, max_simplex_dim: int | None = None) -> FlagComplex:

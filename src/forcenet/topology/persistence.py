@@ -107,7 +107,8 @@ def persistence_of_complex(complex_: FlagComplex, max_homology_dim: int) -> Pers
 
     Parameters
     ----------
-    complex_ : FlagComplex — must contain simplices up to dimension ``max_homology_dim + 1``.
+    complex_ : FlagComplex — its simplices up to dimension ``max_homology_dim + 1`` are used; a complex without
+        simplices of that dimension (tetrahedra left hollow) leaves the top-dimensional classes essential.
     max_homology_dim : highest homology dimension reported.
     """
     import dionysus  # imported lazily: heavy, and only this function needs it
@@ -139,20 +140,27 @@ def persistence_of_complex(complex_: FlagComplex, max_homology_dim: int) -> Pers
                                death=death[keep][order], max_dim=max_homology_dim)
 
 
-def persistence_diagrams(network: ForceNetwork, *, max_homology_dim: int | None = None) -> PersistenceDiagrams:
+def persistence_diagrams(network: ForceNetwork, *, max_homology_dim: int | None = None,
+                         fill_tetrahedra: bool = True) -> PersistenceDiagrams:
     """PD0, PD1 (and PD2 in 3D) of a force network's super-level flag filtration (P1 §5.3, P2 §III C).
 
     Parameters
     ----------
     network : ForceNetwork (forces in ⟨F⟩).
     max_homology_dim : default d − 1 (1 in 2D, 2 in 3D).
+    fill_tetrahedra : fill every 4-clique with a tetrahedron (default; config key ``analysis.fill_tetrahedra``).
+        False stops the complex at triangles while homology is still computed up to `max_homology_dim`: in 3D
+        the four triangles of each hollow 4-clique then enclose a void, a PD2 class that never dies (essential),
+        born when the last of them enters (at the 4-clique's weakest contact). A 2D network is unaffected either
+        way (PD0 and PD1 need no simplex above a triangle).
 
     Returns
     -------
     PersistenceDiagrams, births and deaths exactly equal to network forces (float64), birth ≥ death.
     """
     max_homology_dim = network.dim - 1 if max_homology_dim is None else int(max_homology_dim)
-    complex_ = flag_complex(network, max_simplex_dim=max_homology_dim + 1)
+    max_simplex_dim = max_homology_dim + 1 if fill_tetrahedra else min(max_homology_dim + 1, 2)
+    complex_ = flag_complex(network, max_simplex_dim=max_simplex_dim)
     return persistence_of_complex(complex_, max_homology_dim)
 
 
