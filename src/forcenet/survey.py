@@ -71,16 +71,19 @@ def snapshot_row(snap, force_unit_dyn: float = float("nan")) -> dict[str, float]
     (x / min(d_i, d_j)) [-]; mean_force (⟨|F_n + F_t|⟩ over the particle contacts) [m̄ d_ave τ_c⁻²] and
     mean_force_dyn (the same times `force_unit_dyn`, one reduced force unit in dyn; NaN without); relaxation_steps.
     """
+    from forcenet.network.force_network import force_magnitude, rattler_free_mask
+
     contact_i, contact_j = snap.contact_i.values, snap.contact_j.values
     fractions = pair_overlap_fractions(snap.position.values, snap.radius.values, contact_i, contact_j)
-    contacts = np.bincount(np.concatenate([contact_i, contact_j]), minlength=snap.sizes["particle"])
-    force = np.linalg.norm(snap.force_normal.values + snap.force_tangential.values, axis=1)
+    # P1's non-rattlers (≥ 2 particle contacts, one pass) and P1's total force |F_n + F_t|, from their one home
+    connected = rattler_free_mask(snap.sizes["particle"], contact_i, contact_j, "once")
+    force = force_magnitude(snap.force_normal.values, snap.force_tangential.values, "total")
     mean_force = float(force.mean()) if force.size else 0.0
     span = snap.box_hi.values - snap.box_lo.values
     # ρ over the region the centres of mean particles can reach (one d_ave less per axis): a candidate
     # reading of P1's "domain volume" (docs/validation/README.md)
     rho_centres = float(snap.rho) * float(np.prod(span / (span - 1.0)))
-    return dict(rho=float(snap.rho), rho_centres=rho_centres, Z=float(snap.Z), connected=int((contacts >= 2).sum()),
+    return dict(rho=float(snap.rho), rho_centres=rho_centres, Z=float(snap.Z), connected=int(connected.sum()),
                 kinetic_energy=float(snap.kinetic_energy), pressure=float(snap.pressure),
                 damping_dt=float(snap.attrs["dem_damping_rate_time_step"]),
                 overlap_max=float(fractions.max()) if fractions.size else 0.0,
