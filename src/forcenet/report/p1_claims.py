@@ -19,6 +19,7 @@ from forcenet.report.claims import Claim, Judgement, NotEvaluated, claim_registe
 from forcenet.report.p1 import (HERTZ_2D, HERTZ_3D, LINEAR_2D, P1_HALF, P1_LARGE_THRESHOLD, P1_PERCOLATION_MAJORITY,
                                 P1_SMALL_THRESHOLD, PAPER_CLUSTER_SIZE_PEAK, cut_at_rho_max, finite_max, force_bins,
                                 force_pdf_width, percolating_size_mean, percolation_fraction, select_total)
+from forcenet.report.p1_diagnostics import size_peak_threshold_per_rho
 from forcenet.report.p1_judging import (ALL_2D, ClaimContext, ClaimTolerances, SystemData, expected_for_law,
                                         finite_values, fmt_values, peak_verdict, require, strongest_peak)
 from forcenet.report.realizations import realization_mean
@@ -166,11 +167,10 @@ def pdf_2d_3d_differ(context: ClaimContext) -> Judgement:
 def _cluster_size_peak_threshold(system: SystemData) -> tuple[float, np.ndarray]:
     """Median over ρ > ρ_J + tol of the F_th where the mean ⟨S⟩/N is largest; and those F_th per ρ."""
     beyond = require(system.beyond, f"rho beyond rho_J for {system.name}")
-    size = system.mean("cluster_mean_size").transpose("rho", "threshold").values[beyond]
-    rows = [row for row in size if np.isfinite(row).any() and np.nanmax(row) > 0]
-    if not rows:
+    best = size_peak_threshold_per_rho(system).values[beyond]
+    best = best[np.isfinite(best)]
+    if best.size == 0:
         raise NotEvaluated(f"no clusters beyond rho_J for {system.name}")
-    best = np.array([system.thresholds[int(np.nanargmax(row))] for row in rows])
     return float(np.median(best)), best
 
 

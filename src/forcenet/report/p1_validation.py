@@ -59,8 +59,8 @@ def p1_validation(measures: Mapping[str, xr.Dataset], *, force_unit: str = DEFAU
     if force_unit not in P1_FORCE_UNITS:
         raise ValueError(f"unknown P1 force unit {force_unit!r}; known: {', '.join(P1_FORCE_UNITS)}")
     cut = cuts.get(force_unit)
-    systems = {name: _system_data(name, ds, cut if isinstance(cut, FMaxCut) else None, tolerances_,
-                                  judge_up_to_rho_max) for name, ds in present.items()}
+    systems = {name: system_data(name, ds, cut if isinstance(cut, FMaxCut) else None, tolerances_,
+                                 judge_up_to_rho_max) for name, ds in present.items()}
     rows = _force_rows(cuts, force_unit)
     for name in system_order(set(P1_SYSTEMS) | set(present)):
         rows.extend(_value_rows(name, systems.get(name), cuts, force_unit))
@@ -81,10 +81,12 @@ def _cuts(present: Mapping[str, xr.Dataset]) -> dict[str, FMaxCut | str]:
     return cuts
 
 
-def _system_data(name: str, ds: xr.Dataset, cut: FMaxCut | None, tolerances: ClaimTolerances,
-                 up_to_rho_max: bool) -> SystemData:
+def system_data(name: str, ds: xr.Dataset, cut: FMaxCut | None = None, tolerances: ClaimTolerances | None = None,
+                up_to_rho_max: bool = False) -> SystemData:
     """One system as the judges see it: its total-force measures (up to ρ_max with `up_to_rho_max`), ρ_J, ρ_max
-    under the table's force unit, and the ρ tolerance and window resolved for its ρ step."""
+    under the table's force unit (NaN without `cut`), and the ρ tolerance and window resolved for its ρ step
+    (`tolerances` None: the defaults of `ClaimTolerances`)."""
+    tolerances = tolerances if tolerances is not None else ClaimTolerances()
     full = select_total(ds)
     rho = rho_values(full)
     step = float(np.median(np.diff(rho))) if rho.size > 1 else 0.0
