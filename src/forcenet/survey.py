@@ -5,7 +5,9 @@ moves ρ_J most per CPU-second) and the 3D overlap report come from here, throug
 a system of a config, with some of its keys replaced (``time_step=0.005``, ``relaxation.window_steps=4000``),
 compressed through its ρ grid in a temporary folder, and per snapshot
 
-* ρ, and ρ over the region the centres can reach (box side − d_ave per axis),
+* ρ, ρ over the region the centres can reach (box side − d_ave per axis), and ρ of the bulk: the inner box at
+  least `BULK_MARGIN` d_ave from every wall (`forcenet.dem.packing.bulk_packing_fraction`), where the walls'
+  own packing no longer counts,
 * Z (2 × contacts / N, rattlers included), kinetic energy E_kin [m̄ d_ave² τ_c⁻²], pressure,
 * λΔt: the fastest damping rate times Δt (`forcenet.dem.stability`; the run stops above the Gear bound),
 * the largest and mean pair overlap, x / min(d_i, d_j) (the engine's blow-up measure) [-],
@@ -33,7 +35,10 @@ import yaml
 
 from forcenet.systems import realization_seed, system_from_config
 
-__all__ = ["apply_overrides", "pair_overlap_fractions", "snapshot_row", "run_states", "SurveyRun", "run_survey"]
+#: distance from the walls [d_ave] beyond which a snapshot's packing counts as bulk (`snapshot_row`'s rho_bulk)
+BULK_MARGIN = 2.0
+
+__all__ = ["BULK_MARGIN", "apply_overrides", "pair_overlap_fractions", "snapshot_row", "run_states", "SurveyRun", "run_survey"]
 
 
 def apply_overrides(config: Mapping[str, Any], system: str, overrides: Sequence[str]) -> dict[str, Any]:
@@ -63,14 +68,15 @@ def pair_overlap_fractions(position: np.ndarray, radius: np.ndarray, contact_i: 
     return overlap / (2.0 * np.minimum(radius[contact_i], radius[contact_j]))
 
 
-def snapshot_row(snap, force_unit_dyn: float = float("nan")) -> dict[str, float]:
+def snapshot_row(snap, force_unit_dyn: float = float("nan"), bulk_margin: float = BULK_MARGIN) -> dict[str, float]:
     """The state of one snapshot (an opened snapshot dataset), as listed in the module docstring.
 
-    Keys: rho, rho_centres [-]; Z, connected (particles with ≥ 2 particle contacts) [-]; kinetic_energy
+    Keys: rho, rho_centres, rho_bulk (at least `bulk_margin` d_ave from every wall) [-]; Z, connected (particles with ≥ 2 particle contacts) [-]; kinetic_energy
     [m̄ d_ave² τ_c⁻²]; pressure [m̄ d_ave⁻¹ τ_c⁻² in 2D]; damping_dt [-]; overlap_max, overlap_mean
     (x / min(d_i, d_j)) [-]; mean_force (⟨|F_n + F_t|⟩ over the particle contacts) [m̄ d_ave τ_c⁻²] and
     mean_force_dyn (the same times `force_unit_dyn`, one reduced force unit in dyn; NaN without); relaxation_steps.
     """
+    from forcenet.dem.packing import bulk_packing_fraction
     from forcenet.network.force_network import force_magnitude, rattler_free_mask
 
     contact_i, contact_j = snap.contact_i.values, snap.contact_j.values
@@ -83,7 +89,10 @@ def snapshot_row(snap, force_unit_dyn: float = float("nan")) -> dict[str, float]
     # ρ over the region the centres of mean particles can reach (one d_ave less per axis): a candidate
     # reading of P1's "domain volume" (docs/validation/README.md)
     rho_centres = float(snap.rho) * float(np.prod(span / (span - 1.0)))
-    return dict(rho=float(snap.rho), rho_centres=rho_centres, Z=float(snap.Z), connected=int(connected.sum()),
+    rho_bulk = bulk_packing_fraction(snap.position.values, snap.radius.values, snap.box_lo.values,
+                                     snap.box_hi.values, bulk_margin)
+    return dict(rho=float(snap.rho), rho_centres=rho_centres, rho_bulk=rho_bulk, Z=float(snap.Z),
+                connected=int(connected.sum()),
                 kinetic_energy=float(snap.kinetic_energy), pressure=float(snap.pressure),
                 damping_dt=float(snap.attrs["dem_damping_rate_time_step"]),
                 overlap_max=float(fractions.max()) if fractions.size else 0.0,
@@ -92,7 +101,8 @@ def snapshot_row(snap, force_unit_dyn: float = float("nan")) -> dict[str, float]
                 relaxation_steps=int(snap.relaxation_steps))
 
 
-def run_states(run_dir: str | Path, force_unit_dyn: float = float("nan")) -> list[dict[str, float]]:
+def run_states(run_dir: str | Path, force_unit_dyn: float = float("nan"), bulk_margin: float = BULK_MARGIN
+               ) -> list[dict[str, float]]:
     """`snapshot_row` of every snapshot of a finished run folder (`forcenet.datasets.paths.run_dir`), in ρ order."""
     from forcenet.datasets import read_snapshot
     from forcenet.datasets.paths import rho_file
@@ -100,24 +110,25 @@ def run_states(run_dir: str | Path, force_unit_dyn: float = float("nan")) -> lis
     rows = []
     for path in sorted(Path(run_dir).glob(rho_file("*"))):
         with read_snapshot(path) as snap:
-            rows.append(snapshot_row(snap, force_unit_dyn))
+            rows.append(snapshot_row(snap, force_unit_dyn, bulk_margin))
     return sorted(rows, key=lambda row: row["rho"])
 
 
 @dataclass
 class SurveyRun:
-    """One compression run: per-snapshot rows, CPU time, ρ_J (also with ρ over the centres' domain), and the
-    blow-up message if it stopped."""
+    """One compression run: per-snapshot rows, CPU time, ρ_J (also with ρ over the centres' domain and with the
+    bulk ρ), and the blow-up message if it stopped."""
 
     rows: list[dict[str, float]]
     cpu_seconds: float
     rho_j: float
     rho_j_centres: float
+    rho_j_bulk: float
     failure: str | None
 
 
-def run_survey(config: Mapping[str, Any], system: str, realization: int = 0, log: logging.Logger | None = None
-               ) -> SurveyRun:
+def run_survey(config: Mapping[str, Any], system: str, realization: int = 0, log: logging.Logger | None = None,
+               bulk_margin: float = BULK_MARGIN) -> SurveyRun:
     """Compress realization `realization` of `system` through its grid (snapshots in a temporary folder)."""
     from forcenet.datasets import read_snapshot
     from forcenet.datasets.paths import CHECKPOINT, rho_file
@@ -143,10 +154,11 @@ def run_survey(config: Mapping[str, Any], system: str, realization: int = 0, log
             if not path.exists():
                 break
             with read_snapshot(path) as snap:
-                rows.append(snapshot_row(snap))
-    rho_j = rho_j_centres = np.nan
+                rows.append(snapshot_row(snap, bulk_margin=bulk_margin))
+    rho_j = rho_j_centres = rho_j_bulk = np.nan
     if len(rows) >= 4:
         z = [r["Z"] for r in rows]
-        rho_j = float(jamming_point([r["rho"] for r in rows], z))
-        rho_j_centres = float(jamming_point([r["rho_centres"] for r in rows], z))
-    return SurveyRun(rows=rows, cpu_seconds=cpu, rho_j=rho_j, rho_j_centres=rho_j_centres, failure=failure)
+        rho_j, rho_j_centres, rho_j_bulk = (float(jamming_point([r[key] for r in rows], z))
+                                            for key in ("rho", "rho_centres", "rho_bulk"))
+    return SurveyRun(rows=rows, cpu_seconds=cpu, rho_j=rho_j, rho_j_centres=rho_j_centres, rho_j_bulk=rho_j_bulk,
+                     failure=failure)

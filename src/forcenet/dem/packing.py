@@ -83,6 +83,44 @@ def packing_fraction(radius: np.ndarray, span: np.ndarray) -> float:
     return float(particle_volume(2.0 * radius, len(span)).sum() / np.prod(span))
 
 
+def slab_share(offset_lo, offset_hi, radius, dimension: int) -> np.ndarray:
+    """Share of each disk / sphere lying between two parallel lines / planes at signed distances `offset_lo` <
+    `offset_hi` from its centre along their normal (arrays broadcast together; [d_ave]): the integral of the
+    chord length (2D) or the slice area (3D) over the clipped interval, over the whole area / volume."""
+    radius = np.asarray(radius, dtype=float)
+    lo = np.clip(np.asarray(offset_lo, dtype=float), -radius, radius)
+    hi = np.clip(np.asarray(offset_hi, dtype=float), -radius, radius)
+    if dimension == 2:  # ∫ 2√(r² − u²) du = u√(r² − u²) + r² asin(u/r)
+        def primitive(u):
+            return u * np.sqrt(np.maximum(radius ** 2 - u ** 2, 0.0)) + radius ** 2 * np.arcsin(u / radius)
+        return (primitive(hi) - primitive(lo)) / (math.pi * radius ** 2)
+
+    def primitive(u):  # ∫ π(r² − u²) du
+        return math.pi * (radius ** 2 * u - u ** 3 / 3.0)
+    return (primitive(hi) - primitive(lo)) / (4.0 / 3.0 * math.pi * radius ** 3)
+
+
+def bulk_packing_fraction(position: np.ndarray, radius: np.ndarray, box_lo: np.ndarray, box_hi: np.ndarray,
+                          margin: float) -> float:
+    """ρ of the inner box at least `margin` [d_ave] from every wall: the particle area / volume inside it over
+    its area / volume [-]. position (N, d), radius (N,), box_lo/box_hi (d,) [d_ave].
+
+    A particle cut by the inner box's faces counts with the product over the axes of its share inside each axis'
+    slab (`slab_share`): exact when it is cut along one axis only, an approximation of order its share beyond an
+    edge otherwise. NaN when the margin leaves no inner box."""
+    position = np.asarray(position, dtype=float)
+    radius = np.asarray(radius, dtype=float)
+    lo = np.asarray(box_lo, dtype=float) + margin
+    hi = np.asarray(box_hi, dtype=float) - margin
+    if np.any(hi <= lo):
+        return math.nan
+    dimension = position.shape[1]
+    share = np.ones(radius.shape)
+    for axis in range(dimension):
+        share *= slab_share(lo[axis] - position[:, axis], hi[axis] - position[:, axis], radius, dimension)
+    return float((particle_volume(2.0 * radius, dimension) * share).sum() / np.prod(hi - lo))
+
+
 def largest_diameter(system) -> float:
     """Largest diameter the size distribution can produce [d_ave]."""
     if system.size_distribution == "bidisperse":
