@@ -7,8 +7,8 @@
 prints, per run, a markdown table (ρ, bulk ρ, Z, E_kin, pressure, λΔt, largest and mean overlap / smaller
 diameter, relaxation steps), the CPU-seconds and ρ_J (logistic fit of Z(ρ); also with ρ over the centres' domain
 and with the bulk ρ, the inner box at least `--bulk-margin` d_ave from every wall); `--summary` prints one line per
-run instead (system, overrides, realization, the three ρ_J, CPU-s, top-of-grid ρ and Z, outcome). Overrides replace keys of `systems.<system>` (dotted keys reach into nested ones;
-values are YAML).
+run instead (system, overrides, realization, the three ρ_J, CPU-s, top-of-grid ρ and Z, outcome). Overrides
+replace keys of `systems.<system>` (dotted keys reach into nested ones; values are YAML).
 """
 from __future__ import annotations
 
@@ -50,11 +50,13 @@ def main() -> None:
                   f"{'stopped: ' + run.failure if run.failure else 'completed'} |", flush=True)
             continue
         print(f"\n{args.system} ({label}), realization {realization}: {run.cpu_seconds:.1f} CPU-s, "
-              f"ρ_J = {run.rho_j:.4f} (ρ over the centres' domain: {run.rho_j_centres:.4f}; bulk ρ: {run.rho_j_bulk:.4f})" + (f"\nSTOPPED: {run.failure}" if run.failure else ""))
+              f"ρ_J = {run.rho_j:.4f} (ρ over the centres' domain: {run.rho_j_centres:.4f}; "
+              f"bulk ρ: {run.rho_j_bulk:.4f})" + (f"\nSTOPPED: {run.failure}" if run.failure else ""))
         print("| ρ | bulk ρ | Z | E_kin | pressure | λΔt | overlap max | overlap mean | relaxation steps |")
         print("|---|---|---|---|---|---|---|---|---|")
         for row in run.rows:
-            print(f"| {row['rho']:.3f} | {row['rho_bulk']:.4f} | {row['Z']:.2f} | {row['kinetic_energy']:.2e} | {row['pressure']:.3g} | "
+            print(f"| {row['rho']:.3f} | {row['rho_bulk']:.4f} | {row['Z']:.2f} | {row['kinetic_energy']:.2e} | "
+                  f"{row['pressure']:.3g} | "
                   f"{row['damping_dt']:.2f} | {row['overlap_max']:.3f} | {row['overlap_mean']:.4f} | "
                   f"{row['relaxation_steps']} |", flush=True)
 

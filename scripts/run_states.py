@@ -3,7 +3,8 @@
 
     .venv/bin/python scripts/run_states.py --results results/validation --system 2d_hertz --realizations 0 1
 
-Per snapshot: ρ, the bulk ρ (the inner box at least `--bulk-margin` d_ave from every wall), Z (rattlers included), the particles with at least two particle contacts (P1's non-rattlers),
+Per snapshot: ρ, the bulk ρ (the inner box at least `--bulk-margin` d_ave from every wall), Z (rattlers
+included), the particles with at least two particle contacts (P1's non-rattlers),
 ⟨|F|⟩ over the contacts in dyn (the system's material, from the config the run recorded), the mean and largest
 overlap over the smaller diameter, and the relaxation steps. `--below RHO` keeps the states up to RHO.
 """
@@ -41,11 +42,13 @@ def main() -> None:
         with read_snapshot(snapshots[0]) as snap:  # the config the run was made with
             unit = force_constants(json.loads(snap.attrs["config"]), args.system)["force_unit_dyn"]
         print(f"\n{args.system} {realization_name(realization)} ({folder})")
-        print("| ρ | bulk ρ | Z | particles with ≥ 2 contacts | ⟨F⟩ [dyn] | overlap mean | overlap max | relaxation steps |")
+        print("| ρ | bulk ρ | Z | particles with ≥ 2 contacts | ⟨F⟩ [dyn] | overlap mean | overlap max | "
+              "relaxation steps |")
         print("|---|---|---|---|---|---|---|---|")
         for row in run_states(folder, unit, args.bulk_margin):
             if row["rho"] <= args.below + 1e-9:
-                print(f"| {row['rho']:.3f} | {row['rho_bulk']:.4f} | {row['Z']:.2f} | {row['connected']} | {row['mean_force_dyn']:.4g} | "
+                print(f"| {row['rho']:.3f} | {row['rho_bulk']:.4f} | {row['Z']:.2f} | {row['connected']} | "
+                      f"{row['mean_force_dyn']:.4g} | "
                       f"{row['overlap_mean']:.4f} | {row['overlap_max']:.3f} | {row['relaxation_steps']} |")
 
 

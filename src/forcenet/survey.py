@@ -38,7 +38,8 @@ from forcenet.systems import realization_seed, system_from_config
 #: distance from the walls [d_ave] beyond which a snapshot's packing counts as bulk (`snapshot_row`'s rho_bulk)
 BULK_MARGIN = 2.0
 
-__all__ = ["BULK_MARGIN", "apply_overrides", "pair_overlap_fractions", "snapshot_row", "run_states", "SurveyRun", "run_survey"]
+__all__ = ["BULK_MARGIN", "apply_overrides", "pair_overlap_fractions", "snapshot_row", "run_states", "SurveyRun",
+           "run_survey"]
 
 
 def apply_overrides(config: Mapping[str, Any], system: str, overrides: Sequence[str]) -> dict[str, Any]:
@@ -71,10 +72,11 @@ def pair_overlap_fractions(position: np.ndarray, radius: np.ndarray, contact_i: 
 def snapshot_row(snap, force_unit_dyn: float = float("nan"), bulk_margin: float = BULK_MARGIN) -> dict[str, float]:
     """The state of one snapshot (an opened snapshot dataset), as listed in the module docstring.
 
-    Keys: rho, rho_centres, rho_bulk (at least `bulk_margin` d_ave from every wall) [-]; Z, connected (particles with ≥ 2 particle contacts) [-]; kinetic_energy
-    [m̄ d_ave² τ_c⁻²]; pressure [m̄ d_ave⁻¹ τ_c⁻² in 2D]; damping_dt [-]; overlap_max, overlap_mean
-    (x / min(d_i, d_j)) [-]; mean_force (⟨|F_n + F_t|⟩ over the particle contacts) [m̄ d_ave τ_c⁻²] and
-    mean_force_dyn (the same times `force_unit_dyn`, one reduced force unit in dyn; NaN without); relaxation_steps.
+    Keys: rho, rho_centres, rho_bulk (at least `bulk_margin` d_ave from every wall) [-]; Z, connected (particles
+    with ≥ 2 particle contacts) [-]; kinetic_energy [m̄ d_ave² τ_c⁻²]; pressure [m̄ d_ave⁻¹ τ_c⁻² in 2D]; damping_dt
+    [-]; overlap_max, overlap_mean (x / min(d_i, d_j)) [-]; mean_force (⟨|F_n + F_t|⟩ over the particle contacts)
+    [m̄ d_ave τ_c⁻²] and mean_force_dyn (the same times `force_unit_dyn`, one reduced force unit in dyn; NaN
+    without); relaxation_steps.
     """
     from forcenet.dem.packing import bulk_packing_fraction
     from forcenet.network.force_network import force_magnitude, rattler_free_mask

@@ -7,8 +7,8 @@ Per packing fraction ρ and force threshold F_th [⟨F⟩]:
 
 - `contact_share_above` — share of the contacts of the rattler-free network with F ≥ F_th (edges at F_th over
   edges at the lowest F_th); the super-level set every cluster measure is taken on.
-- `percolation_threshold_per_rho` — the largest F_th at which at least half of the realizations still hold a percolating
-  cluster (P1 §4.3's majority rule), i.e. where the spanning network breaks up.
+- `percolation_threshold_per_rho` — the largest F_th at which at least half of the realizations still hold a
+  percolating cluster (P1 §4.3's majority rule), i.e. where the spanning network breaks up.
 - `size_peak_threshold_per_rho` — the F_th of the largest realization-mean ⟨S⟩/N (P1 §4.2, percolating clusters
   excluded): it sits at the percolation threshold, as for finite clusters in percolation theory.
 - `shape_readings` — the shape parameter under P1 §5.2's two readings: S̄_p pooled over the clusters of a
@@ -18,6 +18,7 @@ Per packing fraction ρ and force threshold F_th [⟨F⟩]:
 - `with_shape_reading` — a measures dataset whose `shape_parameter` is the other reading, so the tables' S_p
   judges can be run on it.
 - `network_rows` — one row per ρ with all of the above, Z without rattlers and TP0/N.
+- `common_rho` — the ρ two systems both sampled beyond their ρ_J (to compare them at equal ρ).
 
 `scripts/p1_network_survey.py` prints them for finished runs.
 """
