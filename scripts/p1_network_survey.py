@@ -23,18 +23,11 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "src"))
 
 from forcenet.datasets import read_dataset  # noqa: E402
 from forcenet.datasets.paths import network_measures  # noqa: E402
+from forcenet.report.claims import markdown_table  # noqa: E402
 from forcenet.report.p1 import P1_LARGE_THRESHOLD  # noqa: E402
 from forcenet.report.p1_diagnostics import (SHAPE_READINGS, common_rho, network_rows, shape_readings,  # noqa: E402
                                             with_shape_reading)
 from forcenet.report.p1_validation import p1_validation, system_data  # noqa: E402
-
-
-def markdown(frame, digits: int = 3) -> str:
-    """A DataFrame as a markdown table (no extra dependency)."""
-    head = "| " + " | ".join(frame.columns) + " |\n|" + "---|" * len(frame.columns)
-    body = ["| " + " | ".join(f"{v:.{digits}g}" if isinstance(v, float) else str(v) for v in row) + " |"
-            for row in frame.itertuples(index=False)]
-    return "\n".join([head, *body])
 
 
 def main() -> None:
@@ -49,7 +42,8 @@ def main() -> None:
     for name, system in systems.items():
         keep = system.rho >= system.rho_j - system.tolerance
         print(f"\n## {name}: rho_J = {system.rho_j:.3f}, beyond rho_J + {system.tolerance:g} judged as jammed\n")
-        print(markdown(network_rows(system)[keep]))
+        rows = network_rows(system)[keep]
+        print("\n".join(markdown_table(rows, list(rows.columns))))
 
     if {"2d_linear", "2d_hertz"} <= systems.keys():
         linear, hertz = systems["2d_linear"], systems["2d_hertz"]

@@ -36,7 +36,7 @@ import yaml
 from forcenet.systems import realization_seed, system_from_config
 
 #: distance from the walls [d_ave] beyond which a snapshot's packing counts as bulk (`snapshot_row`'s rho_bulk)
-BULK_MARGIN = 2.0
+BULK_MARGIN = 1.0
 
 __all__ = ["BULK_MARGIN", "apply_overrides", "pair_overlap_fractions", "snapshot_row", "run_states", "SurveyRun",
            "run_survey"]

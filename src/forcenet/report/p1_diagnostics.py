@@ -30,7 +30,8 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
-from forcenet.report.p1 import P1_PERCOLATION_MAJORITY, per_particle, rho_values, shape_parameter_average
+from forcenet.report.p1 import (P1_PERCOLATION_MAJORITY, per_particle, percolation_fraction, rho_values,
+                                shape_parameter_average)
 from forcenet.report.p1_judging import SystemData
 from forcenet.report.realizations import realization_mean
 
@@ -52,7 +53,7 @@ def contact_share_above(system: SystemData) -> xr.DataArray:
 def percolation_threshold_per_rho(system: SystemData, majority: float = P1_PERCOLATION_MAJORITY) -> xr.DataArray:
     """Largest F_th [⟨F⟩] at which at least `majority` of the realizations percolate, dims (rho,); NaN where
     none percolates even at the lowest F_th."""
-    share = realization_mean(system.data["percolates"] > 0).transpose("rho", "threshold").values
+    share = percolation_fraction(system.data).transpose("rho", "threshold").values
     thresholds = system.thresholds
     values = [thresholds[row >= majority - 1e-12].max() if (row >= majority - 1e-12).any() else np.nan
               for row in share]
