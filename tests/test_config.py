@@ -57,6 +57,7 @@ BAD_CONFIGS = {
     "unknown_force_law": (["systems", "3d_hertz", "force_law"], "hooke", "force_law"),
     "unknown_damping_model": (["systems", "3d_hertz", "damping_model"], "implicit", "damping_model"),
     "missing_damping_model": (["systems", "2d_linear", "damping_model"], KeyError, "damping_model"),
+    "explicit_damping_without_value": (["systems", "2d_linear", "damping_model"], "explicit", "normal_damping"),
     "unknown_p1_force_unit": (["analysis", "p1_force_unit"], "newton", "p1_force_unit"),
     "missing_p1_force_unit": (["analysis", "p1_force_unit"], KeyError, "p1_force_unit"),
     "string_fill_tetrahedra": (["analysis", "fill_tetrahedra"], "no", "fill_tetrahedra"),
@@ -82,6 +83,9 @@ def test_semantic_errors_name_the_key(default_config):
         validate_config(config)
     config = _mutate(["systems", "2d_hertz", "time_step"], 0.5, default_config)
     with pytest.raises(ConfigError, match=r"systems\.2d_hertz\.time_step"):
+        validate_config(config)
+    config = _mutate(["systems", "2d_linear", "normal_damping"], 5.0, default_config)
+    with pytest.raises(ConfigError, match=r"systems\.2d_linear\.normal_damping.*only with damping_model: explicit"):
         validate_config(config)
 
 

@@ -111,6 +111,8 @@ def normal_damping_estimate(system) -> float | None:
         return None
     if system.damping_model == "linear_law":
         return units.collision_time_damping(system.restitution)
+    if system.damping_model == "explicit":
+        return float(system.normal_damping)
     return units.linear_damping_for_restitution(system.normal_stiffness, system.restitution,
                                                 0.5)  # two mean particles, as the calibration
 

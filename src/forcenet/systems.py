@@ -65,7 +65,8 @@ class SystemSpec:
     restitution : normal restitution e_n [-]
     damping_model : how γ_n follows from e_n (`forcenet.dem.calibration`): ``"linear_law"``, γ_n = −2 ln(e_n)/τ_c
         in the system's own τ_c units (P1 ref. [47]), or ``"head_on"``, a head-on collision of two mean particles
-        (at `wall_speed` for Hertz) has restitution e_n
+        (at `wall_speed` for Hertz) has restitution e_n, or ``"explicit"``, γ_n = `normal_damping`
+    normal_damping : γ_n [d_ave^(−β) τ_c^(−1)] of ``damping_model: explicit``, None otherwise
     walls : ``"flat"`` (P1) or ``"rough"`` (P2, monodisperse wall particles)
     time_step : Δt [τ_c]
     protocol : ``"quasistatic"`` (P1) or ``"continuous"`` (P2)
@@ -97,6 +98,7 @@ class SystemSpec:
     rho_grid: tuple[float, ...]
     relaxation: Relaxation | None
     paper: str = field(default="P1")
+    normal_damping: float | None = None
 
     @property
     def rho_labels(self) -> list[str]:
@@ -151,6 +153,9 @@ def system_from_config(name: str, config: Mapping[str, Any]) -> SystemSpec:
             raise ConfigError(f"{key}.stiffness", "'collision_time' (P2 units) needs force_law: linear")
         k_n = units.P2_REDUCED_NORMAL_STIFFNESS
         paper = "P2"
+    if "normal_damping" in entry and entry["damping_model"] != "explicit":
+        raise ConfigError(f"{key}.normal_damping", f"is used only with damping_model: explicit (this system's "
+                                                   f"damping_model is {entry['damping_model']}): remove one")
     relaxation = None
     if entry["protocol"] == "quasistatic":
         relaxation = Relaxation(**entry["relaxation"])
@@ -169,6 +174,7 @@ def system_from_config(name: str, config: Mapping[str, Any]) -> SystemSpec:
         friction=float(entry["friction"]),
         restitution=float(entry["restitution"]),
         damping_model=entry["damping_model"],
+        normal_damping=float(entry["normal_damping"]) if "normal_damping" in entry else None,
         walls=entry["walls"],
         time_step=float(entry["time_step"]),
         protocol=entry["protocol"],

@@ -83,7 +83,7 @@ def normal_damping_for_restitution(normal_stiffness: float, beta: float, restitu
 
 
 #: values of `systems.<name>.damping_model`
-DAMPING_MODELS = ("linear_law", "head_on")
+DAMPING_MODELS = ("linear_law", "head_on", "explicit")
 
 
 def normal_damping_for_system(system) -> float:
@@ -92,6 +92,8 @@ def normal_damping_for_system(system) -> float:
     Hertz; the linear law's restitution does not depend on speed)."""
     if system.damping_model == "linear_law":
         return units.collision_time_damping(system.restitution)
+    if system.damping_model == "explicit":
+        return float(system.normal_damping)
     if system.damping_model != "head_on":
         raise ValueError(f"unknown damping model {system.damping_model!r} (known: {DAMPING_MODELS})")
     speed = 1.0 if system.beta == 0.0 else system.wall_speed
