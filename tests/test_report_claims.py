@@ -70,10 +70,71 @@ def test_a_claim_the_data_cannot_decide_is_not_evaluated_with_the_reason():
     def judge():
         raise claims.NotEvaluated("no rho below rho_J")
 
-    judged = claims.judge_claim(record(), "sys", 2.0, "c", judge, explain=lambda verdict: f"why: {verdict}")
+    judged = claims.judge_claim(record(), "sys", 2.0, "c", judge,
+                                explain=lambda verdict: claims.Explanation(f"why: {verdict}"))
     assert (judged.verdict, judged.evidence, judged.explanation) == (claims.NOT_EVALUATED, "no rho below rho_J",
                                                                      "why: not evaluated")
-    assert math.isnan(judged.measured) and math.isnan(judged.difference)
+    assert judged.explanation_basis == claims.HYPOTHESIS and judged.marker == ""
+    assert math.isnan(judged.measured) and math.isnan(judged.difference) and math.isnan(judged.robustness)
+
+
+def test_an_explanation_says_measured_with_its_command_or_hypothesis():
+    assert claims.Explanation("few contacts", "python scripts/p2_sampling.py").basis == (
+        "measured: python scripts/p2_sampling.py")
+    assert claims.Explanation("few realizations").basis == claims.HYPOTHESIS
+
+
+# --- markers (issue 25): marginal within 10 % of the threshold or one grid step, vacuous passes ----------------
+@pytest.mark.parametrize("judgement, marker", [
+    (claims.Judgement(1.05, "e", True, margin=claims.relative_margin(1.05, 1.0)), claims.MARGINAL),
+    (claims.Judgement(0.95, "e", False, margin=claims.relative_margin(0.95, 1.0)), claims.MARGINAL),
+    (claims.Judgement(1.5, "e", True, margin=claims.relative_margin(1.5, 1.0)), ""),
+    (claims.Judgement(1.5, "e", True, margin=0.5, grid_step=True), claims.MARGINAL),
+    (claims.Judgement(0.0, "e", True, vacuous=True), claims.VACUOUS),
+    (claims.Judgement(0.0, "e", False, vacuous=True), ""),  # a vacuous quantity that fails is a plain failure
+    (claims.Judgement(math.nan, "e", True), ""),
+])
+def test_a_verdict_near_its_threshold_is_marginal_and_one_on_zeros_vacuous(judgement, marker):
+    assert judgement.marker == marker
+    judged = claims.judge_claim(record(), "sys", 2.0, "c", lambda: judgement)
+    assert judged.marker == marker
+
+
+def test_margins_are_relative_to_the_threshold_or_the_larger_number():
+    assert claims.relative_margin(1.1, 1.0) == pytest.approx(0.1)
+    assert claims.relative_margin(0.0, 0.0) == 0.0 and claims.relative_margin(1.0, 0.0) == math.inf
+    assert claims.contrast_margin(0.9, 1.0) == pytest.approx(0.1) and claims.contrast_margin(0, 0) == 0.0
+    assert claims.ratio_margin(10.0, 10.0) == 0.0 and claims.ratio_margin(100.0, 10.0) == pytest.approx(1.0)
+    assert claims.smallest_margin(math.nan, 0.3, 0.2) == 0.2 and math.isnan(claims.smallest_margin(math.nan))
+
+
+def test_robustness_is_the_share_of_resamples_under_which_the_claim_holds():
+    def judged(holds):
+        def judge():
+            if holds is None:
+                raise claims.NotEvaluated("too few")
+            return claims.Judgement(1.0, "e", holds)
+        return judge
+
+    row = claims.judge_claim(record(), "sys", 2.0, "c", judged(True),
+                             resampled=[judged(True), judged(False), judged(True), judged(None), judged(False)])
+    assert row.robustness == pytest.approx(0.5)  # 2 of the 4 resamples that could judge it
+    assert math.isnan(claims.holds_share([judged(None)])) and math.isnan(claims.holds_share([]))
+
+
+def test_verdict_counts_count_markers_apart_and_only_the_tables_own_reading():
+    common = dict(section="4", statement="s", criterion="c", evidence="e", paper=math.nan, measured=1.0)
+    rows = [claims.JudgedClaim(id="a", system="x", verdict=claims.HOLDS, **common),
+            claims.JudgedClaim(id="b", system="x", verdict=claims.HOLDS, marker=claims.VACUOUS, **common),
+            claims.JudgedClaim(id="c", system="x", verdict=claims.FAILS, marker=claims.MARGINAL, **common),
+            claims.JudgedClaim(id="d", system="x", verdict=claims.NOT_EVALUATED, **common),
+            claims.JudgedClaim(id="a", system="x", verdict=claims.FAILS, reading="other", **common)]
+    table = pd.DataFrame([{**vars(r)} for r in rows])
+    counts = claims.verdict_counts(table)
+    assert counts == {claims.HOLDS: 2, claims.FAILS: 1, claims.NOT_EVALUATED: 1, claims.MARGINAL: 1,
+                      claims.VACUOUS: 1, "fair": 1}
+    assert claims.verdict_summary(table) == ("4 rows: 2 hold, 1 do not hold, 1 not evaluated; of the 3 judged, "
+                                             "1 fair, 1 marginal, 1 vacuous.")
 
 
 def test_the_paper_value_is_per_role_or_words():
@@ -166,10 +227,11 @@ def test_p2_table_shows_the_campaign_evidence_and_verdict_beside_p2s_words(tmp_p
         {"table": "P2 validation table", "claim_id": "IV.C-1", "system": "mu05 vs mu0", "measured": "rho_J 0.802, 0.833",
          "verdict": "holds"},
         {"table": "Table I", "claim_id": "", "system": "", "measured": "", "verdict": ""}])
-    p2_validation.write_p2_validation(table, tmp_path / "t.md", tmp_path / "t.csv", paper_size=docs)
+    p2_validation.write_p2_validation(table, tmp_path / "t.csv", tmp_path / "t.md", paper_size=docs)
     back = pd.read_csv(tmp_path / "t.csv")
     assert list(back.columns).index(PAPER_SIZE) == list(back.columns).index("reference") + 1
     assert back.loc[0, PAPER_SIZE] == "rho_J 0.802, 0.833 (holds)"
     md = (tmp_path / "t.md").read_text()
-    assert f"| id | section | system | claim | P2 | {PAPER_SIZE_HEADER} | criterion | measured | verdict | explanation |" in md
+    assert (f"| id | section | system | claim | P2 | {PAPER_SIZE_HEADER} | criterion | measured | evidence | verdict | "
+            "marker |") in md
     assert "| rho_J(mu=0) > rho_J(mu=0.5) | rho_J 0.802, 0.833 (holds) | c |" in md

@@ -19,6 +19,7 @@ import xarray as xr
 from forcenet.datasets.schema import FORCE_KINDS, PERSISTENCE_BINS
 from forcenet.report import claims as framework
 from forcenet.report import p1 as report
+from forcenet.report import p1_judging as judging
 from forcenet.report import p1_validation as validation
 
 N_PARTICLES = 400
@@ -636,8 +637,14 @@ def test_tolerances_are_keyword_arguments():
     strict = validation.p1_validation(make_p1_measures(), min_prominence=0.99)
     assert verdict(strict, "p1-5.1-b0-ridge", "2d_hertz") == framework.FAILS
     assert "0.99 of the largest B0/N" in rows(strict, "p1-5.1-b0-ridge", "2d_hertz")["criterion"].iloc[0]
-    wide = validation.p1_validation(make_p1_measures(), rho_tolerance=0.2)  # nothing lies below ρ_J − 0.2 in 2D
+    wide = validation.p1_validation(make_p1_measures(), rho_tolerance=0.2,  # nothing lies below ρ_J − 0.2 in 2D
+                                    below_cut=judging.BELOW_TOLERANCE)
     assert verdict(wide, "p1-5.1-b1-zero-below", "2d_hertz") == framework.NOT_EVALUATED
+    # the table's own cut, the states before the jump, does not depend on the tolerance
+    assert verdict(validation.p1_validation(make_p1_measures(), rho_tolerance=0.2), "p1-5.1-b1-zero-below",
+                   "2d_hertz") == framework.HOLDS
+    with pytest.raises(ValueError, match="below_cut"):
+        validation.p1_validation(make_p1_measures(), below_cut="rho < 0.8")
     with pytest.raises(TypeError, match="unexpected keyword"):
         validation.p1_validation(make_p1_measures(), prominence=0.5)
 
@@ -652,7 +659,7 @@ def test_claims_can_be_judged_up_to_rho_max_only():
 
 def test_writer_round_trip(tmp_path, p1_table):
     csv, md = tmp_path / "tables" / "p1_validation.csv", tmp_path / "tables" / "p1_validation.md"
-    validation.write_p1_validation(p1_table, csv, md, force_unit="dyn")
+    validation.write_p1_validation(p1_table, csv, md)
     back = pd.read_csv(csv, keep_default_na=False, na_values=[""])
     assert len(back) == len(p1_table) and list(back.columns) == list(validation.COLUMNS)
     np.testing.assert_allclose(back["measured"].astype(float), p1_table["measured"], equal_nan=True)
@@ -662,6 +669,7 @@ def test_writer_round_trip(tmp_path, p1_table):
     assert len(table_lines) == len(p1_table) + 2  # one header per table
     counts = framework.verdict_counts(p1_table)
     assert f"{counts[framework.HOLDS]} hold, 0 do not hold, {counts[framework.NOT_EVALUATED]} not evaluated" in text
+    assert framework.verdict_summary(p1_table) in text
     assert "0.842" in text and "0.71" in text  # paper values
 
 

@@ -373,7 +373,7 @@ def p1_validation_table(*, measures: Sequence[str], systems: Sequence[str], csv:
 
     with job_logger(log_path, "p1_validation") as log:
         table = p1_validation(_open_by_system(measures, "network_measures"), force_unit=force_unit)
-        write_p1_validation(table, csv, md, force_unit=force_unit, paper_size=paper_size)
+        write_p1_validation(table, csv, md, paper_size=paper_size)
         log.info("P1 validation: %d rows, claim verdicts %s", len(table), verdict_counts(table))
 
 
@@ -456,6 +456,7 @@ def p2_validation_table(*, distances: Sequence[str], tables: Sequence[str], meas
     paper-size config) adds our paper-size values beside P2's."""
     import pandas as pd
 
+    from forcenet.report.claims import verdict_counts
     from forcenet.report.p2_tables import read_table
     from forcenet.report.p2_validation import p2_validation, write_p2_validation
 
@@ -464,8 +465,8 @@ def p2_validation_table(*, distances: Sequence[str], tables: Sequence[str], meas
                               {f"table{i + 1}": read_table(path) for i, path in enumerate(sorted(tables))},
                               frictional=frictional, frictionless=frictionless or "",
                               measures=_open_by_system(measures, "network_measures"), states=pd.read_csv(states))
-        write_p2_validation(table, md, csv, paper_size=paper_size)
-        log.info("P2 validation: verdicts %s", table["verdict"].value_counts().to_dict())
+        write_p2_validation(table, csv, md, paper_size=paper_size)
+        log.info("P2 validation: claim verdicts %s", verdict_counts(table))
 
 
 def p2_sampling_study(*, config: Mapping[str, Any], system: str, wall_speeds: Sequence[float], count: int,

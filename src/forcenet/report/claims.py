@@ -25,8 +25,10 @@ from typing import Any, Callable, Mapping, Sequence
 import numpy as np
 import pandas as pd
 
-__all__ = ["HOLDS", "FAILS", "NOT_EVALUATED", "NotEvaluated", "Judgement", "Claim", "claim_register", "JudgedClaim",
-           "judge_claim", "verdict_counts", "TableLayout", "TableSection", "claims_frame", "markdown_table",
+__all__ = ["HOLDS", "FAILS", "NOT_EVALUATED", "MARGINAL", "VACUOUS", "MARGINAL_FRACTION", "MEASURED", "HYPOTHESIS",
+           "NotEvaluated", "Judgement", "relative_margin", "contrast_margin", "smallest_margin", "ratio_margin", "Claim",
+           "claim_register", "Explanation", "JudgedClaim", "holds_share", "judge_claim", "verdict_counts",
+           "verdict_summary", "VERDICT_COLUMNS", "TableLayout", "TableSection", "claims_frame", "markdown_table",
            "validation_markdown", "write_validation_table", "PAPER_SIZE", "PAPER_SIZE_HEADER", "with_paper_size",
            "paper_size_placeholder"]
 
@@ -37,14 +39,79 @@ class NotEvaluated(Exception):
     """Raised by a judge when the claim cannot be judged from the data; the message says why."""
 
 
+MARGINAL, VACUOUS = "marginal", "vacuous"  # markers set beside a verdict (issue 25)
+MARGINAL_FRACTION = 0.10  # a verdict decided within 10 % of its threshold is marginal (issue 25)
+MEASURED, HYPOTHESIS = "measured", "hypothesis"  # the basis of an explanation of a verdict
+
+
 @dataclass(frozen=True)
 class Judgement:
     """What a judge found: the key number (NaN where the evidence is the whole answer), the evidence (the numbers
-    behind the verdict, as text) and whether the claim holds."""
+    behind the verdict, as text) and whether the claim holds.
+
+    margin : how far the deciding number lies from its threshold, relative to the threshold (`relative_margin`,
+        `contrast_margin`); NaN where the judge has no single threshold. A verdict with margin ≤
+        `MARGINAL_FRACTION` is marked `MARGINAL`.
+    grid_step : the verdict turns if one state moves by one grid step (a peak or a cut one ρ step from its
+        boundary): marked `MARGINAL` as well.
+    vacuous : the claim holds only because its quantity is zero everywhere it is judged (nothing to contrast):
+        marked `VACUOUS` instead of a plain "holds".
+    states : the states (ρ) that carry the verdict, as text ("" where the evidence says it).
+    """
 
     measured: float
     evidence: str
     holds: bool
+    margin: float = math.nan
+    grid_step: bool = False
+    vacuous: bool = False
+    states: str = ""
+
+    @property
+    def marker(self) -> str:
+        """`VACUOUS` for a vacuous pass, `MARGINAL` for a verdict within `MARGINAL_FRACTION` of its threshold or
+        one grid step from turning, else ""."""
+        if self.vacuous and self.holds:
+            return VACUOUS
+        if self.grid_step or (np.isfinite(self.margin) and self.margin <= MARGINAL_FRACTION):
+            return MARGINAL
+        return ""
+
+
+def relative_margin(value: float, threshold: float) -> float:
+    """|value − threshold| / |threshold|: how far a number lies from the threshold it is compared with (inf for
+    a threshold of 0 and a nonzero value, 0 when both are 0, NaN when either is not finite)."""
+    value, threshold = float(value), float(threshold)
+    if not (np.isfinite(value) and np.isfinite(threshold)):
+        return math.nan
+    if threshold == 0:
+        return 0.0 if value == 0 else math.inf
+    return abs(value - threshold) / abs(threshold)
+
+
+def contrast_margin(first: float, second: float) -> float:
+    """|first − second| / max(|first|, |second|): how far two numbers compared with each other ("a > b") lie
+    apart, relative to the larger (0 when both are 0, NaN when either is not finite)."""
+    first, second = float(first), float(second)
+    if not (np.isfinite(first) and np.isfinite(second)):
+        return math.nan
+    scale = max(abs(first), abs(second))
+    return abs(first - second) / scale if scale > 0 else 0.0
+
+
+def smallest_margin(*margins: float) -> float:
+    """The smallest finite margin of several thresholds one verdict rests on (NaN when none is finite)."""
+    finite = [float(m) for m in margins if np.isfinite(m)]
+    return min(finite) if finite else math.nan
+
+
+def ratio_margin(ratio: float, factor: float) -> float:
+    """How far a ratio lies from the factor it must reach or stay within, on a log scale relative to the factor's
+    own log: |log ratio − log factor| / |log factor| (NaN unless both are positive and finite, factor ≠ 1)."""
+    ratio, factor = float(ratio), float(factor)
+    if not (np.isfinite(ratio) and ratio > 0 and np.isfinite(factor) and factor > 0 and factor != 1):
+        return math.nan
+    return abs(math.log(ratio) - math.log(factor)) / abs(math.log(factor))
 
 
 @dataclass(frozen=True)
@@ -100,11 +167,30 @@ def claim_register(claims: list[Claim]) -> Callable[..., Callable]:
 
 
 @dataclass(frozen=True)
+class Explanation:
+    """Why a claim does not hold: the text, and its basis — `MEASURED` with the command that measured it, or
+    `HYPOTHESIS` (a cause proposed, not measured)."""
+
+    text: str
+    command: str = ""
+
+    @property
+    def basis(self) -> str:
+        """``measured: <command>`` when a command measured it, else `HYPOTHESIS`."""
+        return f"{MEASURED}: {self.command}" if self.command else HYPOTHESIS
+
+
+@dataclass(frozen=True)
 class JudgedClaim:
-    """One row of a validation table. kind : ``"claim"``, or ``"value"`` for a number set beside the paper's without
-    a criterion (P1's ρ_J, ρ_max …); system : the system(s) judged; paper : the paper's value (number or words);
-    measured : our key number (NaN if none); evidence : what was measured; verdict : `HOLDS`, `FAILS`,
-    `NOT_EVALUATED` (or "" for a value row with a value); explanation : why it does not hold (P2)."""
+    """One row of a validation table, the same record for both papers. kind : ``"claim"``, or ``"value"`` for a
+    number set beside the paper's without a criterion (P1's ρ_J, ρ_max …); system : the system(s) judged; paper :
+    the paper's value (number or words); measured : our key number (NaN if none); evidence : what was measured;
+    verdict : `HOLDS`, `FAILS`, `NOT_EVALUATED` (or "" for a value row with a value); marker : `MARGINAL`,
+    `VACUOUS` or ""; states : the states (ρ) that carry the verdict; robustness : the share of bootstrap
+    resamples of the realizations under which the claim holds (`judge_claim`; NaN where not computed);
+    reading : "" for the table's conventions, else the other reading this row is judged under (set beside the
+    primary row of the same claim); explanation, explanation_basis : why it does not hold and on what basis
+    (`Explanation`)."""
 
     id: str
     section: str
@@ -116,7 +202,12 @@ class JudgedClaim:
     evidence: str
     verdict: str
     kind: str = "claim"
+    marker: str = ""
+    states: str = ""
+    robustness: float = math.nan
+    reading: str = ""
     explanation: str = ""
+    explanation_basis: str = ""
 
     @property
     def difference(self) -> float:
@@ -127,29 +218,75 @@ class JudgedClaim:
         return measured - paper if np.isfinite(measured) and np.isfinite(paper) else math.nan
 
 
+def holds_share(judges: Sequence[Callable[[], Judgement]]) -> float:
+    """The share of `judges` (one claim judged on each bootstrap resample of the realizations) under which the
+    claim holds, among those that could judge it; NaN when none could (or there are none)."""
+    outcomes = []
+    for judge in judges:
+        try:
+            outcomes.append(bool(judge().holds))
+        except NotEvaluated:
+            continue
+    return float(np.mean(outcomes)) if outcomes else math.nan
+
+
 def judge_claim(claim: Claim, system: str, paper: float | str, criterion: str, judge: Callable[[], Judgement],
-                explain: Callable[[str], str] | None = None) -> JudgedClaim:
-    """Run `judge` and record its verdict: `HOLDS` / `FAILS` from the `Judgement`, `NOT_EVALUATED` (the reason as
-    evidence) when it raises `NotEvaluated`. `explain(verdict)` gives the explanation of a verdict (P2)."""
+                explain: Callable[[str], Explanation | None] | None = None,
+                resampled: Sequence[Callable[[], Judgement]] = (), reading: str = "") -> JudgedClaim:
+    """Run `judge` and record its verdict: `HOLDS` / `FAILS` from the `Judgement` with its marker, `NOT_EVALUATED`
+    (the reason as evidence) when it raises `NotEvaluated`. `explain(verdict)` gives the explanation of a verdict
+    (or None); `resampled` are the same judge on bootstrap resamples of the realizations (`holds_share`: the row's
+    robustness); `reading` names the other reading the row is judged under ("" for the table's own)."""
+    marker = states = ""
     try:
         judgement = judge()
         measured, evidence, verdict = judgement.measured, judgement.evidence, HOLDS if judgement.holds else FAILS
+        marker, states = judgement.marker, judgement.states
     except NotEvaluated as reason:
         measured, evidence, verdict = math.nan, str(reason), NOT_EVALUATED
+    explanation = explain(verdict) if explain else None
     return JudgedClaim(id=claim.id, section=claim.section, statement=claim.statement, system=system, paper=paper,
                        criterion=criterion, measured=float(measured), evidence=evidence, verdict=verdict,
-                       explanation=explain(verdict) if explain else "")
+                       marker=marker, states=states,
+                       robustness=holds_share(resampled) if verdict != NOT_EVALUATED else math.nan,
+                       reading=reading, explanation=explanation.text if explanation else "",
+                       explanation_basis=explanation.basis if explanation else "")
 
 
 def verdict_counts(table: pd.DataFrame) -> dict[str, int]:
-    """How many claim rows (all rows of a table without a ``kind`` column) hold, do not hold, are not evaluated."""
+    """How many claim rows (all rows of a table without a ``kind`` column) of the table's own reading hold, do not
+    hold, are not evaluated; and, counted apart, how many of them carry each marker (`MARGINAL`, `VACUOUS`) and
+    how many verdicts are fair (no marker)."""
     claims = table[table["kind"] == "claim"] if "kind" in table else table
-    return {verdict: int((claims["verdict"] == verdict).sum()) for verdict in (HOLDS, FAILS, NOT_EVALUATED)}
+    if "reading" in claims:
+        claims = claims[claims["reading"].fillna("") == ""]
+    counts = {verdict: int((claims["verdict"] == verdict).sum()) for verdict in (HOLDS, FAILS, NOT_EVALUATED)}
+    markers = claims["marker"].fillna("") if "marker" in claims else pd.Series("", index=claims.index)
+    judged = claims["verdict"].isin((HOLDS, FAILS))
+    counts.update({marker: int(((markers == marker) & judged).sum()) for marker in (MARGINAL, VACUOUS)})
+    counts["fair"] = int(((markers == "") & judged).sum())
+    return counts
+
+
+def verdict_summary(table: pd.DataFrame) -> str:
+    """The verdict counts as one line: "N rows: a hold, b do not hold, c not evaluated; of the d judged, e fair,
+    f marginal, g vacuous"."""
+    counts = verdict_counts(table)
+    judged = counts[HOLDS] + counts[FAILS]
+    rows = judged + counts[NOT_EVALUATED]
+    return (f"{rows} rows: {counts[HOLDS]} hold, {counts[FAILS]} do not hold, {counts[NOT_EVALUATED]} not "
+            f"evaluated; of the {judged} judged, {counts['fair']} fair, {counts[MARGINAL]} {MARGINAL}, "
+            f"{counts[VACUOUS]} {VACUOUS}.")
 
 
 # =============================================================================================================
 # The table: CSV and Markdown, either paper
 # =============================================================================================================
+#: the columns both papers' tables end with, the same names and fields (CSV name → `JudgedClaim` field)
+VERDICT_COLUMNS = {"verdict": "verdict", "marker": "marker", "states": "states", "robustness": "robustness",
+                   "reading": "reading", "explanation": "explanation", "explanation_basis": "explanation_basis"}
+
+
 @dataclass(frozen=True)
 class TableLayout:
     """How a paper names the columns of its validation table.
@@ -209,11 +346,23 @@ def _shown(frame: pd.DataFrame, columns: Sequence[str], layout: TableLayout) -> 
     return shown
 
 
+#: what the columns every validation table shares mean (set under each table's head)
+VERDICT_NOTE = (
+    f"marker: '{MARGINAL}' where the verdict was decided within {100 * MARGINAL_FRACTION:.0f} % of its threshold "
+    f"or turns if one state moves by one grid step; '{VACUOUS}' where the claim holds only because its quantity is "
+    "zero everywhere it is judged; both are counted apart from the fair verdicts. robustness: the share of "
+    "bootstrap resamples of the realizations (seeded) under which the claim holds, so that a verdict carried by one "
+    "realization shows. states: the states (rho) that carry the verdict. reading: empty for the table's own "
+    "conventions, else the other reading the row is judged under, beside the primary row of the same claim. "
+    "explanation_basis: 'measured: <command>' where the cause of a miss was measured, 'hypothesis' where it was not.")
+
+
 def validation_markdown(frame: pd.DataFrame, layout: TableLayout, head: Sequence[str],
                         sections: Sequence[TableSection]) -> str:
-    """The Markdown document of a validation table: the `head` lines, then each section's heading, text and table."""
+    """The Markdown document of a validation table: the `head` lines, `VERDICT_NOTE`, then each section's heading,
+    text and table."""
     headers = {PAPER_SIZE: PAPER_SIZE_HEADER, **layout.headers}
-    lines = list(head)
+    lines = [*head, VERDICT_NOTE, ""]
     if PAPER_SIZE in frame:
         lines += [f"The column '{PAPER_SIZE_HEADER}' is our value (and verdict) at the papers' sizes, from the "
                   f"validation campaign's committed table {frame.attrs.get(PAPER_SIZE, 'docs/validation')}: set "

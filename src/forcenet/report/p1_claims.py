@@ -31,7 +31,7 @@ claim = claim_register(CLAIMS)
 # --- §3 Protocol and methods ------------------------------------------------------------------------------------
 @claim("p1-3-clusters-below-jamming", "3",
        "a relatively small but non-vanishing number of clusters below jamming, in particular in 2D (Figs. 2, 4, 6)",
-       "at F_th = min: max over rho < rho_J - tol of the mean cluster count >= {min_clusters}, and its B0/N <= the "
+       "at F_th = min: max over {below_cut} of the mean cluster count >= {min_clusters}, and its B0/N <= the "
        "largest mean B0/N (any F_th) beyond rho_J + tol", scope=ALL_2D)
 def clusters_below_jamming(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
     """Judge of claim p1-3-clusters-below-jamming (per system)."""
@@ -146,7 +146,7 @@ def _mean_pdf_below(system: SystemData) -> tuple[np.ndarray, np.ndarray]:
 
 @claim("p1-6-pdf-2d-3d-differ-below-jamming", "6",
        "at small rho the force distributions differ significantly between 2D and 3D systems",
-       "total-variation distance between the mean PDFs of F/<F> over rho < rho_J - tol of 3D and of each 2D "
+       "total-variation distance between the mean PDFs of F/<F> over {below_cut} of 3D and of each 2D "
        "system >= {pdf_distance}", per_system=False)
 def pdf_2d_3d_differ(context: ClaimContext) -> Judgement:
     """Judge of claim p1-6-pdf-2d-3d-differ-below-jamming (across systems)."""

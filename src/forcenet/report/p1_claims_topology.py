@@ -65,7 +65,7 @@ def b0_interior_maximum(system: SystemData, tolerances: ClaimTolerances) -> Judg
 
 
 @claim("p1-5.1-b1-zero-below", "5.1", "no loops below jamming: B1 = 0 for rho < rho_J (Fig. 7)",
-       "max over rho < rho_J - tol of the mean (over realizations) of max over F_th of B1/N <= "
+       "max over {below_cut} of the mean (over realizations) of max over F_th of B1/N <= "
        "{negligible_fraction} x its maximum")
 def b1_zero_below(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
     """Judge of claim p1-5.1-b1-zero-below (per system)."""
@@ -140,7 +140,7 @@ def _claim_absent_then_growing(section: str, quantity: str, curve: Callable[[Sys
 _claim_absent_then_growing(
     "5.1", "B2/N", lambda system: betti_curve(system, 2),
     ("p1-5.1-b2-zero-below", "in 3D B2 vanishes for rho < rho_J",
-     "max over rho < rho_J - tol of the mean of max over F_th of B2/N <= {negligible_fraction} x its maximum"),
+     "max over {below_cut} of the mean of max over F_th of B2/N <= {negligible_fraction} x its maximum"),
     ("p1-5.1-b2-grows", "in 3D B2 grows monotonically as rho increases beyond rho_J",
      "B2/N (max over F_th) over rho >= rho_J - tol rises by > {negligible_fraction} of its maximum, never drops "
      "between consecutive rho by more than {monotone_tolerance} of it, and is > 0 at every rho > rho_J + tol"))
@@ -169,7 +169,7 @@ def _large_thresholds(system: SystemData) -> np.ndarray:
 
 @claim("p1-5.2-shape-open-paths-below-jamming", "5.2",
        "in 2D below jamming S_p ~ 1 for both laws: the clusters are open paths (Figs. 8, 9)",
-       "|median of the nonzero S_p over rho < rho_J - tol, all F_th - 1| <= {unity_tolerance}", scope=ALL_2D)
+       "|median of the nonzero S_p over {below_cut}, all F_th - 1| <= {unity_tolerance}", scope=ALL_2D)
 def shape_open_paths_below(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
     """Judge of claim p1-5.2-shape-open-paths-below-jamming (per system)."""
     values = _shape(system, require(system.below, "rho below rho_J"), np.ones(system.thresholds.size, bool),
@@ -188,7 +188,7 @@ def _mean_shape(system: SystemData, rho_mask: np.ndarray, what: str) -> float:
 @claim("p1-5.2-shape-linear-above-hertz-below-jamming", "5.2",
        "below jamming S_p is consistently larger for the linear law than for the non-linear one, in particular "
        "at smaller F_th (Fig. 9a, b)",
-       "mean nonzero S_p over rho < rho_J - tol and F_th < 2: 2D linear > 2D Hertz", per_system=False)
+       "mean nonzero S_p over {below_cut} and F_th < 2: 2D linear > 2D Hertz", per_system=False)
 def shape_linear_above_hertz_below(context: ClaimContext) -> Judgement:
     """Judge of claim p1-5.2-shape-linear-above-hertz-below-jamming (across systems)."""
     linear, hertz = context.role(LINEAR_2D), context.role(HERTZ_2D)
@@ -343,12 +343,12 @@ def medium_fewer_nonlinear(context: ClaimContext) -> Judgement:
 
 
 @claim("p1-5.3-medium-jump", "5.3", "the medium-bin N0/N increases suddenly beyond jamming (Fig. 11e, f)",
-       "medium N0/N at the first rho > rho_J + tol >= {jump_factor} x its value at the last rho < rho_J - tol, "
+       "medium N0/N at the first rho > rho_J + tol >= {jump_factor} x its value at the last rho < rho_J - tol (the transition measured symmetrically), "
        "and > 0")
 def medium_jump(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
     """Judge of claim p1-5.3-medium-jump (per system)."""
     curve = bin_curve(system, "medium").values
-    before = curve[np.flatnonzero(require(system.below, "rho below rho_J"))[-1]]
+    before = curve[np.flatnonzero(require(system.below_transition, "rho below rho_J - tol"))[-1]]
     after = curve[np.flatnonzero(require(system.beyond, "rho beyond rho_J"))[0]]
     if not (np.isfinite(before) and np.isfinite(after)):
         raise NotEvaluated("medium-bin count NaN next to rho_J")
@@ -454,7 +454,7 @@ def tp1_steeper_in_3d(context: ClaimContext) -> Judgement:
 _claim_absent_then_growing(
     "5.3", "TP2/N", lambda system: persistence_curve(system, 2),
     ("p1-5.3-tp2-zero-below", "in 3D TP2 ~ 0 for rho < rho_J",
-     "max over rho < rho_J - tol of mean TP2/N <= {negligible_fraction} x its maximum"),
+     "max over {below_cut} of mean TP2/N <= {negligible_fraction} x its maximum"),
     ("p1-5.3-tp2-grows", "in 3D TP2 increases monotonically for rho > rho_J",
      "mean TP2/N over rho >= rho_J - tol rises by > {negligible_fraction} of its maximum, never drops between "
      "consecutive rho by more than {monotone_tolerance} of it, and is > 0 at every rho > rho_J + tol"))

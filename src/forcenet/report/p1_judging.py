@@ -12,17 +12,24 @@ from typing import Mapping
 import numpy as np
 import xarray as xr
 
-from forcenet.report.claims import Judgement, NotEvaluated
+from forcenet.report.claims import Judgement, NotEvaluated, relative_margin, smallest_margin
 from forcenet.report.p1 import (HERTZ_2D, HERTZ_3D, LINEAR_2D, finite_max, per_particle, rho_values, system_order)
 from forcenet.report.realizations import realization_mean
+
+#: the two cuts of "below jamming" (issue 25): the states before the jump, every grid state below the inflection
+#: point ρ_J (the table's cut), and the older cut one tolerance further down (judged beside it)
+BELOW_BEFORE_JUMP, BELOW_TOLERANCE = "rho < rho_J", "rho < rho_J - tol"
+
 
 @dataclass(frozen=True)
 class ClaimTolerances:
     """Tolerances of the claim criteria; each is a keyword argument of `p1_validation`.
 
-    rho_tolerance : "near ρ_J" means |ρ − ρ_J| ≤ this; "below" and "beyond ρ_J" mean ρ < ρ_J − this and
-        ρ > ρ_J + this.
+    rho_tolerance : "near ρ_J" means |ρ − ρ_J| ≤ this; "beyond ρ_J" means ρ > ρ_J + this.
         None: the larger of P1's Δρ = 0.02 and the system's own ρ step.
+    below_cut : which states are "below jamming": `BELOW_BEFORE_JUMP` (every grid state below ρ_J, the last
+        ones before the jump of Z; the table's cut) or `BELOW_TOLERANCE` (ρ < ρ_J − rho_tolerance; judged
+        beside it).
     rho_window : width of the ρ window of "a rise close to ρ_J" (ρ_J ± this) and of "a plateau near ρ_max"
         (the last window before ρ_max). None: twice the system's rho_tolerance.
     min_prominence : a peak of a curve versus ρ needs a topographic prominence ≥ this fraction of its scale
@@ -46,6 +53,8 @@ class ClaimTolerances:
         rho_window ≥ this × the larger 2D rise.
     pdf_distance : "significantly different" force PDFs: total-variation distance ½ ∫|p − q| dF ≥ this.
     min_clusters : "a non-vanishing number of clusters": realization-mean count per snapshot ≥ this.
+    contrast_factor : "pronounced" for one law, "rather insignificant" for the other (P1 §5.1, §5.3): the
+        prominence of one law's peak ≥ this × the other's, on one scale.
     """
 
     rho_tolerance: float | None = None
@@ -64,6 +73,13 @@ class ClaimTolerances:
     steeper_factor: float = 1.5
     pdf_distance: float = 0.1
     min_clusters: float = 1.0
+    contrast_factor: float = 2.0
+    below_cut: str = BELOW_BEFORE_JUMP
+
+    def __post_init__(self):
+        """Refuse an unknown cut of "below jamming"."""
+        if self.below_cut not in (BELOW_BEFORE_JUMP, BELOW_TOLERANCE):
+            raise ValueError(f"below_cut must be {BELOW_BEFORE_JUMP!r} or {BELOW_TOLERANCE!r}, not {self.below_cut!r}")
 
 
 @dataclass(frozen=True)
@@ -73,7 +89,7 @@ class SystemData:
     data : total-force measures over the judged ρ range (all ρ, or ρ ≤ ρ_max with ``judge_up_to_rho_max``);
     full : total-force measures over every simulated ρ; rho_j : ρ_J (inflection of Z, from every ρ); rho_max :
     ρ_max under the table's force unit; tolerance, window : `ClaimTolerances.rho_tolerance`/`rho_window` resolved
-    for this system.
+    for this system; below_cut : `ClaimTolerances.below_cut`.
     """
 
     name: str
@@ -85,6 +101,7 @@ class SystemData:
     rho_max: float
     tolerance: float
     window: float
+    below_cut: str = BELOW_BEFORE_JUMP
 
     @property
     def role(self) -> tuple[int, str]:
@@ -98,8 +115,34 @@ class SystemData:
 
     @property
     def below(self) -> np.ndarray:
-        """ρ < ρ_J − tolerance (mask over `data`'s ρ)."""
+        """The states below jamming (mask over `data`'s ρ): ρ < ρ_J (`BELOW_BEFORE_JUMP`) or ρ < ρ_J − tolerance
+        (`BELOW_TOLERANCE`), by `below_cut`."""
+        cut = self.rho_j - (self.tolerance if self.below_cut == BELOW_TOLERANCE else 0.0)
+        return self.rho < cut - 1e-12
+
+    @property
+    def below_transition(self) -> np.ndarray:
+        """ρ < ρ_J − tolerance whatever `below_cut` (mask over `data`'s ρ): the side of the transition that a jump
+        across it is measured from, symmetric to `beyond`."""
         return self.rho < self.rho_j - self.tolerance - 1e-12
+
+    @property
+    def below_limit(self) -> float:
+        """The ρ that `below` stays under (ρ_J or ρ_J − tolerance)."""
+        return self.rho_j - (self.tolerance if self.below_cut == BELOW_TOLERANCE else 0.0)
+
+    @property
+    def step(self) -> float:
+        """The system's ρ grid step (median spacing; 0 with one ρ)."""
+        return float(np.median(np.diff(self.rho))) if self.rho.size > 1 else 0.0
+
+    def states(self, mask: np.ndarray) -> str:
+        """The states of `mask` as text for the table's states column: ``rho 0.780-0.800 (3 states)``."""
+        rho = self.rho[np.asarray(mask, bool)]
+        if rho.size == 0:
+            return "no state"
+        span = f"{rho[0]:.3f}" if rho.size == 1 else f"{rho[0]:.3f}-{rho[-1]:.3f}"
+        return f"rho {span} ({rho.size} state{'s' if rho.size > 1 else ''})"
 
     @property
     def beyond(self) -> np.ndarray:
@@ -198,9 +241,16 @@ def strongest_peak(values: xr.DataArray, system: SystemData, thresholds: np.ndar
     return best
 
 
+def near_by_one_step(peak: Peak, system: SystemData) -> bool:
+    """True when the peak's "near ρ_J" turns if it moves by one grid step (it lies within one step of the
+    tolerance's edge): a verdict that rests on it is marginal."""
+    return abs(abs(peak.rho - system.rho_j) - system.tolerance) < system.step - 1e-12
+
+
 def peak_verdict(peak: Peak | None, what: str, system: SystemData, tolerances: ClaimTolerances,
                   expected: bool, threshold: float | None = None) -> Judgement:
-    """A peak near ρ_J is present iff near and relative prominence ≥ min_prominence; holds iff as expected."""
+    """A peak near ρ_J is present iff near and relative prominence ≥ min_prominence; holds iff as expected.
+    Marginal when the prominence is within 10 % of min_prominence or "near" turns by one grid step."""
     if peak is None:
         raise NotEvaluated(f"{what} is NaN or zero everywhere")
     present = peak.near and peak.relative_prominence >= tolerances.min_prominence
@@ -209,7 +259,9 @@ def peak_verdict(peak: Peak | None, what: str, system: SystemData, tolerances: C
                 f"{system.tolerance:.3g}), relative prominence {peak.relative_prominence:.2f}; peak "
                 f"{'present' if present else 'absent'}, expected {'present' if expected else 'absent'} for a "
                 f"{system.force_law} law")
-    return Judgement(peak.relative_prominence, evidence, present == expected)
+    margin = relative_margin(peak.relative_prominence, tolerances.min_prominence) if peak.near else math.nan
+    return Judgement(peak.relative_prominence, evidence, present == expected, margin=margin,
+                     grid_step=near_by_one_step(peak, system), states=f"rho {peak.rho:.3f}")
 
 
 def expected_for_law(system: SystemData, nonlinear: bool) -> bool:
@@ -270,16 +322,24 @@ def fmt_values(values, digits: int = 3) -> str:
 
 
 def zero_below(curve: xr.DataArray, system: SystemData, tolerances: ClaimTolerances, what: str) -> Judgement:
-    """`what` ≈ 0 below ρ_J: its largest value at ρ < ρ_J − tolerance ≤ negligible_fraction × its maximum."""
-    below = require(system.below, f"rho below rho_J - {system.tolerance:.3g}")
+    """`what` ≈ 0 below ρ_J: its largest value over the states `below` ≤ negligible_fraction × its maximum.
+
+    Vacuous (issue 25) when `what` is zero below ρ_J and also at more than half of the states beyond ρ_J + tol:
+    P1's "vanishes below, grows beyond" then has nothing to contrast (B2 with filled tetrahedra)."""
+    below = require(system.below, f"rho below {system.below_limit:.3f}")
     values = np.asarray(curve.values, dtype=float)
     below_max, overall = finite_max(values[below]), finite_max(values)
     if not np.isfinite(overall):
         raise NotEvaluated(f"{what} is NaN everywhere")
-    holds = below_max == 0 or below_max <= tolerances.negligible_fraction * overall
-    evidence = (f"max {what} for rho < {system.rho_j - system.tolerance:.3f}: {below_max:.3g}; max over all rho "
-                f"{overall:.3g} ({system.label()})")
-    return Judgement(below_max, evidence, bool(holds))
+    limit = tolerances.negligible_fraction * overall
+    holds = below_max == 0 or below_max <= limit
+    beyond = values[system.beyond]
+    zero_beyond = int(np.count_nonzero(beyond == 0))
+    vacuous = bool(below_max == 0 and beyond.size > 0 and zero_beyond > beyond.size / 2)
+    evidence = (f"max {what} for rho < {system.below_limit:.3f}: {below_max:.3g}; max over all rho "
+                f"{overall:.3g} ({system.label()}); zero at {zero_beyond} of {beyond.size} rho beyond rho_J + tol")
+    margin = relative_margin(below_max, limit) if below_max > 0 else math.nan
+    return Judgement(below_max, evidence, bool(holds), margin=margin, vacuous=vacuous, states=system.states(below))
 
 
 def grows_beyond(curve: xr.DataArray, system: SystemData, tolerances: ClaimTolerances, what: str) -> Judgement:
@@ -305,4 +365,6 @@ def grows_beyond(curve: xr.DataArray, system: SystemData, tolerances: ClaimToler
                 "growth "
                 f"{growth:.3g}, largest drop {drop:.3g}, max {top:.3g}; zero at {absent} of {beyond.size} rho beyond "
                 "rho_J + tol")
-    return Judgement(growth, evidence, bool(holds))
+    margin = smallest_margin(relative_margin(growth, tolerances.negligible_fraction * top),
+                             relative_margin(drop, tolerances.monotone_tolerance * top) if drop > 0 else math.nan)
+    return Judgement(growth, evidence, bool(holds), margin=margin, states=system.states(from_jamming))

@@ -18,8 +18,8 @@ import xarray as xr
 
 from forcenet.report import p1_claims, p1_claims_topology
 from forcenet.report.claims import (FAILS, HOLDS, NOT_EVALUATED, Claim, JudgedClaim, Judgement, NotEvaluated,
-                                    TableLayout, TableSection, claims_frame, judge_claim, validation_markdown,
-                                    verdict_counts, with_paper_size, write_validation_table)
+                                    VERDICT_COLUMNS, TableLayout, TableSection, claims_frame, judge_claim, validation_markdown,
+                                    verdict_summary, with_paper_size, write_validation_table)
 from forcenet.report.p1 import (DEFAULT_P1_FORCE_UNIT, P1_FORCE_UNITS, P1_RHO_STEP, P1_ROLES, P1_SYSTEMS,
                                 PAPER_PHI_C, PAPER_RHO_J, PAPER_RHO_MAX, PAPER_Z_AT_JAMMING, FMaxCut, cut_at_rho_max,
                                 f_max_cut, isostatic_crossing, jamming_point, rho_values, select_total,
@@ -33,7 +33,7 @@ CLAIMS: list[Claim] = [*p1_claims.CLAIMS, *p1_claims_topology.CLAIMS]
 P1_LAYOUT = TableLayout(columns={"kind": "kind", "id": "id", "section": "section", "item": "statement",
                                  "system": "system", "measured": "measured", "paper": "paper",
                                  "difference": "difference", "criterion": "criterion", "evidence": "evidence",
-                                 "verdict": "verdict"})
+                                 **VERDICT_COLUMNS})
 COLUMNS = tuple(P1_LAYOUT.columns)
 
 
@@ -67,7 +67,9 @@ def p1_validation(measures: Mapping[str, xr.Dataset], *, force_unit: str = DEFAU
     context = ClaimContext(systems, tolerances_)
     for claim_ in sorted(CLAIMS, key=lambda c: tuple(int(part) for part in c.section.split("."))):
         rows.extend(_claim_rows(claim_, context, set(P1_SYSTEMS) | set(present)))
-    return claims_frame(rows, P1_LAYOUT)
+    table = claims_frame(rows, P1_LAYOUT)
+    table.attrs["force_unit"] = force_unit
+    return table
 
 
 def _cuts(present: Mapping[str, xr.Dataset]) -> dict[str, FMaxCut | str]:
@@ -95,7 +97,8 @@ def system_data(name: str, ds: xr.Dataset, cut: FMaxCut | None = None, tolerance
     rho_max = cut.rho_max.get(name, math.nan) if cut else math.nan
     return SystemData(name=name, dimension=system_dimension(ds, name), force_law=system_force_law(ds, name),
                       data=cut_at_rho_max(full, rho_max) if up_to_rho_max else full, full=full,
-                      rho_j=jamming_point(ds), rho_max=rho_max, tolerance=tolerance, window=window)
+                      rho_j=jamming_point(ds), rho_max=rho_max, tolerance=tolerance, window=window,
+                      below_cut=tolerances.below_cut)
 
 
 def _claim_rows(claim_: Claim, context: ClaimContext, names: set[str]) -> list[JudgedClaim]:
@@ -201,25 +204,26 @@ def _markdown_head(force_unit: str) -> list[str]:
 
 def _markdown_sections(table: pd.DataFrame) -> list[TableSection]:
     """The table of values, then the table of claims headed by the verdict counts."""
-    counts = verdict_counts(table)
-    n_claims = int((table["kind"] == "claim").sum())
     return [TableSection("Values", [], ["item", "system", "measured", "paper", "difference", "evidence", "verdict"],
                          kind="value"),
-            TableSection("Claims", [f"{n_claims} rows: {counts[HOLDS]} hold, {counts[FAILS]} do not hold, "
-                                    f"{counts[NOT_EVALUATED]} not evaluated.", ""],
-                         ["id", "section", "item", "system", "measured", "paper", "criterion", "evidence", "verdict"],
-                         kind="claim")]
+            TableSection("Claims", [verdict_summary(table), ""],
+                         ["id", "section", "item", "system", "measured", "paper", "criterion", "evidence", "verdict",
+                          "marker", "robustness", "states", "reading"], kind="claim")]
 
 
-def p1_validation_markdown(table: pd.DataFrame, force_unit: str = DEFAULT_P1_FORCE_UNIT) -> str:
-    """The validation table as Markdown: one table of values, one of claims, with the verdict counts."""
+def p1_validation_markdown(table: pd.DataFrame) -> str:
+    """The validation table as Markdown: one table of values, one of claims, with the verdict counts; the force
+    unit of the figures is the table's own (``table.attrs["force_unit"]``)."""
+    force_unit = table.attrs.get("force_unit", DEFAULT_P1_FORCE_UNIT)
     return validation_markdown(table, P1_LAYOUT, _markdown_head(force_unit), _markdown_sections(table))
 
 
-def write_p1_validation(table: pd.DataFrame, csv_path: str | os.PathLike, md_path: str | os.PathLike,
-                        force_unit: str = DEFAULT_P1_FORCE_UNIT, paper_size: str | os.PathLike | None = None) -> None:
-    """Write the validation table as CSV and Markdown; with `paper_size` (the campaign's ``docs/validation/p1.csv``)
-    a column beside P1's values gives our value at P1's sizes (`forcenet.report.claims.with_paper_size`)."""
+def write_p1_validation(table: pd.DataFrame, csv_path: str | os.PathLike | None, md_path: str | os.PathLike, *,
+                        paper_size: str | os.PathLike | None = None) -> None:
+    """Write the validation table as CSV and Markdown (the arguments of `write_p2_validation`); with `paper_size`
+    (the campaign's ``docs/validation/p1.csv``) a column beside P1's values gives our value at P1's sizes
+    (`forcenet.report.claims.with_paper_size`)."""
+    force_unit = table.attrs.get("force_unit", DEFAULT_P1_FORCE_UNIT)
     if paper_size is not None:
         table = with_paper_size(table, P1_LAYOUT, paper_size)
     write_validation_table(table, P1_LAYOUT, csv_path, md_path, _markdown_head(force_unit), _markdown_sections(table))

@@ -1,8 +1,9 @@
 """P2's claims (§III D Tables I–III, §IV A–C, §V): one `forcenet.report.claims.Claim` each in `CLAIMS`, judged on
 the realization-mean distance curves and Tables I–III (`forcenet.report.p2_judging.Context`).
 
-A judge returns (evidence, holds) or raises `NotEvaluated`; criteria are functions of `ValidationTolerances`, so
-every verdict uses the documented tolerances and nothing else. The only numbers typed in are P2's own: the
+A judge returns a `forcenet.report.claims.Judgement` (the key number, the evidence, holds, and how far the
+deciding number lies from its threshold) or raises `NotEvaluated`; criteria are functions of
+`ValidationTolerances`, so every verdict uses the documented tolerances and nothing else. The only numbers typed in are P2's own: the
 ``paper`` column (its statement), the ρ ranges it names and its printed tables. Why a claim does not hold is
 `forcenet.report.p2_explanations`; the table is `forcenet.report.p2_validation`.
 """
@@ -14,12 +15,14 @@ from typing import Callable, Sequence
 import numpy as np
 import pandas as pd
 
-from forcenet.report.claims import Claim, NotEvaluated, claim_register
+from forcenet.report.claims import (Claim, Judgement, NotEvaluated, claim_register, contrast_margin, ratio_margin,
+                                    relative_margin, smallest_margin)
 from forcenet.report.p2 import (METRIC_SYMBOLS, METRICS, P2_HOMOLOGY_DIMS, TABLE_PAIRS,
                                 jamming_density_per_realization, table_column)
 from forcenet.report.p2_judging import (B, NORMAL, TANGENTIAL, W1, W2, Context, Curves, ValidationTolerances,
                                         coefficient_of_variation, fmt, log10_ratio, on_grid, pearson,
-                                        per_dim_metric_text, per_metric_text, rate_quotient, spearman, within_factor)
+                                        per_dim_metric_text, per_metric_text, rate_quotient, spearman, within_factor,
+                                        within_factor_margin)
 
 
 CLAIMS: list[Claim] = []  # in the order of the table
@@ -30,13 +33,15 @@ claim = claim_register(CLAIMS)
        "No single dramatic change between nearby states: d_B(a,b) and d_B(a,c) are small",
        lambda t: f"d_B(a,b) <= 0.10·{t.value_factor} and d_B(a,c) <= 0.15·{t.value_factor} for beta0 and beta1",
        paper="< 0.10 and < 0.15 <F>", scope="tables")
-def _t_bottleneck_small(ctx: Context) -> tuple[str, bool]:
-    """Judge of claim III.D-1: (evidence, holds) by its criterion."""
+def _t_bottleneck_small(ctx: Context) -> Judgement:
+    """Judge of claim III.D-1 by its criterion."""
     t = ctx.table("table1")
     values = {(pair, h): float(t.loc[pair, table_column(h, B)]) for pair in TABLE_PAIRS for h in P2_HOMOLOGY_DIMS}
     limits = {"(a,b)": 0.10, "(a,c)": 0.15}
-    ok = all(v <= limits[pair] * ctx.tol.value_factor for (pair, _), v in values.items())
-    return "Table I d_B: " + ", ".join(f"{p} beta{h} {fmt(v, 2)}" for (p, h), v in values.items()), ok
+    worst = max(v / (limits[pair] * ctx.tol.value_factor) for (pair, _), v in values.items())
+    return Judgement(worst, "Table I d_B: " + ", ".join(f"{p} beta{h} {fmt(v, 2)}" for (p, h), v in values.items())
+                     + f"; largest share of its limit {fmt(worst, 2)}", worst <= 1.0,
+                     margin=relative_margin(worst, 1.0))
 
 
 @claim("III.D-2", "§III D, Table I",
@@ -44,16 +49,17 @@ def _t_bottleneck_small(ctx: Context) -> tuple[str, bool]:
        "than d_W2",
        lambda t: "d_W1(a,c)/d_W1(a,b) > d_W2(a,c)/d_W2(a,b) for beta0 and beta1",
        paper="beta0: 14.0/4.18 vs 0.89/0.50; beta1: 19.2/3.8 vs 0.99/0.57", scope="tables")
-def _t_relative_w1(ctx: Context) -> tuple[str, bool]:
-    """Judge of claim III.D-2: (evidence, holds) by its criterion."""
+def _t_relative_w1(ctx: Context) -> Judgement:
+    """Judge of claim III.D-2 by its criterion."""
     t = ctx.table("table1")
     growth = {}
     for h in P2_HOMOLOGY_DIMS:
         for m in (W1, W2):
             col = table_column(h, m)
             growth[h, m] = float(t.loc["(a,c)", col]) / float(t.loc["(a,b)", col])
-    ok = all(growth[h, W1] > growth[h, W2] for h in P2_HOMOLOGY_DIMS)
-    return f"Table I (a,c)/(a,b): {per_dim_metric_text(growth)}", ok
+    lead = min(growth[h, W1] / growth[h, W2] for h in P2_HOMOLOGY_DIMS)
+    return Judgement(lead, f"Table I (a,c)/(a,b): {per_dim_metric_text(growth)}; smallest d_W1/d_W2 growth quotient "
+                           f"{fmt(lead, 2)}", lead > 1.0, margin=relative_margin(lead, 1.0))
 
 
 def quadrant_dominance(table: pd.DataFrame) -> pd.DataFrame:
@@ -72,52 +78,56 @@ def quadrant_dominance(table: pd.DataFrame) -> pd.DataFrame:
        "The (a,b) differences are concentrated in one quadrant (bottom left in P2)",
        lambda t: f"one quadrant largest in most columns and median largest/second largest >= {t.dominance}",
        paper="bottom left largest in every column", scope="tables")
-def _t_localised(ctx: Context) -> tuple[str, bool]:
-    """Judge of claim III.D-3: (evidence, holds) by its criterion."""
+def _t_localised(ctx: Context) -> Judgement:
+    """Judge of claim III.D-3 by its criterion."""
     stats = quadrant_dominance(ctx.table("table2"))
     top = stats["largest"].value_counts()
     quadrant, count = str(top.index[0]), int(top.iloc[0])
     median = float(stats["dominance"].median())
     ok = count > len(stats) / 2 and median >= ctx.tol.dominance
-    return (f"Table II: '{quadrant}' is largest in {count} of {len(stats)} columns; median largest/second largest "
-            f"= {fmt(median, 2)}", ok)
+    return Judgement(median, f"Table II: '{quadrant}' is largest in {count} of {len(stats)} columns; median "
+                             f"largest/second largest = {fmt(median, 2)}", ok,
+                     margin=relative_margin(median, ctx.tol.dominance))
 
 
 @claim("III.D-4", "§III D, Table III",
        "The (a,c) differences are distributed evenly over the domain",
        lambda t: f"median over columns of largest/smallest quadrant <= {t.spread}",
        paper="similar values in all quadrants", scope="tables")
-def _t_spread(ctx: Context) -> tuple[str, bool]:
-    """Judge of claim III.D-4: (evidence, holds) by its criterion."""
+def _t_spread(ctx: Context) -> Judgement:
+    """Judge of claim III.D-4 by its criterion."""
     stats = quadrant_dominance(ctx.table("table3"))
     median = float(stats["max_over_min"].median())
-    return f"Table III: median over columns of largest/smallest quadrant = {fmt(median, 2)}", median <= ctx.tol.spread
+    return Judgement(median, f"Table III: median over columns of largest/smallest quadrant = {fmt(median, 2)}",
+                     median <= ctx.tol.spread, margin=relative_margin(median, ctx.tol.spread))
 
 
 @claim("IV.A-1", "§IV A, Fig. 6",
        "The most pronounced feature is the dramatic change around rho_J (Z ≈ 3)",
        lambda t: f"argmax of mean d_W1 (beta0 and beta1) within ±{t.peak_window} of rho_J",
        paper="rate of change peaks at rho_J", scope="frictional")
-def _a_peak_near_jamming(ctx: Context) -> tuple[str, bool]:
-    """Judge of claim IV.A-1: (evidence, holds) by its criterion."""
+def _a_peak_near_jamming(ctx: Context) -> Judgement:
+    """Judge of claim IV.A-1 by its criterion."""
     c = ctx.system(ctx.frictional)
     rho_j = c.jammed()
     peaks = {h: c.argmax(c.mean(NORMAL, h, W1)) for h in P2_HOMOLOGY_DIMS}
-    ok = all(abs(p - rho_j) <= ctx.tol.peak_window for p in peaks.values())
-    return (f"rho_J = {fmt(rho_j)}; argmax of mean d_W1: beta0 at {fmt(peaks[0])}, beta1 at {fmt(peaks[1])}", ok)
+    farthest = max(abs(p - rho_j) for p in peaks.values())
+    return Judgement(farthest, f"rho_J = {fmt(rho_j)}; argmax of mean d_W1: beta0 at {fmt(peaks[0])}, beta1 at "
+                               f"{fmt(peaks[1])}", farthest <= ctx.tol.peak_window,
+                     grid_step=c.by_one_step(farthest, ctx.tol.peak_window))
 
 
 @claim("IV.A-2", "§IV A, Fig. 6(a)",
        "Before jamming d_B (beta0) is an order of magnitude greater than one for most of the regime",
        lambda t: f"median of mean d_B over rho < rho_J >= 10/{t.value_factor}",
        paper="≈ 10 <F>", scope="frictional")
-def _a_db_large_before(ctx: Context) -> tuple[str, bool]:
-    """Judge of claim IV.A-2: (evidence, holds) by its criterion."""
+def _a_db_large_before(ctx: Context) -> Judgement:
+    """Judge of claim IV.A-2 by its criterion."""
     c = ctx.system(ctx.frictional)
     s = c.window(c.mean(NORMAL, 0, B), hi=c.jammed())
     median = float(s.median())
-    return (f"median d_B(beta0) over rho < rho_J = {fmt(c.rho_j)}: {fmt(median)} <F>",
-            median >= 10 / ctx.tol.value_factor)
+    return Judgement(median, f"median d_B(beta0) over rho < rho_J = {fmt(c.rho_j)}: {fmt(median)} <F>",
+                     median >= 10 / ctx.tol.value_factor, margin=relative_margin(median, 10 / ctx.tol.value_factor))
 
 
 def _ratio_constant(denominator: str, reference: float):
@@ -126,14 +136,16 @@ def _ratio_constant(denominator: str, reference: float):
         """The criterion with the tolerances `t` filled in."""
         return f"median within a factor {t.value_factor} of {fmt(reference)} and CV <= {t.max_cv}"
 
-    def evaluate(ctx: Context) -> tuple[str, bool]:
-        """(evidence, holds): median and CV of the ratio over rho < 0.75."""
+    def evaluate(ctx: Context) -> Judgement:
+        """The median and CV of the ratio over rho < 0.75."""
         c = ctx.system(ctx.frictional)
         s = c.window(c.ratio(NORMAL, 0, denominator), hi=0.75)
         median, cv = float(s.median()), coefficient_of_variation(s)
         ok = within_factor(median, reference, ctx.tol.value_factor) and cv <= ctx.tol.max_cv
-        return (f"median d_B/{METRIC_SYMBOLS[denominator]} = {fmt(median)}, CV = {fmt(cv, 2)} over {len(s)} rho values "
-                f"< 0.75 (rho_J = {fmt(c.rho_j)})", ok)
+        return Judgement(median, f"median d_B/{METRIC_SYMBOLS[denominator]} = {fmt(median)}, CV = {fmt(cv, 2)} over "
+                                 f"{len(s)} rho values < 0.75 (rho_J = {fmt(c.rho_j)})", ok,
+                         margin=smallest_margin(within_factor_margin(median, reference, ctx.tol.value_factor),
+                                                relative_margin(cv, ctx.tol.max_cv)))
     return criterion, evaluate
 
 
@@ -153,29 +165,32 @@ claim("IV.A-4", "§IV A, Fig. 7(a)",
        "At rho ≈ 0.75 the rate of change measured by d_B (beta0) decreases dramatically",
        lambda t: f"median d_B over [0.75, rho_J) <= median over rho < 0.75 / {t.drop_factor}",
        paper="drop at 0.75", scope="frictional")
-def _a_db_drops_at_075(ctx: Context) -> tuple[str, bool]:
-    """Judge of claim IV.A-5: (evidence, holds) by its criterion."""
+def _a_db_drops_at_075(ctx: Context) -> Judgement:
+    """Judge of claim IV.A-5 by its criterion."""
     c = ctx.system(ctx.frictional)
     s = c.mean(NORMAL, 0, B)
     before, after = c.window(s, hi=0.75), c.window(s, 0.75, c.jammed())
     m0, m1 = float(before.median()), float(after.median())
-    return (f"median d_B(beta0): {fmt(m0)} for rho < 0.75, {fmt(m1)} for 0.75 <= rho < rho_J = {fmt(c.rho_j)}",
-            m1 <= m0 / ctx.tol.drop_factor)
+    fall = rate_quotient(m0, m1, "d_B(beta0) medians before and after 0.75")
+    return Judgement(fall, f"median d_B(beta0): {fmt(m0)} for rho < 0.75, {fmt(m1)} for 0.75 <= rho < rho_J = "
+                           f"{fmt(c.rho_j)}", m1 <= m0 / ctx.tol.drop_factor,
+                     margin=ratio_margin(fall, ctx.tol.drop_factor))
 
 
 @claim("IV.A-6", "§IV A, Figs 6(a), 7(a)",
        "For 0.75 < rho < rho_J, d_W1 (beta0) increases dramatically and d_B/d_W1 decreases",
        lambda t: f"Spearman(rho, d_W1) >= {t.trend} and Spearman(rho, d_B/d_W1) <= -{t.trend}",
        paper="increase / decrease", scope="frictional")
-def _a_w1_grows_before_jamming(ctx: Context) -> tuple[str, bool]:
-    """Judge of claim IV.A-6: (evidence, holds) by its criterion."""
+def _a_w1_grows_before_jamming(ctx: Context) -> Judgement:
+    """Judge of claim IV.A-6 by its criterion."""
     c = ctx.system(ctx.frictional)
     w1 = c.window(c.mean(NORMAL, 0, W1), 0.75, c.jammed())
     r1 = c.window(c.ratio(NORMAL, 0, W1), 0.75, c.jammed())
     s_w1, s_r1 = spearman(w1), spearman(r1)
-    return (f"Spearman(rho, d_W1) = {fmt(s_w1, 2)}, Spearman(rho, d_B/d_W1) = {fmt(s_r1, 2)} over "
-            f"0.75 <= rho < rho_J = {fmt(c.rho_j)} ({len(w1)} values)",
-            s_w1 >= ctx.tol.trend and s_r1 <= -ctx.tol.trend)
+    return Judgement(s_w1, f"Spearman(rho, d_W1) = {fmt(s_w1, 2)}, Spearman(rho, d_B/d_W1) = {fmt(s_r1, 2)} over "
+                           f"0.75 <= rho < rho_J = {fmt(c.rho_j)} ({len(w1)} values)",
+                     s_w1 >= ctx.tol.trend and s_r1 <= -ctx.tol.trend,
+                     margin=smallest_margin(relative_margin(s_w1, ctx.tol.trend), relative_margin(-s_r1, ctx.tol.trend)))
 
 
 @claim("IV.A-7", "§IV A, Fig. 7(a)",
@@ -184,8 +199,8 @@ def _a_w1_grows_before_jamming(ctx: Context) -> tuple[str, bool]:
        lambda t: (f"CV <= {t.max_cv} over [0.75, rho_J - {t.near_jamming}) and the minimum over [rho_J - "
                   f"{t.near_jamming}, rho_J] <= plateau median / {t.drop_factor}"),
        paper="constant, then plunge", scope="frictional")
-def _a_w2_ratio_plunges(ctx: Context) -> tuple[str, bool]:
-    """Judge of claim IV.A-7: (evidence, holds) by its criterion."""
+def _a_w2_ratio_plunges(ctx: Context) -> Judgement:
+    """Judge of claim IV.A-7 by its criterion."""
     c = ctx.system(ctx.frictional)
     rho_j, near = c.jammed(), ctx.tol.near_jamming
     r2 = c.ratio(NORMAL, 0, W2)
@@ -193,82 +208,95 @@ def _a_w2_ratio_plunges(ctx: Context) -> tuple[str, bool]:
     before_jamming = c.window(r2, rho_j - near, rho_j, closed_hi=True)
     cv, median, low = coefficient_of_variation(plateau), float(plateau.median()), float(before_jamming.min())
     ok = cv <= ctx.tol.max_cv and low <= median / ctx.tol.drop_factor
-    return (f"d_B/d_W2 over [0.75, rho_J - {near}): median {fmt(median)}, CV {fmt(cv, 2)}; minimum over "
-            f"[rho_J - {near}, rho_J = {fmt(rho_j)}]: {fmt(low)}", ok)
+    plunge = rate_quotient(median, low, "d_B/d_W2 plateau and minimum")
+    return Judgement(plunge, f"d_B/d_W2 over [0.75, rho_J - {near}): median {fmt(median)}, CV {fmt(cv, 2)}; minimum "
+                             f"over [rho_J - {near}, rho_J = {fmt(rho_j)}]: {fmt(low)}", ok,
+                     margin=smallest_margin(relative_margin(cv, ctx.tol.max_cv),
+                                            ratio_margin(plunge, ctx.tol.drop_factor)))
 
 
 @claim("IV.A-8", "§IV A, Fig. 6(b)",
        "Before jamming the rate of change of the loop structure (beta1) generally increases with rho",
        lambda t: f"median over d_B, d_W1, d_W2 of Spearman(rho, d) over rho < min(0.77, rho_J) >= {t.trend}",
        paper="increase", scope="frictional")
-def _a_loops_increase(ctx: Context) -> tuple[str, bool]:
-    """Judge of claim IV.A-8: (evidence, holds) by its criterion."""
+def _a_loops_increase(ctx: Context) -> Judgement:
+    """Judge of claim IV.A-8 by its criterion."""
     c = ctx.system(ctx.frictional)
     hi = min(0.77, c.jammed())
     rhos = {m: spearman(c.window(c.mean(NORMAL, 1, m), hi=hi)) for m in METRICS}
     median = float(np.nanmedian(list(rhos.values())))
-    return f"Spearman(rho, d) for beta1 over rho < {fmt(hi)}: {per_metric_text(rhos)}", median >= ctx.tol.trend
+    return Judgement(median, f"Spearman(rho, d) for beta1 over rho < {fmt(hi)}: {per_metric_text(rhos)}",
+                     median >= ctx.tol.trend, margin=relative_margin(median, ctx.tol.trend))
 
 
 @claim("IV.A-9", "§IV A, Fig. 6(b)",
        "At rho ≈ 0.77 d_B (beta1) starts decreasing",
        lambda t: f"argmax of mean d_B(beta1) within 0.77 ± {t.peak_window}",
        paper="peak at 0.77", scope="frictional")
-def _a_loops_db_peak(ctx: Context) -> tuple[str, bool]:
-    """Judge of claim IV.A-9: (evidence, holds) by its criterion."""
+def _a_loops_db_peak(ctx: Context) -> Judgement:
+    """Judge of claim IV.A-9 by its criterion."""
     c = ctx.system(ctx.frictional)
     peak = c.argmax(c.mean(NORMAL, 1, B))
-    return (f"argmax of mean d_B(beta1): rho = {fmt(peak)} (rho_J = {fmt(c.rho_j)})",
-            abs(peak - 0.77) <= ctx.tol.peak_window)
+    return Judgement(peak, f"argmax of mean d_B(beta1): rho = {fmt(peak)} (rho_J = {fmt(c.rho_j)})",
+                     abs(peak - 0.77) <= ctx.tol.peak_window,
+                     grid_step=c.by_one_step(abs(peak - 0.77), ctx.tol.peak_window))
 
 
 @claim("IV.A-10", "§IV A, Fig. 7(b)",
        "Both ratios d_B/d_W2 and d_B/d_W1 (beta1) decrease from rho ≈ 0.76 on",
        lambda t: f"Spearman(rho, ratio) <= -{t.trend} over 0.76 <= rho <= rho_J for both ratios",
        paper="decrease", scope="frictional")
-def _a_loop_ratios_decrease(ctx: Context) -> tuple[str, bool]:
-    """Judge of claim IV.A-10: (evidence, holds) by its criterion."""
+def _a_loop_ratios_decrease(ctx: Context) -> Judgement:
+    """Judge of claim IV.A-10 by its criterion."""
     c = ctx.system(ctx.frictional)
     hi = c.jammed()
     s = {d: spearman(c.window(c.ratio(NORMAL, 1, d), 0.76, hi, closed_hi=True)) for d in (W2, W1)}
-    return (f"Spearman(rho, ratio) for beta1 over 0.76 <= rho <= rho_J = {fmt(hi)}: d_B/d_W2 {fmt(s[W2], 2)}, "
-            f"d_B/d_W1 {fmt(s[W1], 2)}", all(v <= -ctx.tol.trend for v in s.values()))
+    weakest = max(s.values())
+    return Judgement(weakest, f"Spearman(rho, ratio) for beta1 over 0.76 <= rho <= rho_J = {fmt(hi)}: d_B/d_W2 "
+                              f"{fmt(s[W2], 2)}, d_B/d_W1 {fmt(s[W1], 2)}", weakest <= -ctx.tol.trend,
+                     margin=relative_margin(-weakest, ctx.tol.trend))
 
 
 def _fall_after_jamming(role: str):
-    """The judge of "after jamming the rate of change slows dramatically" for the system of `role`."""
-    def evaluate(ctx: Context) -> tuple[str, bool]:
-        """(evidence, holds): median before / median after rho_J, every metric, beta0 and beta1."""
+    """The judge of "after jamming the rate of change slows dramatically" for the system of `role`: the rates after
+    ρ_J against those just before it (P2 §IV A compares the two sides of the transition; the dilute regime far
+    below, where β1 has hardly any loops to change, is not what slows)."""
+    def evaluate(ctx: Context) -> Judgement:
+        """Median over [rho_J - rate_window, rho_J) / median over rho > rho_J, every metric, beta0 and beta1."""
         c = ctx.system(ctx.frictional if role == "frictional" else ctx.frictionless)
         rho_j = c.jammed()
         factors = {}
         for h in P2_HOMOLOGY_DIMS:
             for m in METRICS:
                 s = c.mean(NORMAL, h, m)
-                before, after = c.window(s, hi=rho_j).median(), c.window(s, lo=rho_j, closed_lo=False).median()
+                before = c.window(s, rho_j - ctx.tol.rate_window, rho_j).median()
+                after = c.window(s, lo=rho_j, closed_lo=False).median()
                 factors[h, m] = rate_quotient(before, after,
                                               f"beta{h} {METRIC_SYMBOLS[m]} median before and after rho_J")
         worst = min(factors.values())
-        text = f"rho_J = {fmt(rho_j)}; median(rho < rho_J) / median(rho > rho_J): {per_dim_metric_text(factors)}"
-        return text, worst >= ctx.tol.fall_factor
+        text = (f"rho_J = {fmt(rho_j)}; median over [rho_J - {ctx.tol.rate_window}, rho_J) / median over rho > rho_J: "
+                f"{per_dim_metric_text(factors)}")
+        return Judgement(worst, text, worst >= ctx.tol.fall_factor, margin=ratio_margin(worst, ctx.tol.fall_factor))
     return evaluate
 
 
 for suffix, figure, role in (("a", 6, "frictional"), ("b", 9, "frictionless")):
     claim(f"IV.A-11{suffix}", f"§IV A, Fig. {figure}; §V",
           "After jamming the rate of change slows dramatically (distances fall sharply)",
-          lambda t: (f"median over rho > rho_J <= median over rho < rho_J / {t.fall_factor}, every metric, "
-                     "beta0 and beta1"),
+          lambda t: (f"median over rho > rho_J <= median over the rates just before jamming, [rho_J - "
+                     f"{t.rate_window}, rho_J), / {t.fall_factor}, every metric, beta0 and beta1; the factor "
+                     f"{t.fall_factor} is ours (P2 gives none): 'dramatically' read as one order of magnitude on "
+                     "the log axes of P2 Figs 6, 9"),
           paper="much smaller", scope=role)(_fall_after_jamming(role))
 
 
 def _ratios_after_jamming(dim: int):
     """The judge of "after jamming d_B/d_W2 and d_B/d_W1 (beta`dim`) are constant and 1 and 3 decades smaller"."""
-    def evaluate(ctx: Context) -> tuple[str, bool]:
-        """(evidence, holds): the drop in decades and the CV after rho_J of both ratios."""
+    def evaluate(ctx: Context) -> Judgement:
+        """The drop in decades and the CV after rho_J of both ratios."""
         c = ctx.system(ctx.frictional)
         rho_j = c.jammed()
-        parts, ok = [], True
+        parts, ok, margins, drops = [], True, [], []
         for den, decades in ((W2, 1.0), (W1, 3.0)):
             r = c.ratio(NORMAL, dim, den)
             before = c.window(r, hi=min(0.75, rho_j))
@@ -276,8 +304,11 @@ def _ratios_after_jamming(dim: int):
             drop = math.log10(float(before.median()) / float(after.median()))
             cv = coefficient_of_variation(after)
             ok &= abs(drop - decades) <= ctx.tol.decades and cv <= ctx.tol.max_cv
+            margins += [relative_margin(abs(drop - decades), ctx.tol.decades), relative_margin(cv, ctx.tol.max_cv)]
+            drops.append(drop)
             parts.append(f"d_B/{METRIC_SYMBOLS[den]}: drop {fmt(drop, 2)} decades, CV after {fmt(cv, 2)}")
-        return f"beta{dim}, rho_J = {fmt(rho_j)}: " + "; ".join(parts), ok
+        return Judgement(drops[-1], f"beta{dim}, rho_J = {fmt(rho_j)}: " + "; ".join(parts), bool(ok),
+                         margin=smallest_margin(*margins))
     return evaluate
 
 
@@ -313,8 +344,8 @@ def _tangential_log_ratios(c: Curves, metrics: Sequence[str]) -> pd.Series:
        lambda t: (f"median Pearson correlation of log10 curves with |rho - rho_J| > {t.near_jamming} "
                   f">= {t.correlation}"),
        paper="similar curves", scope="frictional")
-def _b_tracks(ctx: Context) -> tuple[str, bool]:
-    """Judge of claim IV.B-1: (evidence, holds) by its criterion."""
+def _b_tracks(ctx: Context) -> Judgement:
+    """Judge of claim IV.B-1 by its criterion."""
     c = ctx.system(ctx.frictional)
     c.jammed()
     corr = {}
@@ -328,17 +359,17 @@ def _b_tracks(ctx: Context) -> tuple[str, bool]:
                 raise NotEvaluated(f"fewer than {ctx.tol.correlation_points} rho values away from rho_J")
             corr[h, m] = pearson(np.log10(n[ok].values), np.log10(t[ok].values))
     median = float(np.nanmedian(list(corr.values())))
-    return ("Pearson correlation of log10 normal vs tangential curves, |rho - rho_J| > "
-            f"{ctx.tol.near_jamming}: {per_dim_metric_text(corr)}; median {fmt(median, 2)}",
-            median >= ctx.tol.correlation)
+    return Judgement(median, "Pearson correlation of log10 normal vs tangential curves, |rho - rho_J| > "
+                             f"{ctx.tol.near_jamming}: {per_dim_metric_text(corr)}; median {fmt(median, 2)}",
+                     median >= ctx.tol.correlation, margin=relative_margin(median, ctx.tol.correlation))
 
 
 @claim("IV.B-2", "§IV B, Fig. 8",
        "Normal and tangential distances deviate more near rho_J than elsewhere",
        lambda t: f"median |log10(tangential/normal)| within ±{t.near_jamming} of rho_J > away from it",
        paper="larger deviation near rho_J", scope="frictional")
-def _b_deviation_near_jamming(ctx: Context) -> tuple[str, bool]:
-    """Judge of claim IV.B-2: (evidence, holds) by its criterion."""
+def _b_deviation_near_jamming(ctx: Context) -> Judgement:
+    """Judge of claim IV.B-2 by its criterion."""
     c = ctx.system(ctx.frictional)
     c.jammed()
     dev = _tangential_log_ratios(c, METRICS).abs()
@@ -346,8 +377,9 @@ def _b_deviation_near_jamming(ctx: Context) -> tuple[str, bool]:
     if not len(near) or len(away) < ctx.tol.min_points:
         raise NotEvaluated(f"no rho value within {ctx.tol.near_jamming} of rho_J, or too few away from it")
     m_near, m_away = float(np.median(near)), float(np.median(away))
-    return (f"median |log10(tangential/normal)|: {fmt(m_near, 2)} within ±{ctx.tol.near_jamming} of rho_J = "
-            f"{fmt(c.rho_j)}, {fmt(m_away, 2)} away from it", m_near > m_away)
+    return Judgement(m_near - m_away, f"median |log10(tangential/normal)|: {fmt(m_near, 2)} within "
+                                      f"±{ctx.tol.near_jamming} of rho_J = {fmt(c.rho_j)}, {fmt(m_away, 2)} away "
+                                      "from it", m_near > m_away, margin=contrast_margin(m_near, m_away))
 
 
 @claim("IV.B-3", "§IV B, Fig. 8",
@@ -355,8 +387,8 @@ def _b_deviation_near_jamming(ctx: Context) -> tuple[str, bool]:
        lambda t: (f"median tangential/normal within ±{t.near_jamming} of rho_J <= 1/{t.value_factor} "
                   "for d_W1 and d_W2"),
        paper="smaller", scope="frictional")
-def _b_wasserstein_smaller_near_jamming(ctx: Context) -> tuple[str, bool]:
-    """Judge of claim IV.B-3: (evidence, holds) by its criterion."""
+def _b_wasserstein_smaller_near_jamming(ctx: Context) -> Judgement:
+    """Judge of claim IV.B-3 by its criterion."""
     c = ctx.system(ctx.frictional)
     c.jammed()
     medians = {}
@@ -365,17 +397,18 @@ def _b_wasserstein_smaller_near_jamming(ctx: Context) -> tuple[str, bool]:
         if not len(values):
             raise NotEvaluated(f"no rho value within {ctx.tol.near_jamming} of rho_J")
         medians[m] = 10 ** float(np.median(values))
-    return (f"median tangential/normal within ±{ctx.tol.near_jamming} of rho_J = {fmt(c.rho_j)}: "
-            + per_metric_text(medians),
-            all(v <= 1 / ctx.tol.value_factor for v in medians.values()))
+    largest = max(medians.values())
+    return Judgement(largest, f"median tangential/normal within ±{ctx.tol.near_jamming} of rho_J = {fmt(c.rho_j)}: "
+                              + per_metric_text(medians), largest <= 1 / ctx.tol.value_factor,
+                     margin=relative_margin(largest, 1 / ctx.tol.value_factor))
 
 
 @claim("IV.B-4", "§IV B, Fig. 8",
        "d_B is similar for normal and tangential forces throughout, including near rho_J",
        lambda t: f"median factor between the d_B curves <= {t.value_factor}, over all rho and near rho_J",
        paper="similar", scope="frictional")
-def _b_bottleneck_similar(ctx: Context) -> tuple[str, bool]:
-    """Judge of claim IV.B-4: (evidence, holds) by its criterion."""
+def _b_bottleneck_similar(ctx: Context) -> Judgement:
+    """Judge of claim IV.B-4 by its criterion."""
     c = ctx.system(ctx.frictional)
     c.jammed()
     dev = _tangential_log_ratios(c, (B,))
@@ -383,24 +416,26 @@ def _b_bottleneck_similar(ctx: Context) -> tuple[str, bool]:
     if len(everywhere) < ctx.tol.min_points or not len(near):
         raise NotEvaluated("too few rho values with both curves positive")
     f_all, f_near = 10 ** float(np.median(np.abs(everywhere))), 10 ** float(np.median(np.abs(near)))
-    limit = ctx.tol.value_factor
-    return (f"median factor between tangential and normal d_B: {fmt(f_all, 2)} over all rho, {fmt(f_near, 2)} "
-            f"within ±{ctx.tol.near_jamming} of rho_J = {fmt(c.rho_j)}", f_all <= limit and f_near <= limit)
+    limit, largest = ctx.tol.value_factor, max(f_all, f_near)
+    return Judgement(largest, f"median factor between tangential and normal d_B: {fmt(f_all, 2)} over all rho, "
+                              f"{fmt(f_near, 2)} within ±{ctx.tol.near_jamming} of rho_J = {fmt(c.rho_j)}",
+                     largest <= limit, margin=ratio_margin(largest, limit))
 
 
 @claim("IV.C-1", "§IV C, Fig. 9",
        "The frictionless system jams at larger rho",
        lambda t: "rho where the mean Z reaches d+1 is larger for mu = 0",
        paper="rho_J(mu=0) > rho_J(mu=0.5)", scope="both")
-def _c_jams_later(ctx: Context) -> tuple[str, bool]:
-    """Judge of claim IV.C-1: (evidence, holds) by its criterion."""
+def _c_jams_later(ctx: Context) -> Judgement:
+    """Judge of claim IV.C-1 by its criterion."""
     f, n = ctx.both()
     rf, rn = f.jammed(), n.jammed()
     pf = jamming_density_per_realization(f.ds, f.dimension)
     pn = jamming_density_per_realization(n.ds, n.dimension)
     spread = (f"per realization {ctx.frictional} [{fmt(np.nanmin(pf))}, {fmt(np.nanmax(pf))}], "
               f"{ctx.frictionless} [{fmt(np.nanmin(pn))}, {fmt(np.nanmax(pn))}]")
-    return f"rho_J (mean Z = d+1): {ctx.frictional} {fmt(rf)}, {ctx.frictionless} {fmt(rn)}; {spread}", rn > rf
+    return Judgement(rn - rf, f"rho_J (mean Z = d+1): {ctx.frictional} {fmt(rf)}, {ctx.frictionless} {fmt(rn)}; "
+                              f"{spread}", rn > rf, grid_step=f.by_one_step(rn - rf, 0.0))
 
 
 def _median_quotient(ctx: Context, dim: int, metrics: Sequence[str], lo: float = -np.inf, hi: float = np.inf, *,
@@ -436,12 +471,15 @@ def _peak_quotient(ctx: Context, dim: int, bounds: Callable[[Curves], tuple[floa
        "for mu = 0",
        lambda t: f"ratios of medians within a factor {t.value_factor} of 1 (d_B, d_W2) and 0.6 (d_W1)",
        paper="mu=0/mu=0.5: 1, 1, 0.6", scope="both")
-def _c_low_density(ctx: Context) -> tuple[str, bool]:
-    """Judge of claim IV.C-2: (evidence, holds) by its criterion."""
+def _c_low_density(ctx: Context) -> Judgement:
+    """Judge of claim IV.C-2 by its criterion."""
     ratio = _median_quotient(ctx, 0, METRICS, hi=0.65)
     tol = ctx.tol.value_factor
     ok = within_factor(ratio[B], 1.0, tol) and within_factor(ratio[W2], 1.0, tol) and within_factor(ratio[W1], 0.6, tol)
-    return f"median over rho < 0.65, mu=0 / mu=0.5 (beta0): {per_metric_text(ratio)}", ok
+    margin = smallest_margin(within_factor_margin(ratio[B], 1.0, tol), within_factor_margin(ratio[W2], 1.0, tol),
+                             within_factor_margin(ratio[W1], 0.6, tol))
+    return Judgement(ratio[W1], f"median over rho < 0.65, mu=0 / mu=0.5 (beta0): {per_metric_text(ratio)}", ok,
+                     margin=margin)
 
 
 def _shifted_comparison(ctx: Context, dim: int, denominator: str) -> tuple[np.ndarray, np.ndarray]:
@@ -464,29 +502,32 @@ def _shifted_comparison(ctx: Context, dim: int, denominator: str) -> tuple[np.nd
        lambda t: (f"mu=0 ratio larger at >= {100 * t.consistently:.0f} % of the points; median d_B/d_W2 quotient "
                   f"within a factor {t.value_factor} of 1"),
        paper="larger / same", scope="both")
-def _c_ratios_adjusted(ctx: Context) -> tuple[str, bool]:
-    """Judge of claim IV.C-3: (evidence, holds) by its criterion."""
+def _c_ratios_adjusted(ctx: Context) -> Judgement:
+    """Judge of claim IV.C-3 by its criterion."""
     mu0, mu05 = _shifted_comparison(ctx, 0, W1)
     larger = float(np.mean(mu0 > mu05))
     a, b = _shifted_comparison(ctx, 0, W2)
     same = 10 ** float(np.median(np.log10(a / b)))
     ok = larger >= ctx.tol.consistently and within_factor(same, 1.0, ctx.tol.value_factor)
-    return (f"at equal rho - rho_J (beta0): d_B/d_W1 larger for mu=0 at {fmt(100 * larger, 2)} % of {len(mu0)} points; "
-            f"median (d_B/d_W2 at mu=0) / (at mu=0.5) = {fmt(same, 2)}", ok)
+    return Judgement(larger, f"at equal rho - rho_J (beta0): d_B/d_W1 larger for mu=0 at {fmt(100 * larger, 2)} % of "
+                             f"{len(mu0)} points; median (d_B/d_W2 at mu=0) / (at mu=0.5) = {fmt(same, 2)}", ok,
+                     margin=smallest_margin(relative_margin(larger, ctx.tol.consistently),
+                                            within_factor_margin(same, 1.0, ctx.tol.value_factor)))
 
 
 @claim("IV.C-4", "§IV C, Figs 6(a), 9(a)",
        "d_B and d_W2 (beta0) begin slowing down at a much lower rho relative to rho_J in the frictional system",
        lambda t: "argmax(rho) - rho_J of mean d_B and d_W2 smaller for mu = 0.5 than for mu = 0",
        paper="earlier peak with friction", scope="both")
-def _c_slowing_earlier(ctx: Context) -> tuple[str, bool]:
-    """Judge of claim IV.C-4: (evidence, holds) by its criterion."""
+def _c_slowing_earlier(ctx: Context) -> Judgement:
+    """Judge of claim IV.C-4 by its criterion."""
     f, n = ctx.both()
     rf, rn = f.jammed(), n.jammed()
     peaks = {m: (f.argmax(f.mean(NORMAL, 0, m)) - rf, n.argmax(n.mean(NORMAL, 0, m)) - rn) for m in (B, W2)}
-    return ("argmax(rho) - rho_J (beta0), mu=0.5 vs mu=0: "
-            + ", ".join(f"{METRIC_SYMBOLS[m]} {fmt(a, 2)} vs {fmt(b, 2)}" for m, (a, b) in peaks.items()),
-            all(a < b for a, b in peaks.values()))
+    lead = min(b - a for a, b in peaks.values())
+    return Judgement(lead, "argmax(rho) - rho_J (beta0), mu=0.5 vs mu=0: "
+                     + ", ".join(f"{METRIC_SYMBOLS[m]} {fmt(a, 2)} vs {fmt(b, 2)}" for m, (a, b) in peaks.items()),
+                     lead > 0, grid_step=f.by_one_step(lead, 0.0))
 
 
 @claim("IV.C-5", "§IV C, Figs 6(b), 9(b)",
@@ -494,13 +535,17 @@ def _c_slowing_earlier(ctx: Context) -> tuple[str, bool]:
        lambda t: (f"medians over rho < min(rho_J) - {t.well_below}: mu=0 / mu=0.5 <= 1/{t.value_factor} for d_B "
                   "and d_W2"),
        paper="smaller", scope="both")
-def _c_loops_below_jamming(ctx: Context) -> tuple[str, bool]:
-    """Judge of claim IV.C-5: (evidence, holds) by its criterion."""
+def _c_loops_below_jamming(ctx: Context) -> Judgement:
+    """Judge of claim IV.C-5 by its criterion."""
     f, n = ctx.both()
     hi = min(f.jammed(), n.jammed()) - ctx.tol.well_below
     ratio = _median_quotient(ctx, 1, (B, W2), hi=hi)
-    return (f"median over rho < {fmt(hi)} (beta1), mu=0 / mu=0.5: {per_metric_text(ratio)}",
-            all(v <= 1 / ctx.tol.value_factor for v in ratio.values()))
+    largest = max(ratio.values())
+    loops = {m: float(n.window(n.mean(NORMAL, 1, m), hi=hi).abs().max()) for m in (B, W2)}
+    return Judgement(largest, f"median over rho < {fmt(hi)} (beta1), mu=0 / mu=0.5: {per_metric_text(ratio)}; "
+                              f"largest mu=0 value there: {per_metric_text(loops)}", largest <= 1 / ctx.tol.value_factor,
+                     margin=relative_margin(largest, 1 / ctx.tol.value_factor),
+                     vacuous=all(v == 0 for v in loops.values()))
 
 
 @claim("IV.C-6", "§IV C, Figs 6(b), 9(b)",
@@ -508,12 +553,14 @@ def _c_loops_below_jamming(ctx: Context) -> tuple[str, bool]:
        "(all three distances)",
        lambda t: f"largest value within ±{t.peak_window} of each rho_J: mu=0 / mu=0.5 >= {t.value_factor}",
        paper="larger", scope="both")
-def _c_loops_near_jamming(ctx: Context) -> tuple[str, bool]:
-    """Judge of claim IV.C-6: (evidence, holds) by its criterion."""
+def _c_loops_near_jamming(ctx: Context) -> Judgement:
+    """Judge of claim IV.C-6 by its criterion."""
     w = ctx.tol.peak_window
     peak = _peak_quotient(ctx, 1, lambda c: (c.jammed() - w, c.jammed() + w), numerator="frictionless")
-    return (f"largest value within ±{w} of each system's rho_J (beta1), mu=0 / mu=0.5: {per_metric_text(peak)}",
-            all(v >= ctx.tol.value_factor for v in peak.values()))
+    smallest = min(peak.values())
+    return Judgement(smallest, f"largest value within ±{w} of each system's rho_J (beta1), mu=0 / mu=0.5: "
+                               f"{per_metric_text(peak)}", smallest >= ctx.tol.value_factor,
+                     margin=ratio_margin(smallest, ctx.tol.value_factor))
 
 
 def _quotient_after_jamming(dim: int, reference: float):
@@ -524,12 +571,15 @@ def _quotient_after_jamming(dim: int, reference: float):
         return (f"median over rho > both rho_J, mu=0 / mu=0.5 within a factor {t.value_factor} of {fmt(reference)}, "
                 "every metric")
 
-    def evaluate(ctx: Context) -> tuple[str, bool]:
-        """(evidence, holds): the medians' quotients over rho above both rho_J."""
+    def evaluate(ctx: Context) -> Judgement:
+        """The medians' quotients over rho above both rho_J (the key number: their median)."""
         f, n = ctx.both()
         ratio = _median_quotient(ctx, dim, METRICS, lo=max(f.jammed(), n.jammed()), closed_lo=False)
-        return (f"median over rho > both rho_J (beta{dim}), mu=0 / mu=0.5: {per_metric_text(ratio)}",
-                all(within_factor(v, reference, ctx.tol.value_factor) for v in ratio.values()))
+        return Judgement(float(np.median(list(ratio.values()))),
+                         f"median over rho > both rho_J (beta{dim}), mu=0 / mu=0.5: {per_metric_text(ratio)}",
+                         all(within_factor(v, reference, ctx.tol.value_factor) for v in ratio.values()),
+                         margin=smallest_margin(*(within_factor_margin(v, reference, ctx.tol.value_factor)
+                                                  for v in ratio.values())))
     return criterion, evaluate
 
 
@@ -544,12 +594,13 @@ claim("IV.C-7", "§IV C, Figs 6(b), 9(b)",
        lambda t: f"peak over rho <= rho_J, mu=0.5 / mu=0 in (max(1, 1.2/{t.value_factor}), 1.4·{t.value_factor}], "
                   "every metric",
        paper="1.2-1.4", scope="both")
-def _v_peak_components(ctx: Context) -> tuple[str, bool]:
-    """Judge of claim V-1: (evidence, holds) by its criterion."""
+def _v_peak_components(ctx: Context) -> Judgement:
+    """Judge of claim V-1 by its criterion."""
     ratio = _peak_quotient(ctx, 0, lambda c: (-np.inf, c.jammed()), numerator="frictional")
     lo, hi = max(1.0, 1.2 / ctx.tol.value_factor), 1.4 * ctx.tol.value_factor
-    return (f"peak over rho <= rho_J (beta0), mu=0.5 / mu=0: {per_metric_text(ratio)}",
-            all(lo < v <= hi for v in ratio.values()))
+    margin = smallest_margin(*(min(relative_margin(v, lo), relative_margin(v, hi)) for v in ratio.values()))
+    return Judgement(min(ratio.values()), f"peak over rho <= rho_J (beta0), mu=0.5 / mu=0: {per_metric_text(ratio)}",
+                     all(lo < v <= hi for v in ratio.values()), margin=margin)
 
 
 _criterion, _judge = _quotient_after_jamming(0, 1.0)

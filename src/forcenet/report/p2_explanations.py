@@ -1,6 +1,8 @@
-"""Why a claim of P2 does not hold on our data: `EXPLANATIONS` gives each claim's cause, measured in
-docs/p2_sampling.md (distances at several wall speeds and sampling steps, and P2's own setting run at paper size),
-and the diagnostics that measure it again on the data judged (`explain`).
+"""Why a claim of P2 does not hold on our data: `EXPLANATIONS` gives each claim's cause, its basis — the command
+that measured it (docs/p2_sampling.md: distances at several wall speeds and sampling steps, and P2's own setting
+run at paper size; the validation campaign; the diagnostics of this table) or none, when the cause is a hypothesis
+— and the diagnostics that measure it again on the data judged (`explain`, a
+`forcenet.report.claims.Explanation`).
 """
 from __future__ import annotations
 
@@ -8,7 +10,7 @@ from typing import Callable
 
 import numpy as np
 
-from forcenet.report.claims import NotEvaluated
+from forcenet.report.claims import Explanation, NotEvaluated
 from forcenet.report.p2 import METRIC_SYMBOLS, jamming_density_per_realization
 from forcenet.report.p2_judging import B, NORMAL, W1, Context, fmt
 
@@ -79,17 +81,18 @@ def _table_state_diagnostic(ctx: Context) -> str:
             "(P2: Z and <F> almost identical)")
 
 
-def explain(claim_id: str, ctx: Context) -> str:
+def explain(claim_id: str, ctx: Context) -> Explanation:
     """Why a claim does not hold on these data: `EXPLANATIONS`' verdict on the cause, then its diagnostics measured
-    here (a diagnostic the data cannot give says why)."""
-    cause, diagnostics = EXPLANATIONS.get(claim_id, ("No explanation recorded.", ()))
+    here (a diagnostic the data cannot give says why); its basis is the command that measured the cause, or none
+    (a hypothesis)."""
+    cause, command, diagnostics = EXPLANATIONS.get(claim_id, ("No explanation recorded.", HYPOTHESIS_ONLY, ()))
     measured = []
     for diagnostic in diagnostics:
         try:
             measured.append(diagnostic(ctx))
         except NotEvaluated as reason:
             measured.append(f"({reason})")
-    return cause + (" Measured here: " + "; ".join(measured) + "." if measured else "")
+    return Explanation(cause + (" Measured here: " + "; ".join(measured) + "." if measured else ""), command)
 
 
 def _frictional(ctx: Context) -> str:
@@ -115,75 +118,83 @@ _NEVER_DYING = ("Not a small-system effect: after rho_J most consecutive pairs c
                 "classes (rattlers joining, defect loops opening or closing as contacts form), and under P2's death "
                 "-1 each costs d_B >= 0.5, a floor the force changes alone (d_B ~ 0.03-0.1) stay far below; at paper "
                 f"size such changes are more frequent, not less ({_PAPER}).")
-#: why each claim may not hold on the quick default: {claim id: (cause, diagnostics measured on the data)}
-EXPLANATIONS: dict[str, tuple[str, tuple[Callable[[Context], str], ...]]] = {
-    "III.D-1": (_AT_JAMMING, (_table_state_diagnostic,)),
-    "III.D-2": (_AT_JAMMING, (_table_state_diagnostic,)),
+# The commands that measured a cause (the basis column of the table); a cause with none is a hypothesis.
+SAMPLING = "python scripts/p2_sampling.py (docs/p2_sampling.md)"
+CAMPAIGN = "snakemake validation_report --configfile config/validation.yaml (docs/validation/p2.md)"
+THIS_TABLE = "snakemake p2_validation (its diagnostics, 'Measured here')"
+HYPOTHESIS_ONLY = ""
+#: why each claim may not hold: {claim id: (cause, the command that measured it or HYPOTHESIS_ONLY, diagnostics
+#: measured on the data)}
+EXPLANATIONS: dict[str, tuple[str, str, tuple[Callable[[Context], str], ...]]] = {
+    "III.D-1": (_AT_JAMMING, SAMPLING, (_table_state_diagnostic,)),
+    "III.D-2": (_AT_JAMMING, SAMPLING, (_table_state_diagnostic,)),
     "III.D-3": (_AT_JAMMING + " At the transition the (a,b) changes are system-wide, not in one quadrant.",
-                (_table_state_diagnostic,)),
-    "III.D-4": (_AT_JAMMING, (_table_state_diagnostic,)),
+                SAMPLING, (_table_state_diagnostic,)),
+    "III.D-4": (_AT_JAMMING, SAMPLING, (_table_state_diagnostic,)),
     "IV.A-1": ("Few realizations: each realization's d_W1 peaks near its own rho_J, but the rho_J scatter and the "
                f"peak of a mean of 3 blurs; one paper-size realization holds ({_PAPER}).",
-               (_argmax_per_realization(_frictional, 0, W1), _argmax_per_realization(_frictional, 1, W1))),
+               HYPOTHESIS_ONLY, (_argmax_per_realization(_frictional, 0, W1), _argmax_per_realization(_frictional, 1, W1))),
     "IV.A-2": ("Small system: the largest single change before jamming grows with the number of contacts, d_B "
-               f"(beta0) ~ 3 <F> with 400 disks and 8.8 <F> with 2025 (holds at paper size; {_PAPER}).", ()),
+               f"(beta0) ~ 3 <F> with 400 disks and 8.8 <F> with 2025 (holds at paper size; {_PAPER}).", SAMPLING, ()),
     "IV.A-3": ("Sampling: the ratio needs P2's rule (rattlers kept) and step; with rattlers removed d_B/d_W1 is "
-               "~0.5 and d_B/d_W2 ~0.8 (docs/p2_sampling.md, rattler rule).", ()),
+               "~0.5 and d_B/d_W2 ~0.8 (docs/p2_sampling.md, rattler rule).", SAMPLING, ()),
     "IV.A-4": ("Sampling and realizations: the ratio scatters from state to state (at paper size its median is "
                f"0.17 but CV 0.64 > 0.5; {_PAPER}); with rattlers removed it is ~0.5 (docs/p2_sampling.md). The "
                "mean of three paper-size realizations gives median 0.165, CV 0.48: it holds "
-               "(docs/validation/README.md, a third realization).", ()),
+               "(docs/validation/README.md, a third realization).", SAMPLING, ()),
     "IV.A-5": (f"Not a small-system effect (paper size: d_B 9.7 -> 6.8, needs a factor 2; {_PAPER}). It holds "
                "at paper size if rho is measured in the box between the wall-particle centres (rho_J would read "
                "0.767; docs/p2_sampling.md, rho scale): P2 does not say how it measures rho between rough walls.",
-               (_argmax_per_realization(_frictional, 0, B),)),
+               SAMPLING, (_argmax_per_realization(_frictional, 0, B),)),
     "IV.A-6": ("Not a small-system effect (paper size: Spearman 0.38; "
                f"{_PAPER}): d_W1 rises from 0.75 but peaks up to 0.03 before rho_J and falls into it.",
-               (_argmax_per_realization(_frictional, 0, W1),)),
+               SAMPLING, (_argmax_per_realization(_frictional, 0, W1),)),
     "IV.A-7": ("Few realizations: the plateau and the plunge hold at paper size (one realization; "
-               f"{_PAPER}).", ()),
+               f"{_PAPER}).", HYPOTHESIS_ONLY, ()),
     "IV.A-8": ("Small system and slow compression: with 400 disks there are no loops before rho ~ 0.75 (beta1 "
                "distances 0) and single events decide the trend. At paper size too, in few realizations: one shows "
                f"no trend (Spearman ~0; {_PAPER}), the mean of two 0.28-0.35, the mean of three 0.58-0.66, which "
                "holds (docs/validation/README.md, a third realization).",
-               (_argmax_per_realization(_frictional, 1, B),)),
+               CAMPAIGN, (_argmax_per_realization(_frictional, 1, B),)),
     "IV.A-9": ("Few realizations: single early loop events can make the largest beta1 d_B of a 3-realization mean; "
-               f"paper size peaks at 0.791 (holds; {_PAPER}).", (_argmax_per_realization(_frictional, 1, B),)),
-    "IV.A-10": (f"Few realizations: holds at paper size ({_PAPER}).", ()),
+               f"paper size peaks at 0.791 (holds; {_PAPER}).", HYPOTHESIS_ONLY, (_argmax_per_realization(_frictional, 1, B),)),
+    "IV.A-10": (f"Few realizations: holds at paper size ({_PAPER}).", HYPOTHESIS_ONLY, ()),
     "IV.A-11a": (_NEVER_DYING + " beta0 falls by > 10x; beta1 does not, also because loops hardly exist before "
                  "jamming (beta1 distances 0 below rho ~ 0.75 with 400 disks).",
-                 (_never_dying_events(_frictional, 1, "after"),)),
+                 THIS_TABLE, (_never_dying_events(_frictional, 1, "after"),)),
     "IV.A-11b": (_NEVER_DYING + " Without friction loops exist only from jamming on (beta1 distances 0 before "
                  f"rho_J, also at paper size), and beta0 d_W1 falls only 2.5-3x ({_PAPER}).",
-                 (_never_dying_events(_frictionless, 0, "after"), _never_dying_events(_frictionless, 1, "after"))),
+                 THIS_TABLE, (_never_dying_events(_frictionless, 0, "after"), _never_dying_events(_frictionless, 1, "after"))),
     "IV.A-12a": (_NEVER_DYING + " d_B after jamming sits on that floor, so d_B/d_W1 cannot fall 3 decades.",
-                 (_never_dying_events(_frictional, 0, "after"),)),
+                 THIS_TABLE, (_never_dying_events(_frictional, 0, "after"),)),
     "IV.A-12b": (_NEVER_DYING + " d_B after jamming sits on that floor, so d_B/d_W1 cannot fall 3 decades.",
-                 (_never_dying_events(_frictional, 1, "after"),)),
-    "IV.B-1": (f"Few realizations: holds at paper size ({_PAPER}).", ()),
+                 THIS_TABLE, (_never_dying_events(_frictional, 1, "after"),)),
+    "IV.B-1": (f"Few realizations: holds at paper size ({_PAPER}).", HYPOTHESIS_ONLY, ()),
     "IV.B-2": ("Not a small-system effect: at paper size the tangential and normal curves differ as little near "
-               f"rho_J as elsewhere ({_PAPER}); not reproduced.", ()),
+               f"rho_J as elsewhere ({_PAPER}); not reproduced.", SAMPLING, ()),
     "IV.B-3": ("Not a small-system effect: at paper size tangential/normal d_W1 and d_W2 near rho_J are 1.0 "
-               f"({_PAPER}); not reproduced.", ()),
-    "IV.B-4": (f"Few realizations: holds at paper size ({_PAPER}).", ()),
-    "IV.C-1": (f"Holds at every size and speed measured ({_PAPER}).", ()),
+               f"({_PAPER}); not reproduced.", SAMPLING, ()),
+    "IV.B-4": (f"Few realizations: holds at paper size ({_PAPER}).", HYPOTHESIS_ONLY, ()),
+    "IV.C-1": (f"Holds at every size and speed measured ({_PAPER}).", SAMPLING, ()),
     "IV.C-2": ("Sampling: below rho = 0.65 there are 7 states with almost no contacts (Z < 0.4), so the distances "
                "count single collisions and rattlers joining and leaving; also fails at paper size (d_B 1.7, d_W1 "
-               f"0.36, d_W2 1.1; {_PAPER}).", ()),
+               f"0.36, d_W2 1.1; {_PAPER}).", SAMPLING, ()),
     "IV.C-3": ("Not a small-system effect: at paper size d_B/d_W1 is larger without friction at 43 % of the "
-               f"points, as here ({_PAPER}); not reproduced.", ()),
+               f"points, as here ({_PAPER}); not reproduced.", SAMPLING, ()),
     "IV.C-4": ("Not a small-system effect: at paper size both systems' d_B and d_W2 peak 0.035 below their "
                f"rho_J ({_PAPER}); not reproduced.",
-               (_argmax_per_realization(_frictional, 0, B), _argmax_per_realization(_frictionless, 0, B))),
+               SAMPLING, (_argmax_per_realization(_frictional, 0, B), _argmax_per_realization(_frictionless, 0, B))),
     "IV.C-5": ("Small system: with 400 disks neither system has loops well before jamming (beta1 distances 0: "
-               f"nothing to compare); holds at paper size ({_PAPER}).", ()),
+               f"nothing to compare); holds at paper size ({_PAPER}).", SAMPLING, ()),
     "IV.C-6": ("Not a small-system effect: at paper size the largest beta1 changes near rho_J are alike with and "
-               f"without friction (0.93-1.3; {_PAPER}); not reproduced.", ()),
+               f"without friction (0.93-1.3; {_PAPER}); not reproduced.", SAMPLING, ()),
     "IV.C-7": (_NEVER_DYING + " d_B after jamming is that floor in both systems, so its ratio is ~1; the d_W1 and "
                f"d_W2 ratios are 2-3.4 (paper size 2.8 and 2.2; {_PAPER}).",
-               (_never_dying_events(_frictional, 1, "after"), _never_dying_events(_frictionless, 1, "after"))),
-    "V-1": (f"Few realizations: holds at paper size ({_PAPER}).", ()),
+               THIS_TABLE, (_never_dying_events(_frictional, 1, "after"), _never_dying_events(_frictionless, 1, "after"))),
+    "V-1": ("Not a few-realization effect: it fails at paper size with 2 and 3 realizations too (d_B and d_W2 "
+            "peaks before jamming are as high or higher without friction; docs/validation/p2.md); no cause "
+            "measured.", CAMPAIGN, ()),
     "V-2": ("Not a small-system effect: after jamming the frictionless packing keeps changing 2-4x more (d_W1, "
             f"d_W2; paper size 3.1 and 2.2, d_B 1.0; {_PAPER}); not reproduced.",
-            (_never_dying_events(_frictional, 0, "after"), _never_dying_events(_frictionless, 0, "after"))),
+            SAMPLING, (_never_dying_events(_frictional, 0, "after"), _never_dying_events(_frictionless, 0, "after"))),
 }

@@ -25,7 +25,8 @@ class ValidationTolerances:
 
     value_factor: float = 1.5  # "≈ x", "roughly the same", "similar": measured within [x / f, x · f]
     max_cv: float = 0.5  # "roughly / essentially constant": coefficient of variation over the ρ range ≤ this
-    fall_factor: float = 10.0  # "slows dramatically" after ρ_J: median after ≤ median before / this
+    fall_factor: float = 10.0  # "slows dramatically" after ρ_J: median after ≤ median just before / this (ours)
+    rate_window: float = 0.05  # "just before jamming": the rates over [ρ_J − this, ρ_J) (IV.A-11)
     drop_factor: float = 2.0  # "decreases dramatically" / "plunges" inside the unjammed regime
     decades: float = 0.5  # "n orders of magnitude smaller": measured log10 drop within n ± this
     trend: float = 0.5  # "increases" / "decreases" with ρ: Spearman rank correlation ≥ this / ≤ −this
@@ -76,6 +77,17 @@ class Curves:
         for metric in (B, denominator):
             self.mean(kind, dim, metric)  # not evaluated unless both curves exist
         return as_series(mean_distance_ratio(self.ds, denominator).sel(force_kind=kind, homology_dim=dim))
+
+    @property
+    def step(self) -> float:
+        """The sampling step in ρ (median spacing of the distances' ρ; 0 with one ρ)."""
+        rho = np.asarray(self.ds["rho"].values, dtype=float)
+        return float(np.median(np.diff(rho))) if rho.size > 1 else 0.0
+
+    def by_one_step(self, distance: float, limit: float) -> bool:
+        """True when `distance` (a ρ offset) lies within one sampling step of the `limit` it is compared with: the
+        verdict turns if a state moves by one step (marginal)."""
+        return bool(np.isfinite(distance) and abs(abs(distance) - limit) < self.step - 1e-12)
 
     def jammed(self) -> float:
         """ρ_J; not evaluated when the mean Z never reaches d + 1 inside the ρ range."""
@@ -135,6 +147,14 @@ def spearman(s: pd.Series) -> float:
 def within_factor(value: float, reference: float, factor: float) -> bool:
     """True when `value` is finite and within [reference / factor, reference · factor]."""
     return bool(np.isfinite(value) and reference / factor <= value <= reference * factor)
+
+
+def within_factor_margin(value: float, reference: float, factor: float) -> float:
+    """How far `value` lies from the nearer edge of [reference / factor, reference · factor], on a log scale
+    relative to log(factor) (0 on an edge; NaN unless value, reference > 0)."""
+    if not (np.isfinite(value) and value > 0 and reference > 0 and factor > 1):
+        return math.nan
+    return abs(abs(math.log(value / reference)) - math.log(factor)) / math.log(factor)
 
 
 def log10_ratio(num: pd.Series, den: pd.Series) -> pd.Series:

@@ -13,8 +13,8 @@ from typing import Mapping
 import pandas as pd
 import xarray as xr
 
-from forcenet.report.claims import (FAILS, HOLDS, NOT_EVALUATED, Judgement, TableLayout, TableSection, claims_frame,
-                                    judge_claim, validation_markdown, verdict_counts, with_paper_size,
+from forcenet.report.claims import (FAILS, HOLDS, NOT_EVALUATED, VERDICT_COLUMNS, Explanation, Judgement, TableLayout, TableSection, claims_frame,
+                                    judge_claim, validation_markdown, verdict_summary, with_paper_size,
                                     write_validation_table)
 from forcenet.report.p2 import FRICTIONAL, FRICTIONLESS, format_number
 from forcenet.report.p2_claims import CLAIMS
@@ -23,8 +23,8 @@ from forcenet.report.p2_judging import Context, Curves, ValidationTolerances
 
 #: the table's columns (CSV names → `JudgedClaim` fields); the Markdown heads claim_id "id" and reference "P2"
 P2_LAYOUT = TableLayout(columns={"claim_id": "id", "section": "section", "system": "system", "claim": "statement",
-                                 "reference": "paper", "criterion": "criterion", "measured": "evidence",
-                                 "verdict": "verdict", "explanation": "explanation"},
+                                 "reference": "paper", "criterion": "criterion", "measured": "measured",
+                                 "evidence": "evidence", **VERDICT_COLUMNS},
                         headers={"claim_id": "id", "reference": "P2"}, id_column="claim_id",
                         paper_column="reference")
 VALIDATION_COLUMNS = tuple(P2_LAYOUT.columns)
@@ -63,12 +63,12 @@ def p2_validation(distances: Mapping[str, xr.Dataset], tables: Mapping[str, pd.D
     judged = []
     for claim in CLAIMS:
         def judge(claim=claim) -> Judgement:
-            """The claim's (evidence, holds) as a Judgement (P2's claims have no single key number)."""
-            return Judgement(math.nan, *claim.judge(ctx))
+            """The claim judged on these data."""
+            return claim.judge(ctx)
 
-        def explanation(verdict: str, claim=claim) -> str:
+        def explanation(verdict: str, claim=claim) -> Explanation | None:
             """Why the claim does not hold (nothing where it does)."""
-            return explain(claim.id, ctx) if verdict != HOLDS else ""
+            return explain(claim.id, ctx) if verdict != HOLDS else None
 
         judged.append(judge_claim(claim, systems[claim.scope], claim.paper_value(), claim.criterion_text(tol), judge,
                                   explanation))
@@ -117,9 +117,7 @@ def _markdown_head(table: pd.DataFrame) -> list[str]:
 
 def _markdown_sections(table: pd.DataFrame) -> list[TableSection]:
     """One section: the verdict counts, then one row per claim."""
-    counts = verdict_counts(table)
-    return [TableSection("Claims", ["; ".join(f"{v}: {counts[v]}" for v in (HOLDS, FAILS, NOT_EVALUATED)), ""],
-                         list(VALIDATION_COLUMNS))]
+    return [TableSection("Claims", [verdict_summary(table), ""], list(VALIDATION_COLUMNS))]
 
 
 def p2_validation_markdown(table: pd.DataFrame) -> str:
@@ -127,11 +125,11 @@ def p2_validation_markdown(table: pd.DataFrame) -> str:
     return validation_markdown(table, P2_LAYOUT, _markdown_head(table), _markdown_sections(table))
 
 
-def write_p2_validation(table: pd.DataFrame, md_path: str | os.PathLike, csv_path: str | os.PathLike | None = None,
+def write_p2_validation(table: pd.DataFrame, csv_path: str | os.PathLike | None, md_path: str | os.PathLike, *,
                         paper_size: str | os.PathLike | None = None) -> None:
-    """Write ``results/tables/p2_validation.md`` (and optionally the same rows as CSV); with `paper_size` (the
-    campaign's ``docs/validation/p2.csv``) a column beside P2's values gives our value at P2's size
-    (`forcenet.report.claims.with_paper_size`)."""
+    """Write the validation table as CSV (skipped when `csv_path` is None) and Markdown (the arguments of
+    `write_p1_validation`); with `paper_size` (the campaign's ``docs/validation/p2.csv``) a column beside P2's
+    values gives our value at P2's size (`forcenet.report.claims.with_paper_size`)."""
     if paper_size is not None:
         table = with_paper_size(table, P2_LAYOUT, paper_size)
     write_validation_table(table, P2_LAYOUT, csv_path, md_path, _markdown_head(table), _markdown_sections(table))
