@@ -370,9 +370,11 @@ def p1_validation_table(*, measures: Sequence[str], systems: Sequence[str], csv:
     ``docs/validation/p1.csv``, or None in a paper-size config) adds our paper-size values beside P1's."""
     from forcenet.report.claims import verdict_counts
     from forcenet.report.p1_validation import p1_validation, write_p1_validation
+    from forcenet.report.realizations import ROBUSTNESS_RESAMPLES
 
     with job_logger(log_path, "p1_validation") as log:
-        table = p1_validation(_open_by_system(measures, "network_measures"), force_unit=force_unit)
+        table = p1_validation(_open_by_system(measures, "network_measures"), force_unit=force_unit,
+                              resamples=ROBUSTNESS_RESAMPLES)
         write_p1_validation(table, csv, md, paper_size=paper_size)
         log.info("P1 validation: %d rows, claim verdicts %s", len(table), verdict_counts(table))
 

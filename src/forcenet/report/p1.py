@@ -44,6 +44,7 @@ HERTZ_2D, LINEAR_2D, HERTZ_3D = (2, "hertz"), (2, "linear"), (3, "hertz")  # rol
 P1_ROLES = {"2d_hertz": HERTZ_2D, "2d_linear": LINEAR_2D, "3d_hertz": HERTZ_3D}
 PAPER_RHO_J = {"2d_hertz": 0.842, "2d_linear": 0.834, "3d_hertz": 0.57}  # P1 §4 (inflection of Z)
 PAPER_RHO_MAX = {"2d_hertz": 0.906, "2d_linear": 0.890, "3d_hertz": 0.710}  # P1 §3 (F_max rule)
+PAPER_RHO_MAX_BY_ROLE = {P1_ROLES[name]: rho for name, rho in PAPER_RHO_MAX.items()}
 PAPER_Z_AT_JAMMING = {2: 3.0, 3: 6.0}  # P1 §4.3: ⟨k⟩ ≈ 3 (2D) and ≈ 6 (3D) close to jamming
 PAPER_PHI_C = {2: 0.5, 3: 0.2}  # P1 §4.3, Eq. 6 with ⟨k²⟩ ≈ ⟨k⟩²: φ_c ≃ 0.5 (2D), 0.2 (3D) at ρ_J
 PAPER_CLUSTER_SIZE_PEAK = {LINEAR_2D: 1.25, HERTZ_2D: 1.5, HERTZ_3D: 2.0}  # P1 §4.2: F_th of the ⟨S⟩/N maximum

@@ -15,10 +15,12 @@ from typing import Callable
 import numpy as np
 import xarray as xr
 
-from forcenet.report.claims import Claim, Judgement, NotEvaluated, claim_register
+from forcenet.report.claims import (Claim, Judgement, NotEvaluated, claim_register, contrast_margin, relative_margin,
+                                    smallest_margin)
 from forcenet.report.p1 import (HERTZ_2D, HERTZ_3D, LINEAR_2D, P1_HALF, P1_LARGE_THRESHOLD, P1_PERCOLATION_MAJORITY,
-                                P1_SMALL_THRESHOLD, PAPER_CLUSTER_SIZE_PEAK, cut_at_rho_max, finite_max, force_bins,
-                                force_pdf_width, percolating_size_mean, percolation_fraction, select_total)
+                                P1_SMALL_THRESHOLD, PAPER_CLUSTER_SIZE_PEAK, PAPER_RHO_MAX_BY_ROLE, cut_at_rho_max,
+                                finite_max, force_bins, force_pdf_width, percolating_size_mean, percolation_fraction,
+                                select_total)
 from forcenet.report.p1_diagnostics import size_peak_threshold_per_rho
 from forcenet.report.p1_judging import (ALL_2D, ClaimContext, ClaimTolerances, SystemData, expected_for_law,
                                         finite_values, fmt_values, peak_verdict, require, strongest_peak)
@@ -44,7 +46,10 @@ def clusters_below_jamming(system: SystemData, tolerances: ClaimTolerances) -> J
     holds = most_below >= tolerances.min_clusters and share_below <= share_beyond
     evidence = (f"mean clusters at F_th={system.lowest_threshold:.3g} below rho_J: {fmt_values(count[below])} "
                 f"(B0/N up to {share_below:.3g}); largest B0/N beyond rho_J {share_beyond:.3g} ({system.label()})")
-    return Judgement(most_below, evidence, bool(holds))
+    return Judgement(most_below, evidence, bool(holds),
+                     margin=smallest_margin(relative_margin(most_below, tolerances.min_clusters),
+                                            contrast_margin(share_below, share_beyond)),
+                     states=system.states(below))
 
 
 def _not_measured(reason: str) -> Callable:
@@ -89,26 +94,48 @@ def percolation_at_jamming(system: SystemData, tolerances: ClaimTolerances) -> J
     return Judgement(rho_p, evidence, bool(holds))
 
 
-@claim("p1-4.1-pdf-order-at-rho-max", "4.1",
-       "at rho ~ rho_max the force PDF is narrowest for 2D linear, wider for 2D Hertz, widest in 3D (Fig. 3)",
-       "std of F/<F> (mean over realizations) at each system's largest rho <= rho_max: 2D linear < 2D Hertz < 3D",
-       per_system=False)
-def pdf_order_at_rho_max(context: ClaimContext) -> Judgement:
-    """Judge of claim p1-4.1-pdf-order-at-rho-max (across systems)."""
+def _pdf_order(context: ClaimContext, rho_max_of, what: str) -> Judgement:
+    """P1 §4.1's order of the force-PDF widths (2D linear < 2D Hertz < 3D) at each system's largest ρ ≤
+    ``rho_max_of(system)``: std of F/⟨F⟩, realization mean."""
     widths = []
     for role in (LINEAR_2D, HERTZ_2D, HERTZ_3D):
         system = context.role(role)
-        if not np.isfinite(system.rho_max):
-            raise NotEvaluated(f"rho_max of {system.name} undefined")
-        top = cut_at_rho_max(system.full, system.rho_max)
+        rho_max = rho_max_of(system)
+        if not np.isfinite(rho_max):
+            raise NotEvaluated(f"{what} of {system.name} undefined")
+        top = cut_at_rho_max(system.full, rho_max)
+        reached = float(top["rho"].values[-1])
+        if rho_max - reached > system.step + 1e-9:
+            raise NotEvaluated(f"{system.name}'s grid ends at rho={reached:.3f}, more than one step below {what} "
+                               f"{rho_max:.3f}")
         width = float(realization_mean(force_pdf_width(top).isel(rho=-1)))
-        widths.append((system.name, float(top["rho"].values[-1]), width))
+        widths.append((system.name, reached, width))
     if not all(np.isfinite(w) for _, _, w in widths):
         raise NotEvaluated("PDF width undefined (empty PDF)")
     holds = widths[0][2] < widths[1][2] < widths[2][2]
-    evidence = "std of F/<F> at the largest rho <= rho_max: " + "; ".join(
+    evidence = f"std of F/<F> at the largest rho <= {what}: " + "; ".join(
         f"{name} {w:.3g} (rho={r:.3f})" for name, r, w in widths)
-    return Judgement(widths[2][2] - widths[0][2], evidence, holds)
+    margin = min(contrast_margin(widths[0][2], widths[1][2]), contrast_margin(widths[1][2], widths[2][2]))
+    return Judgement(widths[2][2] - widths[0][2], evidence, holds, margin=margin,
+                     states="; ".join(f"{name} rho {r:.3f}" for name, r, _ in widths))
+
+
+@claim("p1-4.1-pdf-order-at-rho-max", "4.1",
+       "at rho ~ rho_max the force PDF is narrowest for 2D linear, wider for 2D Hertz, widest in 3D (Fig. 3)",
+       "std of F/<F> (mean over realizations) at each system's largest rho <= our rho_max: 2D linear < 2D Hertz < 3D",
+       per_system=False)
+def pdf_order_at_rho_max(context: ClaimContext) -> Judgement:
+    """Judge of claim p1-4.1-pdf-order-at-rho-max (across systems), at our ρ_max."""
+    return _pdf_order(context, lambda system: system.rho_max, "our rho_max")
+
+
+@claim("p1-4.1-pdf-order-at-paper-rho-max", "4.1",
+       "the same order at P1's printed rho_max (0.890 2D linear, 0.906 2D Hertz, 0.710 3D; §3)",
+       "std of F/<F> at each system's largest rho <= P1's rho_max (within one grid step of it): 2D linear < "
+       "2D Hertz < 3D", per_system=False)
+def pdf_order_at_paper_rho_max(context: ClaimContext) -> Judgement:
+    """Judge of claim p1-4.1-pdf-order-at-paper-rho-max (across systems), at P1's printed ρ_max."""
+    return _pdf_order(context, lambda system: PAPER_RHO_MAX_BY_ROLE.get(system.role, math.nan), "P1's rho_max")
 
 
 def _jammed_pdf_width(system: SystemData) -> float:
@@ -160,7 +187,10 @@ def pdf_2d_3d_differ(context: ClaimContext) -> Judgement:
         distances[system.name] = 0.5 * float(np.abs(pdf - pdf_3d).sum())
     smallest = min(distances.values())
     evidence = "total-variation distance to 3D below rho_J: " + ", ".join(f"{n} {d:.3g}" for n, d in distances.items())
-    return Judgement(smallest, evidence, smallest >= context.tolerances.pdf_distance)
+    states = "; ".join(f"{system.name} {system.states(system.below)}" for system in
+                       (context.role(HERTZ_3D), *(context.role(role) for role in ALL_2D)))
+    return Judgement(smallest, evidence, smallest >= context.tolerances.pdf_distance,
+                     margin=relative_margin(smallest, context.tolerances.pdf_distance), states=states)
 
 
 # --- §4.2 Non-percolating clusters ---------------------------------------------------------------------------

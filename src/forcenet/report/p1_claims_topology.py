@@ -11,39 +11,86 @@ from typing import Callable
 import numpy as np
 import xarray as xr
 
-from forcenet.report.claims import Claim, Judgement, NotEvaluated, claim_register
+from forcenet.report.claims import (Claim, Judgement, NotEvaluated, claim_register, contrast_margin, ratio_margin,
+                                    relative_margin, smallest_margin)
 from forcenet.report.p1 import (HERTZ_2D, HERTZ_3D, LINEAR_2D, P1_LARGE_THRESHOLD, P1_OPEN_PATH_MIN, P1_SHAPE_BOUNDS,
                                 P1_SMALL_THRESHOLD, finite_max, finite_min, rho_values, shape_parameter_average)
 from forcenet.report.p1_judging import (ALL_2D, ClaimContext, ClaimTolerances, Peak, SystemData, betti_curve,
                                         bin_curve, expected_for_law, find_peak, finite_values, fmt_values,
-                                        grows_beyond, interp_at, peak_verdict, persistence_curve, require,
-                                        strongest_peak, zero_below)
+                                        grows_beyond, interp_at, near_by_one_step, peak_near, peak_verdict,
+                                        persistence_curve, require, zero_below)
 
 CLAIMS: list[Claim] = []
 claim = claim_register(CLAIMS)
 
 
 # --- §5.1 Betti numbers -----------------------------------------------------------------------------------------
-@claim("p1-5.1-b0-ridge", "5.1",
-       "for F_th < 0.5 the non-linear systems develop a pronounced B0/N peak (ridge) near rho_J; for the linear "
-       "law it is insignificant (Figs. 2, 6)",
-       "the strongest peak of mean B0/N(rho) over F_th < 0.5 lies within tol of rho_J with prominence >= "
-       "{min_prominence} of the largest B0/N; present for Hertz, absent for linear")
-def b0_ridge(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
-    """Judge of claim p1-5.1-b0-ridge (per system)."""
-    expected = expected_for_law(system, nonlinear=True)
-    found = _ridge(system)
-    peak, threshold = found if found else (None, None)
-    return peak_verdict(peak, "B0/N", system, tolerances, expected, threshold)
-
-
 def _ridge(system: SystemData) -> tuple[Peak, float] | None:
-    """The strongest B0/N peak over F_th < 0.5 (P1 §5.1's ridge) and its F_th, or None."""
+    """P1 §5.1's ridge: among the B0/N curves at F_th < 0.5, the highest point within tol of ρ_J with its
+    prominence within its own curve (`peak_near`); the curve whose peak is most prominent, and its F_th (None when
+    no curve has a positive value near ρ_J)."""
     b0 = system.mean("betti", homology_dim=0)
     small = system.thresholds[system.thresholds < P1_SMALL_THRESHOLD]
     if small.size == 0 or system.data.sizes["rho"] < 3:
         raise NotEvaluated("no F_th < 0.5 or fewer than 3 rho")
-    return strongest_peak(b0, system, small, finite_max(b0.values))
+    best = None
+    for threshold in small:
+        peak = peak_near(b0.sel(threshold=threshold).transpose("rho").values, system.rho, system.rho_j,
+                         system.tolerance)
+        if peak is not None and (best is None or peak.relative_prominence > best[0].relative_prominence):
+            best = (peak, float(threshold))
+    return best
+
+
+@claim("p1-5.1-b0-ridge", "5.1",
+       "for F_th < 0.5 the non-linear systems develop a B0/N peak (ridge) near rho_J, against the same curve beyond "
+       "it (Figs. 2, 6; 6d zooms in on 3D)",
+       "some mean B0/N(rho) curve at F_th < 0.5 has its highest point within tol of rho_J with prominence >= "
+       "{min_prominence} of its own height (within the curve)", scope=(HERTZ_2D, HERTZ_3D))
+def b0_ridge(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
+    """Judge of claim p1-5.1-b0-ridge (per system): the peak within its curve."""
+    found = _ridge(system)
+    if found is None:
+        raise NotEvaluated("B0/N at F_th < 0.5 is NaN or zero near rho_J")
+    peak, threshold = found
+    present = peak.relative_prominence >= tolerances.min_prominence
+    evidence = (f"highest B0/N near rho_J at F_th={threshold:.3g}: {peak.value:.3g} at rho={peak.rho:.3f} "
+                f"({system.label()}, tolerance {system.tolerance:.3g}), prominence {peak.relative_prominence:.2f} of "
+                f"its height; peak {'present' if present else 'absent'}")
+    return Judgement(peak.relative_prominence, evidence, present,
+                     margin=relative_margin(peak.relative_prominence, tolerances.min_prominence),
+                     grid_step=near_by_one_step(peak, system), states=f"rho {peak.rho:.3f}")
+
+
+def _on_one_scale(system: SystemData, peak: Peak | None, scale: float, what: str, where: str = "") -> tuple[float, str]:
+    """A peak near ρ_J found within its own curve (`peak_near`) measured on a scale shared by several systems: its
+    prominence in the curve's own units divided by `scale`, and a text (0 where there is no peak)."""
+    if peak is None:
+        return 0.0, f"{system.name} no {what} near rho_J"
+    share = peak.relative_prominence * peak.value / scale
+    return share, f"{system.name} {share:.3g} (peak {peak.value:.3g} at rho={peak.rho:.3f}{where})"
+
+
+def _ridge_height(system: SystemData) -> tuple[float, str]:
+    """The ridge's prominence in B0/N itself (one scale for every system of a dimension) and a text."""
+    found = _ridge(system)
+    peak, threshold = found if found else (None, math.nan)
+    return _on_one_scale(system, peak, 1.0, "B0/N", f", F_th={threshold:.3g}")
+
+
+@claim("p1-5.1-b0-ridge-law-contrast", "5.1",
+       "the B0/N ridge is pronounced for the non-linear law and rather insignificant for the linear one (§5.1, §6: "
+       "'one of the prominent results')",
+       "prominence of the B0/N ridge (F_th < 0.5, within tol of rho_J) in B0/N itself, one scale for the 2D laws: "
+       "2D Hertz >= {contrast_factor} x 2D linear", per_system=False)
+def b0_ridge_law_contrast(context: ClaimContext) -> Judgement:
+    """Judge of claim p1-5.1-b0-ridge-law-contrast (across systems)."""
+    hertz, hertz_text = _ridge_height(context.role(HERTZ_2D))
+    linear, linear_text = _ridge_height(context.role(LINEAR_2D))
+    ratio = hertz / linear if linear > 0 else (math.inf if hertz > 0 else 0.0)
+    factor = context.tolerances.contrast_factor
+    return Judgement(ratio, f"ridge prominence in B0/N: {hertz_text}; {linear_text}; ratio {ratio:.3g}",
+                     ratio >= factor, margin=ratio_margin(ratio, factor))
 
 
 @claim("p1-5.1-b0-interior-maximum", "5.1",
@@ -172,12 +219,13 @@ def _large_thresholds(system: SystemData) -> np.ndarray:
        "|median of the nonzero S_p over {below_cut}, all F_th - 1| <= {unity_tolerance}", scope=ALL_2D)
 def shape_open_paths_below(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
     """Judge of claim p1-5.2-shape-open-paths-below-jamming (per system)."""
-    values = _shape(system, require(system.below, "rho below rho_J"), np.ones(system.thresholds.size, bool),
-                    "below rho_J")
+    below = require(system.below, "rho below rho_J")
+    values = _shape(system, below, np.ones(system.thresholds.size, bool), "below rho_J")
     median = float(np.median(values))
     evidence = f"S_p below rho_J over {values.size} cells: median {median:.3g}, range [{values.min():.3g}, " \
                f"{values.max():.3g}] ({system.label()})"
-    return Judgement(median, evidence, abs(median - 1) <= tolerances.unity_tolerance)
+    return Judgement(median, evidence, abs(median - 1) <= tolerances.unity_tolerance,
+                     margin=relative_margin(abs(median - 1), tolerances.unity_tolerance), states=system.states(below))
 
 
 def _mean_shape(system: SystemData, rho_mask: np.ndarray, what: str) -> float:
@@ -194,7 +242,9 @@ def shape_linear_above_hertz_below(context: ClaimContext) -> Judgement:
     linear, hertz = context.role(LINEAR_2D), context.role(HERTZ_2D)
     a = _mean_shape(linear, require(linear.below, "rho below rho_J (2D linear)"), "below rho_J, F_th < 2")
     b = _mean_shape(hertz, require(hertz.below, "rho below rho_J (2D Hertz)"), "below rho_J, F_th < 2")
-    return Judgement(a - b, f"mean S_p below rho_J, F_th < 2: 2D linear {a:.3g}, 2D Hertz {b:.3g}", a > b)
+    return Judgement(a - b, f"mean S_p below rho_J, F_th < 2: 2D linear {a:.3g}, 2D Hertz {b:.3g}", a > b,
+                     margin=contrast_margin(a, b),
+                     states=f"{linear.name} {linear.states(linear.below)}; {hertz.name} {hertz.states(hertz.below)}")
 
 
 @claim("p1-5.2-shape-open-paths-large-threshold", "5.2",
@@ -343,7 +393,8 @@ def medium_fewer_nonlinear(context: ClaimContext) -> Judgement:
 
 
 @claim("p1-5.3-medium-jump", "5.3", "the medium-bin N0/N increases suddenly beyond jamming (Fig. 11e, f)",
-       "medium N0/N at the first rho > rho_J + tol >= {jump_factor} x its value at the last rho < rho_J - tol (the transition measured symmetrically), "
+       "medium N0/N at the first rho > rho_J + tol >= {jump_factor} x its value at the last rho < rho_J - tol (the "
+       "transition measured symmetrically), "
        "and > 0")
 def medium_jump(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
     """Judge of claim p1-5.3-medium-jump (per system)."""
@@ -377,13 +428,37 @@ def strong_peak_linear_only(system: SystemData, tolerances: ClaimTolerances) -> 
     return _bin_peak(system, tolerances, "strong", nonlinear=False)
 
 
+def _weak_peak_on(system: SystemData, scale: float) -> tuple[float, str]:
+    """The weak-bin N0/N peak near ρ_J of `system` on the shared `scale` (`_on_one_scale`)."""
+    peak = peak_near(bin_curve(system, "weak").values, system.rho, system.rho_j, system.tolerance)
+    return _on_one_scale(system, peak, scale, "weak-bin points")
+
+
 @claim("p1-5.3-weak-peak-nonlinear-only", "5.3",
-       "the weak-bin N0/N shows a pronounced peak around jamming for the non-linear laws, not for the linear one "
-       "(Fig. 11c, d)",
-       "the maximum of weak-bin N0/N(rho) lies within tol of rho_J with prominence >= {min_prominence} of it; "
-       "present for Hertz, absent for linear")
-def weak_peak_nonlinear_only(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
-    """Judge of claim p1-5.3-weak-peak-nonlinear-only (per system)."""
+       "the weak-bin N0/N shows a pronounced peak around jamming for the non-linear law, not for the linear one "
+       "(Fig. 11c: both 2D laws on one panel)",
+       "prominence of the weak-bin N0/N peak within tol of rho_J, on one scale (the larger maximum of the two 2D "
+       "curves): 2D Hertz >= {min_prominence}, 2D linear < {min_prominence}", per_system=False)
+def weak_peak_nonlinear_only(context: ClaimContext) -> Judgement:
+    """Judge of claim p1-5.3-weak-peak-nonlinear-only (across the 2D systems, one scale)."""
+    hertz_system, linear_system = context.role(HERTZ_2D), context.role(LINEAR_2D)
+    scale = max(finite_max(bin_curve(hertz_system, "weak").values), finite_max(bin_curve(linear_system, "weak").values))
+    if not np.isfinite(scale) or scale <= 0:
+        raise NotEvaluated("no weak-bin points in either 2D system")
+    hertz, hertz_text = _weak_peak_on(hertz_system, scale)
+    linear, linear_text = _weak_peak_on(linear_system, scale)
+    threshold = context.tolerances.min_prominence
+    return Judgement(hertz - linear, f"weak-bin peak prominence on one scale ({scale:.3g}): {hertz_text}; "
+                                     f"{linear_text}", hertz >= threshold > linear,
+                     margin=smallest_margin(relative_margin(hertz, threshold), relative_margin(linear, threshold)))
+
+
+@claim("p1-5.3-weak-peak-3d", "5.3",
+       "in 3D the weak-bin N0/N also peaks around jamming (Fig. 11d, its own panel)",
+       "the maximum of weak-bin N0/N(rho) lies within tol of rho_J with prominence >= {min_prominence} of it",
+       scope=(HERTZ_3D,))
+def weak_peak_3d(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
+    """Judge of claim p1-5.3-weak-peak-3d (per system)."""
     return _bin_peak(system, tolerances, "weak", nonlinear=True)
 
 

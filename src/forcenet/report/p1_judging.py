@@ -227,6 +227,34 @@ def find_peak(curve, rho: np.ndarray, rho_j: float, tolerance: float, scale: flo
                 bool(abs(rho[k] - rho_j) <= tolerance + 1e-12))
 
 
+def peak_near(curve, rho: np.ndarray, rho_j: float, tolerance: float) -> Peak | None:
+    """The highest point of `curve` (ρ,) within `tolerance` of ρ_J and its prominence within the curve itself
+    (P1 §5.1 compares the small-F_th B0/N near ρ_J with the same curve beyond it, Fig. 6d zooming in): its height
+    above the higher of the lowest points reached on either side before the curve rises above it again, divided
+    by its own height. 0 where it is not a local maximum (the curve rises on past the window) or lies at the end
+    of the grid. None when the window holds no finite positive value."""
+    curve = np.asarray(curve, dtype=float)
+    window = np.flatnonzero((np.abs(rho - rho_j) <= tolerance + 1e-12) & np.isfinite(curve))
+    if window.size == 0 or not (curve[window] > 0).any():
+        return None
+    k = int(window[np.argmax(curve[window])])
+    top = curve[k]
+
+    def lowest(indices) -> float:
+        """The lowest point walking away from the peak along `indices`, until the curve rises above the peak."""
+        low, walked = top, False
+        for i in indices:
+            if not np.isfinite(curve[i]):
+                continue
+            if curve[i] > top:
+                break
+            low, walked = min(low, curve[i]), True
+        return low if walked else top
+
+    prominence = top - max(lowest(range(k - 1, -1, -1)), lowest(range(k + 1, curve.size)))
+    return Peak(float(rho[k]), float(top), float(prominence / top), True)
+
+
 def strongest_peak(values: xr.DataArray, system: SystemData, thresholds: np.ndarray,
                     scale: float) -> tuple[Peak, float] | None:
     """Among the curves values(ρ) at each F_th in `thresholds`, the peak that is near ρ_J with the largest

@@ -10,21 +10,24 @@ from __future__ import annotations
 
 import math
 import os
-from typing import Mapping
+from dataclasses import dataclass, field, replace
+from typing import Any, Callable, Mapping, Sequence
 
 import numpy as np
 import pandas as pd
 import xarray as xr
 
 from forcenet.report import p1_claims, p1_claims_topology
-from forcenet.report.claims import (FAILS, HOLDS, NOT_EVALUATED, Claim, JudgedClaim, Judgement, NotEvaluated,
-                                    VERDICT_COLUMNS, TableLayout, TableSection, claims_frame, judge_claim, validation_markdown,
+from forcenet.report.claims import (NOT_EVALUATED, VERDICT_COLUMNS, Claim, JudgedClaim, Judgement, NotEvaluated,
+                                    TableLayout, TableSection, claims_frame, judge_claim, validation_markdown,
                                     verdict_summary, with_paper_size, write_validation_table)
 from forcenet.report.p1 import (DEFAULT_P1_FORCE_UNIT, P1_FORCE_UNITS, P1_RHO_STEP, P1_ROLES, P1_SYSTEMS,
                                 PAPER_PHI_C, PAPER_RHO_J, PAPER_RHO_MAX, PAPER_Z_AT_JAMMING, FMaxCut, cut_at_rho_max,
                                 f_max_cut, isostatic_crossing, jamming_point, rho_values, select_total,
                                 system_dimension, system_force_law, system_order, value_at)
-from forcenet.report.p1_judging import ClaimContext, ClaimTolerances, SystemData
+from forcenet.report.p1_diagnostics import SHAPE_READINGS, with_shape_reading
+from forcenet.report.p1_judging import BELOW_TOLERANCE, ClaimContext, ClaimTolerances, SystemData
+from forcenet.report.realizations import bootstrap_draws, resample_realizations
 
 #: every claim of P1 §3–6, in the order the table lists them within a section
 CLAIMS: list[Claim] = [*p1_claims.CLAIMS, *p1_claims_topology.CLAIMS]
@@ -37,8 +40,36 @@ P1_LAYOUT = TableLayout(columns={"kind": "kind", "id": "id", "section": "section
 COLUMNS = tuple(P1_LAYOUT.columns)
 
 
+@dataclass(frozen=True)
+class Reading:
+    """Another reading of P1 that the table judges beside its own conventions (issue 25).
+
+    name : its label in the ``reading`` column; tolerances : `ClaimTolerances` fields it changes; measures : how it
+    changes the measures ({system: dataset} → {system: dataset}; None: unchanged). A row of this reading is set
+    beside a claim's primary row wherever the reading changes the claim's verdict, marker or key number."""
+
+    name: str
+    tolerances: Mapping[str, Any] = field(default_factory=dict)
+    measures: Callable[[Mapping[str, xr.Dataset]], Mapping[str, xr.Dataset]] | None = None
+
+
+def _cluster_mean_shape(measures: Mapping[str, xr.Dataset]) -> Mapping[str, xr.Dataset]:
+    """The measures with S_p the mean over clusters (P1 §5.2's other reading), where the measures hold it."""
+    return {name: with_shape_reading(ds, "cluster_mean") if SHAPE_READINGS["cluster_mean"] in ds else ds
+            for name, ds in measures.items()}
+
+
+#: the readings every table judges beside its own: the older cut of "below jamming" one tolerance lower, and
+#: S_p as the mean over clusters (pooled is P1's definition and primary). Readings that need other analyses (the
+#: filled tetrahedra, never-dying classes left out) are given to `p1_validation` as `beside`.
+P1_READINGS = (Reading(BELOW_TOLERANCE, tolerances={"below_cut": BELOW_TOLERANCE}),
+               Reading("S_p mean over clusters", measures=_cluster_mean_shape))
+
+
 def p1_validation(measures: Mapping[str, xr.Dataset], *, force_unit: str = DEFAULT_P1_FORCE_UNIT,
-                  judge_up_to_rho_max: bool = False, **tolerances) -> pd.DataFrame:
+                  judge_up_to_rho_max: bool = False, readings: Sequence[Reading] = P1_READINGS,
+                  beside: Mapping[str, Mapping[str, xr.Dataset]] | None = None, resamples: int = 0, seed: int = 0,
+                  **tolerances) -> pd.DataFrame:
     """P1's numbers and claims beside what `measures` (system → network_measures dataset) shows.
 
     Rows of kind ``"value"``: F_max and per system ρ_max under each unit of `P1_FORCE_UNITS` (the one the figures
@@ -47,29 +78,61 @@ def p1_validation(measures: Mapping[str, xr.Dataset], *, force_unit: str = DEFAU
     and measured − paper. Rows of kind ``"claim"``: one per claim of `CLAIMS` and system it is about (or one
     for a claim comparing systems), with P1's section, statement, the criterion, the key number (``measured``),
     the evidence and a verdict: ``holds`` / ``does not hold`` / ``not evaluated`` (a system, a quantity or a ρ
-    range is missing; the evidence says which).
+    range is missing; the evidence says which), its marker, the states that carry it and its robustness: the
+    share of `resamples` bootstrap resamples of the realizations (seeded by `seed`;
+    `forcenet.report.realizations.bootstrap_resamples`) under which it holds (NaN with `resamples` = 0 or one
+    realization).
+
+    Beside a claim's row stands its row under each of `readings` (`P1_READINGS`) and under each measures set of
+    `beside` ({reading name: {system: dataset}}, e.g. the measures with filled tetrahedra), wherever that reading
+    changes its verdict, marker or key number; the ``reading`` column names it.
 
     Claims are judged over every simulated ρ, or over ρ ≤ ρ_max (P1's shown range) with `judge_up_to_rho_max`;
     those P1 states at ρ_max (PDF order, B1 plateau) use ρ_max either way. `tolerances`: the fields of
     `ClaimTolerances` (documented there), e.g. ``rho_tolerance=0.03``.
     """
-    tolerances_ = ClaimTolerances(**tolerances)
-    present = {name: ds for name, ds in measures.items() if ds is not None}
-    cuts = _cuts(present)
     if force_unit not in P1_FORCE_UNITS:
         raise ValueError(f"unknown P1 force unit {force_unit!r}; known: {', '.join(P1_FORCE_UNITS)}")
-    cut = cuts.get(force_unit)
-    systems = {name: system_data(name, ds, cut if isinstance(cut, FMaxCut) else None, tolerances_,
-                                 judge_up_to_rho_max) for name, ds in present.items()}
+    tolerances_ = ClaimTolerances(**tolerances)
+    present = {name: ds for name, ds in measures.items() if ds is not None}
+    names = set(P1_SYSTEMS) | set(present)
+    cuts = _cuts(present)
+    context = _context(present, tolerances_, force_unit, judge_up_to_rho_max, cuts)
+    draws = bootstrap_draws(present, resamples, seed)
+    resampled = [_context({name: resample_realizations(ds, draw[name]) for name, ds in present.items()},
+                          tolerances_, force_unit, judge_up_to_rho_max) for draw in draws]
     rows = _force_rows(cuts, force_unit)
-    for name in system_order(set(P1_SYSTEMS) | set(present)):
-        rows.extend(_value_rows(name, systems.get(name), cuts, force_unit))
-    context = ClaimContext(systems, tolerances_)
+    for name in system_order(names):
+        rows.extend(_value_rows(name, context.systems.get(name), cuts, force_unit))
+    others = [(reading.name, _context(reading.measures(present) if reading.measures else present,
+                                      replace(tolerances_, **reading.tolerances), force_unit, judge_up_to_rho_max))
+              for reading in readings]
+    others += [(name, _context({n: ds for n, ds in sets.items() if ds is not None}, tolerances_, force_unit,
+                               judge_up_to_rho_max)) for name, sets in (beside or {}).items()]
     for claim_ in sorted(CLAIMS, key=lambda c: tuple(int(part) for part in c.section.split("."))):
-        rows.extend(_claim_rows(claim_, context, set(P1_SYSTEMS) | set(present)))
+        primary = _claim_rows(claim_, context, names, resampled)
+        rows.extend(primary)
+        for name, other in others:
+            rows.extend(row for row, first in zip(_claim_rows(claim_, other, names, (), reading=name), primary)
+                        if (row.verdict, row.marker, _rounded(row.measured))
+                        != (first.verdict, first.marker, _rounded(first.measured)))
     table = claims_frame(rows, P1_LAYOUT)
     table.attrs["force_unit"] = force_unit
     return table
+
+
+def _rounded(value: float) -> float | str:
+    """A key number compared between readings (4 significant digits, as the table prints it; NaN as text)."""
+    return f"{value:.4g}"
+
+
+def _context(present: Mapping[str, xr.Dataset], tolerances: ClaimTolerances, force_unit: str, up_to_rho_max: bool,
+             cuts: Mapping[str, FMaxCut | str] | None = None) -> ClaimContext:
+    """Every system of `present` as the judges see it, under the F_max cut of `force_unit`."""
+    cut = (cuts if cuts is not None else _cuts(present)).get(force_unit)
+    systems = {name: system_data(name, ds, cut if isinstance(cut, FMaxCut) else None, tolerances, up_to_rho_max)
+               for name, ds in present.items()}
+    return ClaimContext(systems, tolerances)
 
 
 def _cuts(present: Mapping[str, xr.Dataset]) -> dict[str, FMaxCut | str]:
@@ -101,12 +164,15 @@ def system_data(name: str, ds: xr.Dataset, cut: FMaxCut | None = None, tolerance
                       below_cut=tolerances.below_cut)
 
 
-def _claim_rows(claim_: Claim, context: ClaimContext, names: set[str]) -> list[JudgedClaim]:
+def _claim_rows(claim_: Claim, context: ClaimContext, names: set[str], resampled: Sequence[ClaimContext] = (),
+                reading: str = "") -> list[JudgedClaim]:
     """The rows of one claim: one across systems (``per_system=False``), else one per system of its scope among
-    `names` (a system of P1 missing from the results is "not evaluated")."""
+    `names` (a system of P1 missing from the results is "not evaluated"); its robustness from the same claim
+    judged in each of the `resampled` contexts; `reading` names the reading of `context`."""
     criterion = claim_.criterion_text(context.tolerances)
     if not claim_.per_system:
-        return [judge_claim(claim_, "all", claim_.paper_value(None), criterion, lambda: claim_.judge(context))]
+        return [judge_claim(claim_, "all", claim_.paper_value(None), criterion, lambda: claim_.judge(context),
+                            resampled=[lambda c=c: claim_.judge(c) for c in resampled], reading=reading)]
     rows = []
     for name in system_order(names):
         system = context.systems.get(name)
@@ -114,15 +180,17 @@ def _claim_rows(claim_: Claim, context: ClaimContext, names: set[str]) -> list[J
         if claim_.scope is not None and role not in claim_.scope:
             continue
 
-        def judge(system=system) -> Judgement:
-            """The claim judged on this system, after the checks every per-system claim shares."""
+        def judge(within: ClaimContext, name=name) -> Judgement:
+            """The claim judged on this system of `within`, after the checks every per-system claim shares."""
+            system = within.systems.get(name)
             if system is None:
                 raise NotEvaluated("system not in the results")
             if claim_.needs_rho_j and not np.isfinite(system.rho_j):
                 raise NotEvaluated("rho_J could not be located")
-            return claim_.judge(system, context.tolerances)
+            return claim_.judge(system, within.tolerances)
 
-        rows.append(judge_claim(claim_, name, claim_.paper_value(role), criterion, judge))
+        rows.append(judge_claim(claim_, name, claim_.paper_value(role), criterion, lambda: judge(context),
+                                resampled=[lambda c=c: judge(c) for c in resampled], reading=reading))
     return rows
 
 

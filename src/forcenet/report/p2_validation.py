@@ -6,20 +6,20 @@ default build a column beside P2's values gives our value at P2's size from the 
 """
 from __future__ import annotations
 
-import math
 import os
 from typing import Mapping
 
 import pandas as pd
 import xarray as xr
 
-from forcenet.report.claims import (FAILS, HOLDS, NOT_EVALUATED, VERDICT_COLUMNS, Explanation, Judgement, TableLayout, TableSection, claims_frame,
-                                    judge_claim, validation_markdown, verdict_summary, with_paper_size,
+from forcenet.report.claims import (HOLDS, VERDICT_COLUMNS, Explanation, Judgement, TableLayout, TableSection,
+                                    claims_frame, judge_claim, validation_markdown, verdict_summary, with_paper_size,
                                     write_validation_table)
 from forcenet.report.p2 import FRICTIONAL, FRICTIONLESS, format_number
 from forcenet.report.p2_claims import CLAIMS
 from forcenet.report.p2_explanations import explain
 from forcenet.report.p2_judging import Context, Curves, ValidationTolerances
+from forcenet.report.realizations import bootstrap_draws, resample_realizations
 
 #: the table's columns (CSV names → `JudgedClaim` fields); the Markdown heads claim_id "id" and reference "P2"
 P2_LAYOUT = TableLayout(columns={"claim_id": "id", "section": "section", "system": "system", "claim": "statement",
@@ -33,7 +33,7 @@ VALIDATION_COLUMNS = tuple(P2_LAYOUT.columns)
 def p2_validation(distances: Mapping[str, xr.Dataset], tables: Mapping[str, pd.DataFrame] | None = None, *,
                   frictional: str = FRICTIONAL, frictionless: str = FRICTIONLESS,
                   tolerances: ValidationTolerances | None = None, measures: Mapping[str, xr.Dataset] | None = None,
-                  states: pd.DataFrame | None = None) -> pd.DataFrame:
+                  states: pd.DataFrame | None = None, resamples: int = 0, seed: int = 0) -> pd.DataFrame:
     """Judge each claim of P2 §III D–§IV (and §V's summary of them) on the measured data.
 
     Parameters
@@ -46,6 +46,9 @@ def p2_validation(distances: Mapping[str, xr.Dataset], tables: Mapping[str, pd.D
     tolerances : how "≈", "roughly constant", "dramatically" … are tested (`ValidationTolerances`).
     measures : ``{system: network_measures.nc dataset}`` (never-dying class counts) and `states` (the
         `table_state_candidates` of Tables I–III): what the explanations of failed claims measure (optional).
+    resamples, seed : each claim on the realizations (not Tables I–III, one realization) is judged again on
+        `resamples` bootstrap resamples of every system's realizations (seeded by `seed`); its robustness is the
+        share under which it holds (NaN with 0 resamples or one realization).
 
     Returns
     -------
@@ -55,9 +58,12 @@ def p2_validation(distances: Mapping[str, xr.Dataset], tables: Mapping[str, pd.D
     are realization means; ρ_J is where the mean Z(ρ) first reaches d + 1 (P2 §IV A).
     """
     tol = tolerances or ValidationTolerances()
-    curves = {name: Curves(name, ds, _dimension(ds), tol) for name, ds in distances.items()
-              if name in (frictional, frictionless)}
+    judged_systems = {name: ds for name, ds in distances.items() if name in (frictional, frictionless)}
+    curves = {name: Curves(name, ds, _dimension(ds), tol) for name, ds in judged_systems.items()}
     ctx = Context(curves, tables, tol, frictional, frictionless, dict(measures or {}), states)
+    resampled = [Context({name: Curves(name, resample_realizations(ds, draw[name]), _dimension(ds), tol)
+                          for name, ds in judged_systems.items()}, tables, tol, frictional, frictionless)
+                 for draw in bootstrap_draws(judged_systems, resamples, seed)]
     systems = {"frictional": frictional, "frictionless": frictionless, "both": f"{frictional} vs {frictionless}",
                "tables": f"{frictional} (one realization)"}
     judged = []
@@ -70,8 +76,9 @@ def p2_validation(distances: Mapping[str, xr.Dataset], tables: Mapping[str, pd.D
             """Why the claim does not hold (nothing where it does)."""
             return explain(claim.id, ctx) if verdict != HOLDS else None
 
+        on_resamples = [] if claim.scope == "tables" else [lambda c=c, claim=claim: claim.judge(c) for c in resampled]
         judged.append(judge_claim(claim, systems[claim.scope], claim.paper_value(), claim.criterion_text(tol), judge,
-                                  explanation))
+                                  explanation, resampled=on_resamples))
     table = claims_frame(judged, P2_LAYOUT)
     table.attrs["systems"] = {name: {"rho_J": c.rho_j, "realizations": c.n_realizations,
                                      "rho_range": (float(c.ds["rho"].min()), float(c.ds["rho"].max())),

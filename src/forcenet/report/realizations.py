@@ -13,17 +13,28 @@ A single realization (or a point where only one realization is finite) has sprea
 the mean, so a figure of one realization shows the curve alone. On a log axis (P2 Figs 6–10) the part of a band
 below 0 is not drawn.
 
+How robust a verdict is to the choice of realizations (issue 24): each claim is judged again on bootstrap
+resamples of the realizations (`bootstrap_resamples`: R realizations drawn with replacement from R, seeded, so a
+table is reproducible; `bootstrap_draws` for several systems at once; `resample_realizations` builds the dataset
+of one draw), and the table gives the share of
+resamples under which it holds. A verdict that one realization carries then holds in a visibly smaller share.
+
 Other reductions over realizations that a paper defines itself live with that paper: P1 §5.2's averaging of the
 shape parameter and P1 §4.3's majority rule for the percolating cluster are in `forcenet.report.p1`, built on
 these.
 """
 from __future__ import annotations
 
+from typing import Mapping
+
+import numpy as np
 import xarray as xr
 
-__all__ = ["REALIZATION", "realization_mean", "realization_spread", "mean_and_spread"]
+__all__ = ["REALIZATION", "ROBUSTNESS_RESAMPLES", "realization_mean", "realization_spread", "mean_and_spread",
+           "bootstrap_resamples", "resample_realizations", "bootstrap_draws"]
 
 REALIZATION = "realization"  # the dimension of the aggregated datasets that counts the realizations
+ROBUSTNESS_RESAMPLES = 20  # bootstrap resamples of the realizations behind each verdict's robustness share
 
 
 def realization_mean(da: xr.DataArray, dim: str = REALIZATION) -> xr.DataArray:
@@ -46,3 +57,31 @@ def mean_and_spread(da: xr.DataArray, dim: str = REALIZATION) -> tuple[xr.DataAr
     """(`realization_mean`, `realization_spread`) of `da` over `dim`."""
     return realization_mean(da, dim), realization_spread(da, dim)
 
+
+
+def bootstrap_resamples(n_realizations: int, resamples: int, seed: int = 0) -> list[np.ndarray]:
+    """`resamples` draws of `n_realizations` realization indices with replacement (sorted), from a generator
+    seeded by `seed`: the same draws every time. Empty when there are fewer than 2 realizations (a resample of
+    one realization is that realization: no robustness to measure)."""
+    if n_realizations < 2 or resamples < 1:
+        return []
+    rng = np.random.default_rng(seed)
+    return [np.sort(rng.integers(0, n_realizations, n_realizations)) for _ in range(resamples)]
+
+
+def resample_realizations(ds: xr.Dataset, indices: np.ndarray, dim: str = REALIZATION) -> xr.Dataset:
+    """The realizations `indices` of `ds` (repeats allowed), renumbered 0 … len − 1 along `dim`."""
+    out = ds.isel({dim: np.asarray(indices, dtype=int)})
+    return out.assign_coords({dim: np.arange(len(indices))})
+
+
+def bootstrap_draws(datasets: Mapping[str, xr.Dataset], resamples: int, seed: int = 0,
+                    dim: str = REALIZATION) -> list[dict[str, np.ndarray]]:
+    """`resamples` bootstrap draws of the realizations of every dataset of `datasets` ({name: indices} each; each
+    name from its own stream, seeded by `seed` + its rank in sorted order, so adding a system leaves the others'
+    draws alone only where it sorts after them); none when any dataset has a single realization."""
+    per_name = {name: bootstrap_resamples(datasets[name].sizes.get(dim, 1), resamples, seed + k)
+                for k, name in enumerate(sorted(datasets))}
+    if not per_name or any(not draws for draws in per_name.values()):
+        return []
+    return [{name: draws[b] for name, draws in per_name.items()} for b in range(resamples)]
