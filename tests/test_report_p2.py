@@ -747,3 +747,70 @@ def test_table_state_diagnostic_reports_where_a_b_c_lie():
                       p2_judging.ValidationTolerances(), p2.FRICTIONAL, p2.FRICTIONLESS, {}, states)
     text = p2_explanations._table_state_diagnostic(ctx)
     assert "realization 0 (the quietest of 3" in text and "<F_n> x 4.00" in text and "Z 2.80 -> 3.00" in text
+
+
+# --- issue 25: rates just before jamming, vacuous passes, markers, explanation basis, robustness ----------------
+def test_the_fall_after_jamming_is_measured_against_the_rates_just_before_it():
+    # loops vanish in the dilute regime (rho < 0.74): the rates just before jamming, [rho_J - 0.05, rho_J), are
+    # untouched, so the fall after jamming stands (the dilute regime is not what slows)
+    data = both_systems(frictional={"modify": scaled(1, p2.METRICS, 0.0, lambda x: x < 0.74)})
+    assert verdicts(data, paper_tables())["IV.A-11a"] == claims.HOLDS
+    # the rates just before jamming as slow as after it: no fall, however fast the dilute regime changed
+    slow = both_systems(frictional={"modify": scaled(1, p2.METRICS, 1e-4, lambda x: (x >= J - 0.05) & (x < J))})
+    table = p2_validation.p2_validation(slow, paper_tables()).set_index("claim_id")
+    assert table.loc["IV.A-11a", "verdict"] == claims.FAILS
+    assert "[rho_J - 0.05, rho_J)" in table.loc["IV.A-11a", "evidence"]
+    assert "the factor 10.0 is ours" in table.loc["IV.A-11a", "criterion"]
+    assert table.loc["IV.A-11a", "measured"] < 10
+
+
+def test_no_loops_at_all_before_jamming_without_friction_is_a_vacuous_pass():
+    # mu = 0 with no loop changes at all well below jamming: IV.C-5 "changes much less" holds only on zeros
+    vacuous = both_systems(frictionless={"loop_factors": (0.0, 4.0, 2.0)})
+    table = p2_validation.p2_validation(vacuous, paper_tables()).set_index("claim_id")
+    assert table.loc["IV.C-5", "verdict"] == claims.HOLDS and table.loc["IV.C-5", "marker"] == claims.VACUOUS
+    fair = p2_validation.p2_validation(both_systems(), paper_tables()).set_index("claim_id")
+    assert fair.loc["IV.C-5", "verdict"] == claims.HOLDS and fair.loc["IV.C-5", "marker"] == ""
+    assert "1 vacuous" in claims.verdict_summary(table.reset_index())
+
+
+def test_a_verdict_within_ten_percent_of_its_threshold_is_marginal():
+    # IV.A-2: median d_B before jamming >= 10 / 1.5; tolerance set so the measured median sits 5 % above it
+    table = p2_validation.p2_validation(both_systems(), paper_tables()).set_index("claim_id")
+    median = table.loc["IV.A-2", "measured"]
+    assert table.loc["IV.A-2", "marker"] == ""
+    near = p2_validation.p2_validation(both_systems(), paper_tables(),
+                                       tolerances=p2_judging.ValidationTolerances(value_factor=10 / (0.95 * median)))
+    near = near.set_index("claim_id")
+    assert near.loc["IV.A-2", "verdict"] == claims.HOLDS and near.loc["IV.A-2", "marker"] == claims.MARGINAL
+
+
+def test_every_explanation_says_measured_with_its_command_or_hypothesis():
+    table = p2_validation.p2_validation(both_systems(frictional={"after": 3000.0}), paper_tables())
+    table = table.set_index("claim_id")
+    for claim_id, (cause, command, _) in p2_explanations.EXPLANATIONS.items():
+        assert command in (p2_explanations.SAMPLING, p2_explanations.CAMPAIGN, p2_explanations.THIS_TABLE,
+                           p2_explanations.HYPOTHESIS_ONLY), claim_id
+    assert table.loc["IV.A-11a", "explanation_basis"] == f"measured: {p2_explanations.THIS_TABLE}"
+    assert table.loc["V-2", "explanation_basis"] == f"measured: {p2_explanations.SAMPLING}"
+    # V-1 fails with 2 and 3 paper-size realizations: not explained away as "few realizations"
+    v1 = p2_explanations.EXPLANATIONS["V-1"][0]
+    assert "Few realizations" not in v1 and "2 and 3 realizations" in v1
+    few = [claim_id for claim_id, (cause, _, _) in p2_explanations.EXPLANATIONS.items()
+           if cause.startswith("Few realizations")]
+    assert few and all(p2_explanations.EXPLANATIONS[c][1] == p2_explanations.HYPOTHESIS_ONLY for c in few)
+
+
+def test_robustness_is_the_share_of_bootstrap_resamples_and_is_seeded():
+    data = both_systems()
+    first = p2_validation.p2_validation(data, paper_tables(), resamples=8, seed=3).set_index("claim_id")
+    again = p2_validation.p2_validation(data, paper_tables(), resamples=8, seed=3).set_index("claim_id")
+    pd.testing.assert_series_equal(first["robustness"], again["robustness"])
+    assert first.loc["IV.C-1", "robustness"] == 1.0  # mu = 0 jams later in every resample
+    assert np.isnan(first.loc["III.D-1", "robustness"])  # Tables I-III: one realization, no resample
+    assert np.isnan(p2_validation.p2_validation(data, paper_tables()).set_index("claim_id").loc["IV.C-1", "robustness"])
+    # one realization whose loops change early carries IV.C-5's failure: the other resamples hold
+    carried = both_systems()
+    carried[p2.FRICTIONLESS]["distance"].loc[dict(realization=0, homology_dim=1)] *= 40.0
+    table = p2_validation.p2_validation(carried, paper_tables(), resamples=20, seed=0).set_index("claim_id")
+    assert 0.0 < table.loc["IV.C-5", "robustness"] < 1.0
