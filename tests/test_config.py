@@ -13,8 +13,9 @@ import pytest
 import yaml
 
 from conftest import REPO, load_config
-from forcenet.pipeline import snapshot_analysis_params
-from forcenet.systems import ConfigError, rho_grid, study_rattler_rule, validate_config
+from forcenet.pipeline import simulation_params, snapshot_analysis_params
+from forcenet.systems import (ConfigError, realization_indices, realization_seed, rho_grid, study_rattler_rule,
+                              validate_config)
 
 SCHEMA = yaml.safe_load((REPO / "workflow/schemas/config.schema.yaml").read_text())
 CONFIGS = ["config.yaml", "paper.yaml", "smoke.yaml"]
@@ -106,9 +107,34 @@ def test_rattler_rule_is_chosen_per_study(default_config):
 
 
 @pytest.mark.parametrize("name", CONFIGS + ["validation.yaml"])
-def test_shipped_configs_fill_tetrahedra(name):
-    # the default recorded in docs/decisions.md: 4-cliques of the 3D flag complex are filled
-    assert load_config(name)["analysis"]["fill_tetrahedra"] is True
+def test_shipped_configs_leave_tetrahedra_hollow(name):
+    # the convention of docs/decisions.md (issue 25): P1 §5.1's B2 ("vanishes below rho_J, grows beyond") has
+    # content only when each 4-clique is a void; the filled reading is judged beside it
+    assert load_config(name)["analysis"]["fill_tetrahedra"] is False
+
+
+def test_realizations_are_one_count_or_one_per_system(default_config):
+    per_system = {name: 2 for name in default_config["systems"]}
+    per_system["3d_hertz"] = 1
+    config = _mutate(["realizations"], per_system, default_config)
+    assert schema_errors(config) == []
+    validate_config(config)
+    assert realization_indices(config, "2d_hertz") == [0, 1] and realization_indices(config, "3d_hertz") == [0]
+    assert realization_indices(default_config, "3d_hertz") == list(range(default_config["realizations"]))
+    # raising a count adds realizations: the existing ones keep their index, name and seed (no run restarts)
+    raised = _mutate(["realizations", "3d_hertz"], 3, config)
+    assert realization_indices(raised, "3d_hertz")[:1] == realization_indices(config, "3d_hertz")
+    assert realization_seed(raised["seed"], "3d_hertz", 0) == realization_seed(config["seed"], "3d_hertz", 0)
+    assert simulation_params(raised, "3d_hertz") == simulation_params(config, "3d_hertz")
+    # a mapping names every system, and only systems
+    with pytest.raises(ConfigError, match=r"realizations\.nope"):
+        validate_config(_mutate(["realizations", "nope"], 2, config))
+    missing = dict(per_system)
+    del missing["2d_hertz"]
+    with pytest.raises(ConfigError, match=r"realizations.*2d_hertz"):
+        validate_config(_mutate(["realizations"], missing, default_config))
+    assert schema_errors(_mutate(["realizations", "2d_hertz"], 0, config))  # at least one realization
+    assert schema_errors(_mutate(["realizations"], "five", default_config))
 
 
 @pytest.mark.parametrize("fill", [True, False])
@@ -263,9 +289,9 @@ def test_check_config_names_a_non_boolean_fill_tetrahedra(tmp_path: Path, capsys
     from forcenet.workflow_io import check_config_main
 
     text = (REPO / "config/smoke.yaml").read_text()
-    assert "  fill_tetrahedra: true" in text
+    assert "  fill_tetrahedra: false" in text
     bad = tmp_path / "bad.yaml"
-    bad.write_text(text.replace("  fill_tetrahedra: true", '  fill_tetrahedra: "false"'))
+    bad.write_text(text.replace("  fill_tetrahedra: false", '  fill_tetrahedra: "false"'))
     assert check_config_main([str(bad)]) == 1
     error = capsys.readouterr().err
     assert "analysis.fill_tetrahedra" in error and "boolean" in error, error

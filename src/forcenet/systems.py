@@ -250,7 +250,29 @@ def validate_config(config: Mapping[str, Any]) -> dict[str, SystemSpec]:
         raise ConfigError("analysis.thresholds", "stop must exceed start")
     for name in config["systems"]:
         study_rattler_rule(config, name)
+    realizations = config["realizations"]
+    if isinstance(realizations, Mapping):
+        for name in realizations:
+            if name not in config["systems"]:
+                raise ConfigError(f"realizations.{name}", f"unknown system '{name}' (defined: {sorted(config['systems'])})")
+        missing = [name for name in config["systems"] if name not in realizations]
+        if missing:
+            raise ConfigError("realizations", f"no count for system(s) {missing}: a per-system mapping names every "
+                                              "system (or give one integer for all)")
     return {name: system_from_config(name, config) for name in config["systems"]}
+
+
+def realization_count(config: Mapping[str, Any], system: str) -> int:
+    """How many realizations (compression runs with their own seeds) `system` gets: ``realizations`` is one integer
+    for every system or a mapping {system: integer} (e.g. more for the cheap 2D systems than for 3D)."""
+    realizations = config["realizations"]
+    return int(realizations[system] if isinstance(realizations, Mapping) else realizations)
+
+
+def realization_indices(config: Mapping[str, Any], system: str) -> list[int]:
+    """The realization indices of `system`: 0 … count − 1. Realization k keeps its name (``r{k:02d}``), its seed
+    (`realization_seed`) and so its files whatever the count, so raising a count adds runs and restarts none."""
+    return list(range(realization_count(config, system)))
 
 
 def config_sha256(config: Mapping[str, Any]) -> str:

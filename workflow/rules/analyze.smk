@@ -38,8 +38,9 @@ rule aggregate_system:
     log:
         paths.log(RESULTS, "aggregate", "{system}"),
     params:
-        realizations=lambda wildcards: [realization_index(r) for r in REALIZATIONS for _ in SYSTEMS[wildcards.system].rho_grid],
-        rhos=lambda wildcards: [rho for _ in REALIZATIONS for rho in SYSTEMS[wildcards.system].rho_grid],
+        realizations=lambda wildcards: [realization_index(r) for r in realizations(wildcards.system)
+                                        for _ in SYSTEMS[wildcards.system].rho_grid],
+        rhos=lambda wildcards: [rho for _ in realizations(wildcards.system) for rho in SYSTEMS[wildcards.system].rho_grid],
     resources:
         runtime=30,
         mem_mb=4000,

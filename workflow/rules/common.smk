@@ -13,6 +13,7 @@ from forcenet.datasets import paths  # every file name of the build (standard li
 from forcenet.datasets.paths import realization_index
 from forcenet.errors import ForcenetError
 from forcenet.pipeline import simulation_params, snapshot_analysis_params
+from forcenet.systems import realization_indices
 from forcenet.workflow_io import CONFIG_SCHEMA, DEFAULT_CONFIG, checked_config, read_config_file
 
 # A config given with --configfile stands alone: the default is read only when none is given (Snakemake's
@@ -37,7 +38,12 @@ RESULTS = config.get("results_dir", "results").rstrip("/")
 PAPER_SIZE_TABLES = config.get("paper_size_tables", paths.VALIDATION_DIR)
 P1_SYSTEMS = list(config["studies"].get("p1", {}).get("systems", []))
 P2_SYSTEMS = list(config["studies"].get("p2", {}).get("systems", []))
-REALIZATIONS = [paths.realization_name(r) for r in range(config["realizations"])]
+
+
+def realizations(system):
+    """The realization names of `system` (r00, r01, …): `realizations` is one count for all or one per system."""
+    return [paths.realization_name(r) for r in realization_indices(config, system)]
+
 
 wildcard_constraints:
     system="|".join(SYSTEMS) or "NONE",
@@ -71,7 +77,7 @@ def analysis_path(system, realization, rho_label):
 def system_analyses(wildcards):
     """Every analysis file of one system, realization-major (the order aggregate expects)."""
     spec = SYSTEMS[wildcards.system]
-    return [analysis_path(wildcards.system, r, rho) for r in REALIZATIONS for rho in spec.rho_labels]
+    return [analysis_path(wildcards.system, r, rho) for r in realizations(wildcards.system) for rho in spec.rho_labels]
 
 
 def system_params(system):

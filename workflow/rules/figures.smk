@@ -26,7 +26,7 @@ def figure_input_files(kind, systems):
     if kind == "diagrams":
         return [paths.diagrams(RESULTS, s) for s in systems]
     if kind == "example_snapshots":
-        return [snapshot_path(s, REALIZATIONS[0], SYSTEMS[s].rho_labels[-1]) for s in systems]
+        return [snapshot_path(s, realizations(s)[0], SYSTEMS[s].rho_labels[-1]) for s in systems]
     if kind == "state_snapshots":
         return p2_table_candidates()
     if kind == "state_analysis":
@@ -95,7 +95,7 @@ P1_MOVIES = {paths.movie_name(kind, system): (kind, system) for system in P1_SYS
 
 def movie_inputs(kind, system):
     if kind == "network":
-        return [snapshot_path(system, REALIZATIONS[0], rho) for rho in SYSTEMS[system].rho_labels]
+        return [snapshot_path(system, realizations(system)[0], rho) for rho in SYSTEMS[system].rho_labels]
     return p1_measures()
 
 

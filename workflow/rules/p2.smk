@@ -23,7 +23,7 @@ def p2_table_candidates(path=snapshot_path, states="abc"):
     if not P2_FRICTIONAL:
         return []
     labels = [label for letter, label in zip("abc", p2_table_labels()) if letter in states]
-    return [path(P2_FRICTIONAL, r, rho) for r in REALIZATIONS for rho in labels]
+    return [path(P2_FRICTIONAL, r, rho) for r in realizations(P2_FRICTIONAL) for rho in labels]
 
 
 P2_TABLE_STATES = paths.p2_table_states(RESULTS)
@@ -40,7 +40,7 @@ rule p2_distances:
     log:
         paths.log(RESULTS, "distances", "{system}"),
     params:
-        realizations=[realization_index(r) for r in REALIZATIONS],
+        realizations=lambda wildcards: [realization_index(r) for r in realizations(wildcards.system)],
         essential_convention=config["analysis"]["essential_convention"],
     resources:
         runtime=60,

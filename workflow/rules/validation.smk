@@ -6,7 +6,7 @@
 # defines no rule that could overwrite them with its small systems' values.
 def run_costs(systems):
     """The cost records of every compression run of `systems`."""
-    return [paths.run_cost(RESULTS, s, r) for s in systems for r in REALIZATIONS]
+    return [paths.run_cost(RESULTS, s, r) for s in systems for r in realizations(s)]
 
 
 if PAPER_SIZE_TABLES is not None:
