@@ -69,7 +69,8 @@ def make_measures(name: str, *, dimension: int = 2, force_law: str = "hertz", rh
     force_slope·(ρ − ρ_J + 0.01)₊); stiffness_scale_reduced is `stiffness_scale`, by default 1/force_unit_dyn
     (one k_n d_ave^(1+β) in dyn for every system, as for P1's material). B0/N has a ridge at ρ_J + ridge_at for
     F_th < 0.5 when `ridge` (height `ridge_height`); the weak-bin N0/N is `weak_base` × (0.5 … 1) plus a peak
-    of `weak_height` at ρ_J + weak_at when `weak_peak`; B1 (and B2) vanish below ρ_J unless `loops_below` > 0; the force PDF is a gamma law
+    of `weak_height` at ρ_J + weak_at when `weak_peak`; B1 (and B2) vanish below ρ_J unless `loops_below` > 0;
+    the force PDF is a gamma law
     of std pdf_std (pdf_std_below below ρ_J); percolation at F_th < percolation_below starts at
     `percolation_onset` (default ρ_J) ± 0.01 across realizations.
     """

@@ -512,7 +512,7 @@ def test_all_nan_curve_is_not_evaluated(system, dim, metric):
 
 
 def test_after_jamming_windows_leave_out_rho_j():
-    curves = p2_judging.Curves(p2.FRICTIONAL, p2_shaped(), 2, p2_judging.ValidationTolerances(min_points=1))
+    curves = p2_judging.Curves(p2.FRICTIONAL, p2_shaped(), 2, claims.ClaimTolerances(min_points=1))
     s = curves.mean("normal", 0, B)
     assert curves.window(s, lo=J).index.min() == pytest.approx(J)
     assert curves.window(s, lo=J, closed_lo=False).index.min() == pytest.approx(J + 0.005)
@@ -729,8 +729,8 @@ def test_never_dying_diagnostic_counts_the_pairs_that_change_the_class_count():
     ds["distance"].loc[dict(force_kind="normal", homology_dim=1, metric="bottleneck")] = 0.02
     ds["distance"].loc[dict(force_kind="normal", homology_dim=1, metric="bottleneck",
                             rho=ds["rho"].values[changing])] = 0.5
-    ctx = p2_judging.Context({p2.FRICTIONAL: p2_judging.Curves(p2.FRICTIONAL, ds, 2, p2_judging.ValidationTolerances())}, None,
-                      p2_judging.ValidationTolerances(), p2.FRICTIONAL, p2.FRICTIONLESS,
+    ctx = p2_judging.Context({p2.FRICTIONAL: p2_judging.Curves(p2.FRICTIONAL, ds, 2, claims.ClaimTolerances())}, None,
+                      claims.ClaimTolerances(), p2.FRICTIONAL, p2.FRICTIONLESS,
                       {p2.FRICTIONAL: measures_with_never_dying_changes(ds, changing)})
     text = p2_explanations._never_dying_events(lambda c: c.frictional, 1, "after")(ctx)
     assert "25 % of the 72 consecutive pairs" in text and "median d_B of the other pairs 0.02" in text
@@ -743,8 +743,8 @@ def test_never_dying_diagnostic_counts_the_pairs_that_change_the_class_count():
 def test_table_state_diagnostic_reports_where_a_b_c_lie():
     states = p2_tables.table_state_candidates([state_analysis(r, rho, z, f) for r in (0, 1, 2)
                                         for rho, z, f in zip((0.788, 0.791, 0.794), (2.8, 2.9, 3.0), (1.0, 2.0, 4.0))])
-    ctx = p2_judging.Context({p2.FRICTIONAL: p2_judging.Curves(p2.FRICTIONAL, p2_shaped(), 2, p2_judging.ValidationTolerances())}, None,
-                      p2_judging.ValidationTolerances(), p2.FRICTIONAL, p2.FRICTIONLESS, {}, states)
+    ctx = p2_judging.Context({p2.FRICTIONAL: p2_judging.Curves(p2.FRICTIONAL, p2_shaped(), 2, claims.ClaimTolerances())}, None,
+                      claims.ClaimTolerances(), p2.FRICTIONAL, p2.FRICTIONLESS, {}, states)
     text = p2_explanations._table_state_diagnostic(ctx)
     assert "realization 0 (the quietest of 3" in text and "<F_n> x 4.00" in text and "Z 2.80 -> 3.00" in text
 
@@ -780,7 +780,7 @@ def test_a_verdict_within_ten_percent_of_its_threshold_is_marginal():
     median = table.loc["IV.A-2", "measured"]
     assert table.loc["IV.A-2", "marker"] == ""
     near = p2_validation.p2_validation(both_systems(), paper_tables(),
-                                       tolerances=p2_judging.ValidationTolerances(value_factor=10 / (0.95 * median)))
+                                       tolerances=claims.ClaimTolerances(value_factor=10 / (0.95 * median)))
     near = near.set_index("claim_id")
     assert near.loc["IV.A-2", "verdict"] == claims.HOLDS and near.loc["IV.A-2", "marker"] == claims.MARGINAL
 

@@ -254,7 +254,8 @@ def validate_config(config: Mapping[str, Any]) -> dict[str, SystemSpec]:
     if isinstance(realizations, Mapping):
         for name in realizations:
             if name not in config["systems"]:
-                raise ConfigError(f"realizations.{name}", f"unknown system '{name}' (defined: {sorted(config['systems'])})")
+                raise ConfigError(f"realizations.{name}",
+                                  f"unknown system '{name}' (defined: {sorted(config['systems'])})")
         missing = [name for name in config["systems"] if name not in realizations]
         if missing:
             raise ConfigError("realizations", f"no count for system(s) {missing}: a per-system mapping names every "

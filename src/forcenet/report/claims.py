@@ -26,11 +26,11 @@ import numpy as np
 import pandas as pd
 
 __all__ = ["HOLDS", "FAILS", "NOT_EVALUATED", "MARGINAL", "VACUOUS", "MARGINAL_FRACTION", "MEASURED", "HYPOTHESIS",
-           "NotEvaluated", "Judgement", "relative_margin", "contrast_margin", "smallest_margin", "ratio_margin", "Claim",
-           "claim_register", "Explanation", "JudgedClaim", "holds_share", "judge_claim", "verdict_counts",
-           "verdict_summary", "VERDICT_COLUMNS", "TableLayout", "TableSection", "claims_frame", "markdown_table",
-           "validation_markdown", "write_validation_table", "PAPER_SIZE", "PAPER_SIZE_HEADER", "with_paper_size",
-           "paper_size_placeholder"]
+           "BELOW_BEFORE_JUMP", "BELOW_TOLERANCE", "ClaimTolerances", "NotEvaluated", "Judgement", "relative_margin",
+           "contrast_margin", "smallest_margin", "ratio_margin", "Claim", "claim_register", "Explanation",
+           "JudgedClaim", "holds_share", "judge_claim", "verdict_counts", "verdict_summary", "VERDICT_COLUMNS",
+           "TableLayout", "TableSection", "claims_frame", "markdown_table", "validation_markdown",
+           "write_validation_table", "PAPER_SIZE", "PAPER_SIZE_HEADER", "with_paper_size", "paper_size_placeholder"]
 
 HOLDS, FAILS, NOT_EVALUATED = "holds", "does not hold", "not evaluated"
 
@@ -42,6 +42,95 @@ class NotEvaluated(Exception):
 MARGINAL, VACUOUS = "marginal", "vacuous"  # markers set beside a verdict (issue 25)
 MARGINAL_FRACTION = 0.10  # a verdict decided within 10 % of its threshold is marginal (issue 25)
 MEASURED, HYPOTHESIS = "measured", "hypothesis"  # the basis of an explanation of a verdict
+
+
+#: the two cuts of "below jamming" (issue 25): the states before the jump, every grid state below the inflection
+#: point ρ_J (the table's cut), and the older cut one tolerance further down (judged beside it)
+BELOW_BEFORE_JUMP, BELOW_TOLERANCE = "rho < rho_J", "rho < rho_J - tol"
+
+
+@dataclass(frozen=True)
+class ClaimTolerances:
+    """The one tolerance record of both papers' claims: how their words are turned into tests. Every verdict uses
+    these and nothing else. P1's fields are keyword arguments of `forcenet.report.p1_validation.p1_validation`;
+    the record is the ``tolerances`` argument of `forcenet.report.p2_validation.p2_validation`.
+
+    P1 (§3–6):
+
+    rho_tolerance : "near ρ_J" means |ρ − ρ_J| ≤ this; "beyond ρ_J" means ρ > ρ_J + this.
+        None: the larger of P1's Δρ = 0.02 and the system's own ρ step.
+    below_cut : which states are "below jamming": `BELOW_BEFORE_JUMP` (every grid state below ρ_J, the last
+        ones before the jump of Z; the table's cut) or `BELOW_TOLERANCE` (ρ < ρ_J − rho_tolerance; judged
+        beside it).
+    rho_window : width of the ρ window of "a rise close to ρ_J" (ρ_J ± this) and of "a plateau near ρ_max"
+        (the last window before ρ_max). None: twice the system's rho_tolerance.
+    min_prominence : a peak of a curve versus ρ needs a topographic prominence ≥ this fraction of its scale
+        (B0/N ridge and ⟨S⟩/N peak: the largest value over (ρ, F_th); persistence bins: the curve's maximum).
+    negligible_fraction : "B_k = 0", "TP2 ≈ 0": the largest value below ρ_J ≤ this fraction of the largest
+        value of the curve; a rise is real when it exceeds this fraction of the maximum.
+    monotone_tolerance : "grows monotonically": no drop between consecutive ρ beyond ρ_J larger than this
+        fraction of the curve's maximum.
+    plateau_fraction : "plateaus near ρ_max": the change over the last `rho_window` before ρ_max ≤ this
+        fraction of the whole rise up to ρ_max.
+    threshold_tolerance : an F_th P1 quotes (1.25, 1.5, 2.0) is met within this (P1 quotes multiples of 0.25).
+    unity_tolerance : "S_p ≈ 1": |median S_p − 1| ≤ this.
+    shape_difference : "S_p significantly larger": the means differ by at least this.
+    almost_all : "almost all the particles" in the percolating cluster: median N_per/N ≥ this.
+    small_share : "a very small number of particles" in the percolating cluster: N_per/N ≤ this (P1's own
+        estimate φ_c ≈ 0.2 in 3D sets the scale).
+    similar_ratio : "very similar" across systems: largest / smallest ≤ this.
+    jump_factor : "a sudden increase beyond jamming": the value at the first ρ beyond ρ_J ≥ this × the value at
+        the last ρ below it.
+    steeper_factor : "a significantly more prominent increase close to ρ_J" in 3D: its rise over ρ_J ±
+        rho_window ≥ this × the larger 2D rise.
+    pdf_distance : "significantly different" force PDFs: total-variation distance ½ ∫|p − q| dF ≥ this.
+    min_clusters : "a non-vanishing number of clusters": realization-mean count per snapshot ≥ this.
+    contrast_factor : "pronounced" for one law, "rather insignificant" for the other (P1 §5.1, §5.3): the
+        prominence of one law's peak ≥ this × the other's, on one scale.
+
+    P2 (§III D–§V): documented field by field below.
+    """
+
+    rho_tolerance: float | None = None
+    rho_window: float | None = None
+    min_prominence: float = 0.2
+    negligible_fraction: float = 0.05
+    monotone_tolerance: float = 0.1
+    plateau_fraction: float = 0.25
+    threshold_tolerance: float = 0.25
+    unity_tolerance: float = 0.25
+    shape_difference: float = 0.1
+    almost_all: float = 0.8
+    small_share: float = 0.3
+    similar_ratio: float = 1.5
+    jump_factor: float = 2.0
+    steeper_factor: float = 1.5
+    pdf_distance: float = 0.1
+    min_clusters: float = 1.0
+    contrast_factor: float = 2.0
+    below_cut: str = BELOW_BEFORE_JUMP
+    # --- P2 ---
+    value_factor: float = 1.5  # "≈ x", "roughly the same", "similar": measured within [x / f, x · f]
+    max_cv: float = 0.5  # "roughly / essentially constant": coefficient of variation over the ρ range ≤ this
+    fall_factor: float = 10.0  # "slows dramatically" after ρ_J: median after ≤ median just before / this (ours)
+    rate_window: float = 0.05  # "just before jamming": the rates over [ρ_J − this, ρ_J) (IV.A-11)
+    drop_factor: float = 2.0  # "decreases dramatically" / "plunges" inside the unjammed regime
+    decades: float = 0.5  # "n orders of magnitude smaller": measured log10 drop within n ± this
+    trend: float = 0.5  # "increases" / "decreases" with ρ: Spearman rank correlation ≥ this / ≤ −this
+    correlation: float = 0.7  # "tracks" / "follows": Pearson correlation of the log10 curves ≥ this
+    near_jamming: float = 0.02  # "near / close to ρ_J": |ρ − ρ_J| ≤ this
+    peak_window: float = 0.03  # "at ρ ≈ x" for an extremum: it lies within x ± this
+    well_below: float = 0.05  # "ρ significantly less than ρ_J": ρ < ρ_J − this
+    consistently: float = 0.8  # "consistently larger": true at this fraction of the compared ρ values
+    dominance: float = 2.0  # "concentrated in one quadrant": largest ≥ this × second largest (median over columns)
+    spread: float = 2.0  # "distributed evenly": largest / smallest quadrant ≤ this (median over columns)
+    min_points: int = 2  # fewer ρ values than this in a range: the claim is not evaluated
+    correlation_points: int = 3  # fewer ρ values than this: no correlation is computed (2 points always give ±1)
+
+    def __post_init__(self):
+        """Refuse an unknown cut of "below jamming"."""
+        if self.below_cut not in (BELOW_BEFORE_JUMP, BELOW_TOLERANCE):
+            raise ValueError(f"below_cut must be {BELOW_BEFORE_JUMP!r} or {BELOW_TOLERANCE!r}, not {self.below_cut!r}")
 
 
 @dataclass(frozen=True)

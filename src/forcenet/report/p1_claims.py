@@ -15,15 +15,15 @@ from typing import Callable
 import numpy as np
 import xarray as xr
 
-from forcenet.report.claims import (Claim, Judgement, NotEvaluated, claim_register, contrast_margin, relative_margin,
-                                    smallest_margin)
+from forcenet.report.claims import (Claim, ClaimTolerances, Judgement, NotEvaluated, claim_register, contrast_margin,
+                                    relative_margin, smallest_margin)
 from forcenet.report.p1 import (HERTZ_2D, HERTZ_3D, LINEAR_2D, P1_HALF, P1_LARGE_THRESHOLD, P1_PERCOLATION_MAJORITY,
                                 P1_SMALL_THRESHOLD, PAPER_CLUSTER_SIZE_PEAK, PAPER_RHO_MAX_BY_ROLE, cut_at_rho_max,
                                 finite_max, force_bins, force_pdf_width, percolating_size_mean, percolation_fraction,
                                 select_total)
 from forcenet.report.p1_diagnostics import size_peak_threshold_per_rho
-from forcenet.report.p1_judging import (ALL_2D, ClaimContext, ClaimTolerances, SystemData, expected_for_law,
-                                        finite_values, fmt_values, peak_verdict, require, strongest_peak)
+from forcenet.report.p1_judging import (ALL_2D, ClaimContext, SystemData, expected_for_law, finite_values, fmt_values,
+                                        peak_verdict, require, strongest_peak)
 from forcenet.report.realizations import realization_mean
 
 CLAIMS: list[Claim] = []

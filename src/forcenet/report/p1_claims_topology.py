@@ -11,14 +11,14 @@ from typing import Callable
 import numpy as np
 import xarray as xr
 
-from forcenet.report.claims import (Claim, Judgement, NotEvaluated, claim_register, contrast_margin, ratio_margin,
-                                    relative_margin, smallest_margin)
+from forcenet.report.claims import (Claim, ClaimTolerances, Judgement, NotEvaluated, claim_register, contrast_margin,
+                                    ratio_margin, relative_margin, smallest_margin)
 from forcenet.report.p1 import (HERTZ_2D, HERTZ_3D, LINEAR_2D, P1_LARGE_THRESHOLD, P1_OPEN_PATH_MIN, P1_SHAPE_BOUNDS,
                                 P1_SMALL_THRESHOLD, finite_max, finite_min, rho_values, shape_parameter_average)
-from forcenet.report.p1_judging import (ALL_2D, ClaimContext, ClaimTolerances, Peak, SystemData, betti_curve,
-                                        bin_curve, expected_for_law, find_peak, finite_values, fmt_values,
-                                        grows_beyond, interp_at, near_by_one_step, peak_near, peak_verdict,
-                                        persistence_curve, require, zero_below)
+from forcenet.report.p1_judging import (ALL_2D, ClaimContext, Peak, SystemData, betti_curve, bin_curve,
+                                        expected_for_law, find_peak, finite_values, fmt_values, grows_beyond, interp_at,
+                                        near_by_one_step, peak_near, peak_verdict, persistence_curve, require,
+                                        zero_below)
 
 CLAIMS: list[Claim] = []
 claim = claim_register(CLAIMS)

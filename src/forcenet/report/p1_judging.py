@@ -1,4 +1,5 @@
-"""What P1's claims are judged on: the tolerances of the criteria (`ClaimTolerances`), one system as a judge sees it
+"""What P1's claims are judged on (with the tolerances of the one record both papers share,
+`forcenet.report.claims.ClaimTolerances`): one system as a judge sees it
 (`SystemData`), every system for the claims that compare them (`ClaimContext`), and the helpers the judges of
 `forcenet.report.p1_claims` and `forcenet.report.p1_claims_topology` share (peaks, "≈ 0 below ρ_J", "grows beyond
 ρ_J"). Curves are realization means (`forcenet.report.realizations`) of the total-force network measures, versus ρ.
@@ -12,75 +13,10 @@ from typing import Mapping
 import numpy as np
 import xarray as xr
 
-from forcenet.report.claims import Judgement, NotEvaluated, relative_margin, smallest_margin
+from forcenet.report.claims import (BELOW_BEFORE_JUMP, BELOW_TOLERANCE, ClaimTolerances, Judgement, NotEvaluated,
+                                    relative_margin, smallest_margin)
 from forcenet.report.p1 import (HERTZ_2D, HERTZ_3D, LINEAR_2D, finite_max, per_particle, rho_values, system_order)
 from forcenet.report.realizations import realization_mean
-
-#: the two cuts of "below jamming" (issue 25): the states before the jump, every grid state below the inflection
-#: point ρ_J (the table's cut), and the older cut one tolerance further down (judged beside it)
-BELOW_BEFORE_JUMP, BELOW_TOLERANCE = "rho < rho_J", "rho < rho_J - tol"
-
-
-@dataclass(frozen=True)
-class ClaimTolerances:
-    """Tolerances of the claim criteria; each is a keyword argument of `p1_validation`.
-
-    rho_tolerance : "near ρ_J" means |ρ − ρ_J| ≤ this; "beyond ρ_J" means ρ > ρ_J + this.
-        None: the larger of P1's Δρ = 0.02 and the system's own ρ step.
-    below_cut : which states are "below jamming": `BELOW_BEFORE_JUMP` (every grid state below ρ_J, the last
-        ones before the jump of Z; the table's cut) or `BELOW_TOLERANCE` (ρ < ρ_J − rho_tolerance; judged
-        beside it).
-    rho_window : width of the ρ window of "a rise close to ρ_J" (ρ_J ± this) and of "a plateau near ρ_max"
-        (the last window before ρ_max). None: twice the system's rho_tolerance.
-    min_prominence : a peak of a curve versus ρ needs a topographic prominence ≥ this fraction of its scale
-        (B0/N ridge and ⟨S⟩/N peak: the largest value over (ρ, F_th); persistence bins: the curve's maximum).
-    negligible_fraction : "B_k = 0", "TP2 ≈ 0": the largest value below ρ_J ≤ this fraction of the largest
-        value of the curve; a rise is real when it exceeds this fraction of the maximum.
-    monotone_tolerance : "grows monotonically": no drop between consecutive ρ beyond ρ_J larger than this
-        fraction of the curve's maximum.
-    plateau_fraction : "plateaus near ρ_max": the change over the last `rho_window` before ρ_max ≤ this
-        fraction of the whole rise up to ρ_max.
-    threshold_tolerance : an F_th P1 quotes (1.25, 1.5, 2.0) is met within this (P1 quotes multiples of 0.25).
-    unity_tolerance : "S_p ≈ 1": |median S_p − 1| ≤ this.
-    shape_difference : "S_p significantly larger": the means differ by at least this.
-    almost_all : "almost all the particles" in the percolating cluster: median N_per/N ≥ this.
-    small_share : "a very small number of particles" in the percolating cluster: N_per/N ≤ this (P1's own
-        estimate φ_c ≈ 0.2 in 3D sets the scale).
-    similar_ratio : "very similar" across systems: largest / smallest ≤ this.
-    jump_factor : "a sudden increase beyond jamming": the value at the first ρ beyond ρ_J ≥ this × the value at
-        the last ρ below it.
-    steeper_factor : "a significantly more prominent increase close to ρ_J" in 3D: its rise over ρ_J ±
-        rho_window ≥ this × the larger 2D rise.
-    pdf_distance : "significantly different" force PDFs: total-variation distance ½ ∫|p − q| dF ≥ this.
-    min_clusters : "a non-vanishing number of clusters": realization-mean count per snapshot ≥ this.
-    contrast_factor : "pronounced" for one law, "rather insignificant" for the other (P1 §5.1, §5.3): the
-        prominence of one law's peak ≥ this × the other's, on one scale.
-    """
-
-    rho_tolerance: float | None = None
-    rho_window: float | None = None
-    min_prominence: float = 0.2
-    negligible_fraction: float = 0.05
-    monotone_tolerance: float = 0.1
-    plateau_fraction: float = 0.25
-    threshold_tolerance: float = 0.25
-    unity_tolerance: float = 0.25
-    shape_difference: float = 0.1
-    almost_all: float = 0.8
-    small_share: float = 0.3
-    similar_ratio: float = 1.5
-    jump_factor: float = 2.0
-    steeper_factor: float = 1.5
-    pdf_distance: float = 0.1
-    min_clusters: float = 1.0
-    contrast_factor: float = 2.0
-    below_cut: str = BELOW_BEFORE_JUMP
-
-    def __post_init__(self):
-        """Refuse an unknown cut of "below jamming"."""
-        if self.below_cut not in (BELOW_BEFORE_JUMP, BELOW_TOLERANCE):
-            raise ValueError(f"below_cut must be {BELOW_BEFORE_JUMP!r} or {BELOW_TOLERANCE!r}, not {self.below_cut!r}")
-
 
 @dataclass(frozen=True)
 class SystemData:

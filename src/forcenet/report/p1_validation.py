@@ -18,15 +18,16 @@ import pandas as pd
 import xarray as xr
 
 from forcenet.report import p1_claims, p1_claims_topology
-from forcenet.report.claims import (NOT_EVALUATED, VERDICT_COLUMNS, Claim, JudgedClaim, Judgement, NotEvaluated,
-                                    TableLayout, TableSection, claims_frame, judge_claim, validation_markdown,
-                                    verdict_summary, with_paper_size, write_validation_table)
-from forcenet.report.p1 import (DEFAULT_P1_FORCE_UNIT, P1_FORCE_UNITS, P1_RHO_STEP, P1_ROLES, P1_SYSTEMS,
-                                PAPER_PHI_C, PAPER_RHO_J, PAPER_RHO_MAX, PAPER_Z_AT_JAMMING, FMaxCut, cut_at_rho_max,
-                                f_max_cut, isostatic_crossing, jamming_point, rho_values, select_total,
-                                system_dimension, system_force_law, system_order, value_at)
+from forcenet.report.claims import (BELOW_TOLERANCE, NOT_EVALUATED, VERDICT_COLUMNS, Claim, ClaimTolerances,
+                                    JudgedClaim, Judgement, NotEvaluated, TableLayout, TableSection, claims_frame,
+                                    judge_claim, validation_markdown, verdict_summary, with_paper_size,
+                                    write_validation_table)
+from forcenet.report.p1 import (DEFAULT_P1_FORCE_UNIT, P1_FORCE_UNITS, P1_RHO_STEP, P1_ROLES, P1_SYSTEMS, PAPER_PHI_C,
+                                PAPER_RHO_J, PAPER_RHO_MAX, PAPER_Z_AT_JAMMING, FMaxCut, cut_at_rho_max, f_max_cut,
+                                isostatic_crossing, jamming_point, rho_values, select_total, system_dimension,
+                                system_force_law, system_order, value_at)
 from forcenet.report.p1_diagnostics import SHAPE_READINGS, with_shape_reading
-from forcenet.report.p1_judging import BELOW_TOLERANCE, ClaimContext, ClaimTolerances, SystemData
+from forcenet.report.p1_judging import ClaimContext, SystemData
 from forcenet.report.realizations import bootstrap_draws, resample_realizations
 
 #: every claim of P1 §3–6, in the order the table lists them within a section

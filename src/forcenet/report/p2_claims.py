@@ -3,7 +3,8 @@ the realization-mean distance curves and Tables I–III (`forcenet.report.p2_jud
 
 A judge returns a `forcenet.report.claims.Judgement` (the key number, the evidence, holds, and how far the
 deciding number lies from its threshold) or raises `NotEvaluated`; criteria are functions of
-`ValidationTolerances`, so every verdict uses the documented tolerances and nothing else. The only numbers typed in are P2's own: the
+`forcenet.report.claims.ClaimTolerances`, so every verdict uses the documented tolerances and nothing else. The
+only numbers typed in are P2's own: the
 ``paper`` column (its statement), the ρ ranges it names and its printed tables. Why a claim does not hold is
 `forcenet.report.p2_explanations`; the table is `forcenet.report.p2_validation`.
 """
@@ -15,14 +16,13 @@ from typing import Callable, Sequence
 import numpy as np
 import pandas as pd
 
-from forcenet.report.claims import (Claim, Judgement, NotEvaluated, claim_register, contrast_margin, ratio_margin,
-                                    relative_margin, smallest_margin)
-from forcenet.report.p2 import (METRIC_SYMBOLS, METRICS, P2_HOMOLOGY_DIMS, TABLE_PAIRS,
-                                jamming_density_per_realization, table_column)
-from forcenet.report.p2_judging import (B, NORMAL, TANGENTIAL, W1, W2, Context, Curves, ValidationTolerances,
-                                        coefficient_of_variation, fmt, log10_ratio, on_grid, pearson,
-                                        per_dim_metric_text, per_metric_text, rate_quotient, spearman, within_factor,
-                                        within_factor_margin)
+from forcenet.report.claims import (Claim, ClaimTolerances, Judgement, NotEvaluated, claim_register, contrast_margin,
+                                    ratio_margin, relative_margin, smallest_margin)
+from forcenet.report.p2 import (METRIC_SYMBOLS, METRICS, P2_HOMOLOGY_DIMS, TABLE_PAIRS, jamming_density_per_realization,
+                                table_column)
+from forcenet.report.p2_judging import (B, NORMAL, TANGENTIAL, W1, W2, Context, Curves, coefficient_of_variation, fmt,
+                                        log10_ratio, on_grid, pearson, per_dim_metric_text, per_metric_text,
+                                        rate_quotient, spearman, within_factor, within_factor_margin)
 
 
 CLAIMS: list[Claim] = []  # in the order of the table
@@ -132,7 +132,7 @@ def _a_db_large_before(ctx: Context) -> Judgement:
 
 def _ratio_constant(denominator: str, reference: float):
     """(criterion, evaluate) of "for rho < 0.75, d_B/d_Wq (beta0) is roughly constant and ≈ `reference`"."""
-    def criterion(t: ValidationTolerances) -> str:
+    def criterion(t: ClaimTolerances) -> str:
         """The criterion with the tolerances `t` filled in."""
         return f"median within a factor {t.value_factor} of {fmt(reference)} and CV <= {t.max_cv}"
 
@@ -190,7 +190,8 @@ def _a_w1_grows_before_jamming(ctx: Context) -> Judgement:
     return Judgement(s_w1, f"Spearman(rho, d_W1) = {fmt(s_w1, 2)}, Spearman(rho, d_B/d_W1) = {fmt(s_r1, 2)} over "
                            f"0.75 <= rho < rho_J = {fmt(c.rho_j)} ({len(w1)} values)",
                      s_w1 >= ctx.tol.trend and s_r1 <= -ctx.tol.trend,
-                     margin=smallest_margin(relative_margin(s_w1, ctx.tol.trend), relative_margin(-s_r1, ctx.tol.trend)))
+                     margin=smallest_margin(relative_margin(s_w1, ctx.tol.trend),
+                                            relative_margin(-s_r1, ctx.tol.trend)))
 
 
 @claim("IV.A-7", "§IV A, Fig. 7(a)",
@@ -321,12 +322,12 @@ for panel, dim in (("a", 0), ("b", 1)):
           paper="1 and 3 decades", scope="frictional")(_ratios_after_jamming(dim))
 
 
-def _near(c: Curves, s: pd.Series, tol: ValidationTolerances) -> pd.Series:
+def _near(c: Curves, s: pd.Series, tol: ClaimTolerances) -> pd.Series:
     """The values of `s` with |rho - rho_J| <= near_jamming."""
     return s[np.abs(s.index.values - c.jammed()) <= tol.near_jamming]
 
 
-def _away(c: Curves, s: pd.Series, tol: ValidationTolerances) -> pd.Series:
+def _away(c: Curves, s: pd.Series, tol: ClaimTolerances) -> pd.Series:
     """The values of `s` with |rho - rho_J| > near_jamming."""
     return s[np.abs(s.index.values - c.jammed()) > tol.near_jamming]
 
@@ -543,7 +544,8 @@ def _c_loops_below_jamming(ctx: Context) -> Judgement:
     largest = max(ratio.values())
     loops = {m: float(n.window(n.mean(NORMAL, 1, m), hi=hi).abs().max()) for m in (B, W2)}
     return Judgement(largest, f"median over rho < {fmt(hi)} (beta1), mu=0 / mu=0.5: {per_metric_text(ratio)}; "
-                              f"largest mu=0 value there: {per_metric_text(loops)}", largest <= 1 / ctx.tol.value_factor,
+                              f"largest mu=0 value there: {per_metric_text(loops)}",
+                     largest <= 1 / ctx.tol.value_factor,
                      margin=relative_margin(largest, 1 / ctx.tol.value_factor),
                      vacuous=all(v == 0 for v in loops.values()))
 
@@ -566,7 +568,7 @@ def _c_loops_near_jamming(ctx: Context) -> Judgement:
 def _quotient_after_jamming(dim: int, reference: float):
     """(criterion, evaluate) of "after jamming the PD_dim rates of mu = 0 are `reference` times those of
     mu = 0.5": medians over rho above both rho_J, every metric, within a factor value_factor of `reference`."""
-    def criterion(t: ValidationTolerances) -> str:
+    def criterion(t: ClaimTolerances) -> str:
         """The criterion with the tolerances `t` filled in."""
         return (f"median over rho > both rho_J, mu=0 / mu=0.5 within a factor {t.value_factor} of {fmt(reference)}, "
                 "every metric")

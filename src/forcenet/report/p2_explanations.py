@@ -133,7 +133,8 @@ EXPLANATIONS: dict[str, tuple[str, str, tuple[Callable[[Context], str], ...]]] =
     "III.D-4": (_AT_JAMMING, SAMPLING, (_table_state_diagnostic,)),
     "IV.A-1": ("Few realizations: each realization's d_W1 peaks near its own rho_J, but the rho_J scatter and the "
                f"peak of a mean of 3 blurs; one paper-size realization holds ({_PAPER}).",
-               HYPOTHESIS_ONLY, (_argmax_per_realization(_frictional, 0, W1), _argmax_per_realization(_frictional, 1, W1))),
+               HYPOTHESIS_ONLY,
+               (_argmax_per_realization(_frictional, 0, W1), _argmax_per_realization(_frictional, 1, W1))),
     "IV.A-2": ("Small system: the largest single change before jamming grows with the number of contacts, d_B "
                f"(beta0) ~ 3 <F> with 400 disks and 8.8 <F> with 2025 (holds at paper size; {_PAPER}).", SAMPLING, ()),
     "IV.A-3": ("Sampling: the ratio needs P2's rule (rattlers kept) and step; with rattlers removed d_B/d_W1 is "
@@ -157,14 +158,16 @@ EXPLANATIONS: dict[str, tuple[str, str, tuple[Callable[[Context], str], ...]]] =
                "holds (docs/validation/README.md, a third realization).",
                CAMPAIGN, (_argmax_per_realization(_frictional, 1, B),)),
     "IV.A-9": ("Few realizations: single early loop events can make the largest beta1 d_B of a 3-realization mean; "
-               f"paper size peaks at 0.791 (holds; {_PAPER}).", HYPOTHESIS_ONLY, (_argmax_per_realization(_frictional, 1, B),)),
+               f"paper size peaks at 0.791 (holds; {_PAPER}).", HYPOTHESIS_ONLY,
+               (_argmax_per_realization(_frictional, 1, B),)),
     "IV.A-10": (f"Few realizations: holds at paper size ({_PAPER}).", HYPOTHESIS_ONLY, ()),
     "IV.A-11a": (_NEVER_DYING + " beta0 falls by > 10x; beta1 does not, also because loops hardly exist before "
                  "jamming (beta1 distances 0 below rho ~ 0.75 with 400 disks).",
                  THIS_TABLE, (_never_dying_events(_frictional, 1, "after"),)),
     "IV.A-11b": (_NEVER_DYING + " Without friction loops exist only from jamming on (beta1 distances 0 before "
                  f"rho_J, also at paper size), and beta0 d_W1 falls only 2.5-3x ({_PAPER}).",
-                 THIS_TABLE, (_never_dying_events(_frictionless, 0, "after"), _never_dying_events(_frictionless, 1, "after"))),
+                 THIS_TABLE,
+                 (_never_dying_events(_frictionless, 0, "after"), _never_dying_events(_frictionless, 1, "after"))),
     "IV.A-12a": (_NEVER_DYING + " d_B after jamming sits on that floor, so d_B/d_W1 cannot fall 3 decades.",
                  THIS_TABLE, (_never_dying_events(_frictional, 0, "after"),)),
     "IV.A-12b": (_NEVER_DYING + " d_B after jamming sits on that floor, so d_B/d_W1 cannot fall 3 decades.",
@@ -190,7 +193,8 @@ EXPLANATIONS: dict[str, tuple[str, str, tuple[Callable[[Context], str], ...]]] =
                f"without friction (0.93-1.3; {_PAPER}); not reproduced.", SAMPLING, ()),
     "IV.C-7": (_NEVER_DYING + " d_B after jamming is that floor in both systems, so its ratio is ~1; the d_W1 and "
                f"d_W2 ratios are 2-3.4 (paper size 2.8 and 2.2; {_PAPER}).",
-               THIS_TABLE, (_never_dying_events(_frictional, 1, "after"), _never_dying_events(_frictionless, 1, "after"))),
+               THIS_TABLE,
+               (_never_dying_events(_frictional, 1, "after"), _never_dying_events(_frictionless, 1, "after"))),
     "V-1": ("Not a few-realization effect: it fails at paper size with 2 and 3 realizations too (d_B and d_W2 "
             "peaks before jamming are as high or higher without friction; docs/validation/p2.md); no cause "
             "measured.", CAMPAIGN, ()),

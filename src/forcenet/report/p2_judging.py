@@ -1,5 +1,6 @@
-"""What P2's claims are judged on: the tolerances that turn P2's words into tests (`ValidationTolerances`), one
-system's realization-mean curves over ρ (`Curves`), everything a claim may need (`Context`), and the statistics and
+"""What P2's claims are judged on (with the tolerances of the one record both papers share,
+`forcenet.report.claims.ClaimTolerances`): one system's realization-mean curves over ρ (`Curves`), everything a
+claim may need (`Context`), and the statistics and
 text helpers the judges of `forcenet.report.p2_claims` and the diagnostics of `forcenet.report.p2_explanations`
 share. Curves are realization means (`forcenet.report.realizations`) of ``distances.nc``; ρ_J is where the mean Z(ρ)
 first reaches d + 1 (P2 §IV A).
@@ -14,31 +15,9 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
-from forcenet.report.claims import NotEvaluated
+from forcenet.report.claims import ClaimTolerances, NotEvaluated
 from forcenet.report.p2 import METRIC_SYMBOLS, format_number, jamming_density, mean_distance_ratio
 from forcenet.report.realizations import realization_mean
-
-
-@dataclass(frozen=True)
-class ValidationTolerances:
-    """How P2's qualitative words are turned into tests. Every verdict uses these and nothing else."""
-
-    value_factor: float = 1.5  # "≈ x", "roughly the same", "similar": measured within [x / f, x · f]
-    max_cv: float = 0.5  # "roughly / essentially constant": coefficient of variation over the ρ range ≤ this
-    fall_factor: float = 10.0  # "slows dramatically" after ρ_J: median after ≤ median just before / this (ours)
-    rate_window: float = 0.05  # "just before jamming": the rates over [ρ_J − this, ρ_J) (IV.A-11)
-    drop_factor: float = 2.0  # "decreases dramatically" / "plunges" inside the unjammed regime
-    decades: float = 0.5  # "n orders of magnitude smaller": measured log10 drop within n ± this
-    trend: float = 0.5  # "increases" / "decreases" with ρ: Spearman rank correlation ≥ this / ≤ −this
-    correlation: float = 0.7  # "tracks" / "follows": Pearson correlation of the log10 curves ≥ this
-    near_jamming: float = 0.02  # "near / close to ρ_J": |ρ − ρ_J| ≤ this
-    peak_window: float = 0.03  # "at ρ ≈ x" for an extremum: it lies within x ± this
-    well_below: float = 0.05  # "ρ significantly less than ρ_J": ρ < ρ_J − this
-    consistently: float = 0.8  # "consistently larger": true at this fraction of the compared ρ values
-    dominance: float = 2.0  # "concentrated in one quadrant": largest ≥ this × second largest (median over columns)
-    spread: float = 2.0  # "distributed evenly": largest / smallest quadrant ≤ this (median over columns)
-    min_points: int = 2  # fewer ρ values than this in a range: the claim is not evaluated
-    correlation_points: int = 3  # fewer ρ values than this: no correlation is computed (2 points always give ±1)
 
 
 @dataclass
@@ -48,7 +27,7 @@ class Curves:
     name: str
     ds: xr.Dataset
     dimension: int
-    tol: ValidationTolerances
+    tol: ClaimTolerances
     rho_j: float = field(init=False)
 
     def __post_init__(self):
@@ -203,7 +182,7 @@ class Context:
 
     curves: dict[str, Curves]
     tables: Mapping[str, pd.DataFrame] | None
-    tol: ValidationTolerances
+    tol: ClaimTolerances
     frictional: str
     frictionless: str
     measures: Mapping[str, xr.Dataset] = field(default_factory=dict)

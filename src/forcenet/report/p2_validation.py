@@ -12,13 +12,13 @@ from typing import Mapping
 import pandas as pd
 import xarray as xr
 
-from forcenet.report.claims import (HOLDS, VERDICT_COLUMNS, Explanation, Judgement, TableLayout, TableSection,
-                                    claims_frame, judge_claim, validation_markdown, verdict_summary, with_paper_size,
-                                    write_validation_table)
+from forcenet.report.claims import (HOLDS, VERDICT_COLUMNS, ClaimTolerances, Explanation, Judgement, TableLayout,
+                                    TableSection, claims_frame, judge_claim, validation_markdown, verdict_summary,
+                                    with_paper_size, write_validation_table)
 from forcenet.report.p2 import FRICTIONAL, FRICTIONLESS, format_number
 from forcenet.report.p2_claims import CLAIMS
 from forcenet.report.p2_explanations import explain
-from forcenet.report.p2_judging import Context, Curves, ValidationTolerances
+from forcenet.report.p2_judging import Context, Curves
 from forcenet.report.realizations import bootstrap_draws, resample_realizations
 
 #: the table's columns (CSV names → `JudgedClaim` fields); the Markdown heads claim_id "id" and reference "P2"
@@ -32,7 +32,7 @@ VALIDATION_COLUMNS = tuple(P2_LAYOUT.columns)
 
 def p2_validation(distances: Mapping[str, xr.Dataset], tables: Mapping[str, pd.DataFrame] | None = None, *,
                   frictional: str = FRICTIONAL, frictionless: str = FRICTIONLESS,
-                  tolerances: ValidationTolerances | None = None, measures: Mapping[str, xr.Dataset] | None = None,
+                  tolerances: ClaimTolerances | None = None, measures: Mapping[str, xr.Dataset] | None = None,
                   states: pd.DataFrame | None = None, resamples: int = 0, seed: int = 0) -> pd.DataFrame:
     """Judge each claim of P2 §III D–§IV (and §V's summary of them) on the measured data.
 
@@ -43,7 +43,7 @@ def p2_validation(distances: Mapping[str, xr.Dataset], tables: Mapping[str, pd.D
         missing system leaves its claims "not evaluated".
     tables : ``{"table1": …, "table2": …, "table3": …}`` from `forcenet.report.p2_tables.p2_tables` or
         `read_table` (frictional system).
-    tolerances : how "≈", "roughly constant", "dramatically" … are tested (`ValidationTolerances`).
+    tolerances : how "≈", "roughly constant", "dramatically" … are tested (`ClaimTolerances`).
     measures : ``{system: network_measures.nc dataset}`` (never-dying class counts) and `states` (the
         `table_state_candidates` of Tables I–III): what the explanations of failed claims measure (optional).
     resamples, seed : each claim on the realizations (not Tables I–III, one realization) is judged again on
@@ -57,7 +57,7 @@ def p2_validation(distances: Mapping[str, xr.Dataset], tables: Mapping[str, pd.D
     that does not hold, the explanation (`EXPLANATIONS`: why, measured on these data where it can be). Curves
     are realization means; ρ_J is where the mean Z(ρ) first reaches d + 1 (P2 §IV A).
     """
-    tol = tolerances or ValidationTolerances()
+    tol = tolerances or ClaimTolerances()
     judged_systems = {name: ds for name, ds in distances.items() if name in (frictional, frictionless)}
     curves = {name: Curves(name, ds, _dimension(ds), tol) for name, ds in judged_systems.items()}
     ctx = Context(curves, tables, tol, frictional, frictionless, dict(measures or {}), states)
