@@ -160,7 +160,8 @@ def make_measures(name: str, *, dimension: int = 2, force_law: str = "hertz", rh
         "total_persistence": (("realization", "rho", "force_kind", "homology_dim"), per_realization(N_PARTICLES * tp)),
         "essential_count": (("realization", "rho", "force_kind", "homology_dim"), np.ones((R, M, K, dimension))),
         "Z": (("realization", "rho"), z),
-        "Z_no_rattlers": (("realization", "rho"), z + 0.2),
+        # without rattlers the network reaches P1's <k> (3 in 2D, 6 in 3D, §4.3) at rho_J
+        "Z_no_rattlers": (("realization", "rho"), z + report.PAPER_Z_AT_JAMMING[dimension] - 0.5 * (0.5 + spec["z_high"])),
         "n_particles": (("realization", "rho"), np.full((R, M), N_PARTICLES)),
     }
     coords = {"realization": np.arange(R), "rho": rho, "force_kind": list(FORCE_KINDS), "homology_dim": homology,
@@ -204,7 +205,9 @@ def claim_verdicts(table: pd.DataFrame) -> dict[tuple[str, str], str]:
     return {(i, s): v for i, s, v in zip(claims["id"], claims["system"], claims["verdict"])}
 
 
-NOT_MEASURED = {"p1-3-overlap", "p1-3-system-size", "p1-3-friction", "p1-3-relaxation"}
+# claims that need runs these synthetic measures do not hold (other sizes, mu = 0, other relaxation protocols)
+NOT_MEASURED = {"p1-3-system-size", "p1-3-system-size-3d", "p1-3-friction", "p1-3-relaxation"}
+OVERLAPS = {name: 0.06 for name in ("2d_hertz", "2d_linear", "3d_hertz")}  # P1 §3: up to 10 % at the largest rho
 
 
 # --- F_max rule and its force units -------------------------------------------------------------------------
@@ -305,7 +308,7 @@ def test_jamming_point_of_a_sigmoid():
 # --- validation table: values ---------------------------------------------------------------------------------
 @pytest.fixture(scope="module")
 def p1_table() -> pd.DataFrame:
-    return validation.p1_validation(make_p1_measures())
+    return validation.p1_validation(make_p1_measures(), overlaps=OVERLAPS)
 
 
 def test_values_against_the_paper(p1_table):
@@ -360,7 +363,7 @@ def test_every_claim_is_a_record_with_a_row(p1_table):
     claims = p1_table[(p1_table["kind"] == "claim") & (p1_table["reading"] == "")]
     assert set(claims["id"]) == set(ids)
     for c in validation.CLAIMS:
-        assert re.fullmatch(r"p1-[3-6](\.\d)?-[a-z0-9-]+", c.id) and c.id.startswith(f"p1-{c.section}-")
+        assert re.fullmatch(r"p1-[1-6](\.\d)?-[a-z0-9-]+", c.id) and c.id.startswith(f"p1-{c.section}-")
         assert c.statement and c.criterion
         expected = 1 if not c.per_system else sum(
             1 for role in report.P1_ROLES.values() if c.scope is None or role in c.scope)
@@ -467,7 +470,16 @@ VIOLATIONS = {
     "B0/N largest at F_th = 0 beyond jamming": (
         {}, _set("2d_hertz", "betti", lambda ds: 0.01 * N_PARTICLES * np.exp(-ds["threshold"]),
                  where=lambda ds: ds["rho"] > RHO_J["2d_hertz"] + 0.02, homology_dim=lambda h: h == 0),
-        [("p1-5.1-b0-interior-maximum", "2d_hertz")], []),
+        [("p1-5.1-b0-interior-maximum", "2d_hertz"), ("p1-1-b0-maximum-above-mean-force", "2d_hertz")], []),
+    "B0/N largest at F_th = 2 beyond jamming": (
+        {}, _set("2d_linear", "betti", lambda ds: 0.05 * N_PARTICLES * np.exp(-(ds["threshold"] - 2.0) ** 2 / 0.3),
+                 where=lambda ds: ds["rho"] > RHO_J["2d_linear"] + 0.02, homology_dim=lambda h: h == 0),
+        [("p1-1-b0-maximum-above-mean-force", "2d_linear")], []),
+    "overlaps beyond 10 %": (
+        {"overlaps": {"2d_linear": 0.15}}, None, [("p1-3-overlap", "2d_linear")], []),
+    "2D network far below <k> = 3 at jamming": (
+        {}, _set("2d_hertz", "Z_no_rattlers", lambda ds: ds["Z_no_rattlers"] - 1.0),
+        [("p1-4.3-contact-number-at-jamming", "2d_hertz"), ("p1-4.3-phi-c-at-jamming", "2d_hertz")], []),
     "loops below jamming in 2D": (
         {"2d_hertz": {"loops_below": 0.05}}, None, [("p1-5.1-b1-zero-below", "2d_hertz")], []),
     "loops and cavities below jamming in 3D": (
@@ -593,10 +605,12 @@ def test_every_claim_has_a_violation():
 @pytest.mark.parametrize("case", sorted(VIOLATIONS))
 def test_a_violated_claim_does_not_hold(case, p1_table):
     overrides, mutate, failing, unevaluated = VIOLATIONS[case]
+    overrides = dict(overrides)
+    overlaps = {**OVERLAPS, **overrides.pop("overlaps", {})}
     measures = make_p1_measures(**overrides)
     if mutate is not None:
         mutate(measures)
-    table = validation.p1_validation(measures)
+    table = validation.p1_validation(measures, overlaps=overlaps)
     verdicts, baseline = claim_verdicts(table), claim_verdicts(p1_table)
     for key in failing:
         assert verdicts[key] == framework.FAILS, (key, rows(table, *key)["evidence"].iloc[0])
@@ -793,3 +807,55 @@ def test_robustness_shows_a_verdict_that_one_realization_carries():
     again = validation.p1_validation(measures, resamples=20, seed=1)
     assert rows(again, "p1-5.1-b1-zero-below", "2d_linear")["robustness"].iloc[0] == row["robustness"]
     assert np.isnan(rows(validation.p1_validation(measures), "p1-5.1-b1-zero-below", "2d_linear")["robustness"].iloc[0])
+
+
+def _with_runs(**extra) -> dict[str, xr.Dataset]:
+    """P1's systems (friction 0.5, N = 400) plus `extra` runs {name: (friction, N, make_measures keywords)}."""
+    measures = make_p1_measures()
+    for ds in measures.values():
+        ds.attrs["friction"] = 0.5
+    for name, (friction, particles, keywords) in extra.items():
+        ds = make_measures(name, **keywords)
+        ds.attrs["friction"] = friction
+        ds["n_particles"][:] = particles
+        measures[name] = ds
+    return measures
+
+
+def test_friction_changes_only_rho_j_when_the_mu0_run_gives_the_same_verdicts():
+    # the mu = 0 run of 2D Hertz jams later (0.86) and otherwise behaves alike: same verdicts on its own rho_J
+    alike = validation.p1_validation(_with_runs(**{"2d_hertz_mu0": (0.0, N_PARTICLES, dict(rho_j=0.86))}))
+    row = rows(alike, "p1-3-friction", "all").iloc[0]
+    assert row["verdict"] == framework.HOLDS and row["measured"] == 1.0 and "2d_hertz_mu0" in row["evidence"]
+    assert verdict(alike, "p1-3-system-size", "all") == framework.NOT_EVALUATED  # same N: not another size
+    # without friction the ridge and the <S>/N peak vanish, the strong bin peaks, loops appear below jamming and
+    # clusters there stop being open paths: not "only rho_J"
+    unlike = validation.p1_validation(_with_runs(**{"2d_hertz_mu0": (0.0, N_PARTICLES, dict(
+        rho_j=0.86, ridge=False, cluster_peak=False, loops_below=0.05, strong_peak=True, shape_below=2.0))}))
+    assert verdict(unlike, "p1-3-friction", "all") == framework.FAILS
+    assert "p1-5.1-b0-ridge (2d_hertz_mu0)" in rows(unlike, "p1-3-friction", "all")["evidence"].iloc[0]
+    # with no mu = 0 run the claim says which run it needs
+    alone = rows(validation.p1_validation(make_p1_measures()), "p1-3-friction", "all").iloc[0]
+    assert alone["verdict"] == framework.NOT_EVALUATED and "mu = 0" in alone["evidence"]
+
+
+def test_other_box_sizes_are_judged_where_a_run_exists_and_30_cubed_never():
+    bigger = validation.p1_validation(_with_runs(**{"2d_linear_75": (0.5, 5625, dict(force_law="linear",
+                                                                                       rho_j=0.835))}))
+    assert verdict(bigger, "p1-3-system-size", "all") == framework.HOLDS
+    different = validation.p1_validation(_with_runs(**{"2d_linear_25": (0.5, 625, dict(
+        force_law="linear", rho_j=0.82, strong_peak=False, loops_below=0.05, shape_below=2.0))}))
+    assert verdict(different, "p1-3-system-size", "all") == framework.FAILS
+    assert verdict(validation.p1_validation(make_p1_measures()), "p1-3-system-size", "all") == framework.NOT_EVALUATED
+    assert "out of reach" in rows(bigger, "p1-3-system-size-3d", "all")["evidence"].iloc[0]
+
+
+def test_the_largest_overlap_is_measured_in_a_snapshot():
+    snapshot = xr.Dataset({"position": (("particle", "axis"), np.array([[0.0, 0.0], [0.9, 0.0], [3.0, 0.0]])),
+                           "radius": ("particle", np.array([0.5, 0.5, 0.6])),
+                           "contact_i": ("contact", np.array([0])), "contact_j": ("contact", np.array([1]))})
+    assert report.largest_relative_overlap(snapshot) == pytest.approx(0.1)  # (1.0 - 0.9) / 1.0
+    table = validation.p1_validation(make_p1_measures(), overlaps={"2d_hertz": 0.08, "2d_linear": 0.12})
+    assert verdict(table, "p1-3-overlap", "2d_hertz") == framework.HOLDS
+    assert verdict(table, "p1-3-overlap", "2d_linear") == framework.FAILS
+    assert verdict(table, "p1-3-overlap", "3d_hertz") == framework.NOT_EVALUATED

@@ -87,6 +87,10 @@ class ClaimTolerances:
     min_clusters : "a non-vanishing number of clusters": realization-mean count per snapshot ≥ this.
     contrast_factor : "pronounced" for one law, "rather insignificant" for the other (P1 §5.1, §5.3): the
         prominence of one law's peak ≥ this × the other's, on one scale.
+    approx_fraction : "⟨k⟩ ≈ 3", "φ_c ≈ 0.5" (P1 §4.3): within this fraction of P1's value.
+    same_verdicts : "qualitatively the same" (P1 §3: other sizes, friction): this share of the per-system claims
+        judged on both runs has the same verdict.
+    overlap_bound : P1 §3's "overlaps up to 10 % of the sum of the radii" at the largest ρ.
 
     P2 (§III D–§V): documented field by field below.
     """
@@ -108,6 +112,9 @@ class ClaimTolerances:
     pdf_distance: float = 0.1
     min_clusters: float = 1.0
     contrast_factor: float = 2.0
+    approx_fraction: float = 0.15
+    same_verdicts: float = 0.8
+    overlap_bound: float = 0.10
     below_cut: str = BELOW_BEFORE_JUMP
     # --- P2 ---
     value_factor: float = 1.5  # "≈ x", "roughly the same", "similar": measured within [x / f, x · f]

@@ -112,6 +112,35 @@ def system_force_law(ds: xr.Dataset, name: str = "") -> str:
     return "linear" if "linear" in lower else "hertz" if "hertz" in lower else "unknown"
 
 
+def system_friction(ds: xr.Dataset, name: str = "") -> float:
+    """The friction coefficient μ of the system's runs (global attr ``friction``, else the config attr; NaN when
+    neither says)."""
+    value = ds.attrs.get("friction", _config_system(ds, name).get("friction", math.nan))
+    try:
+        return float(value)
+    except (TypeError, ValueError):
+        return math.nan
+
+
+def system_particles(ds: xr.Dataset) -> int:
+    """The number of particles N of the system's runs (largest ``n_particles``; 0 when the dataset has none)."""
+    return int(np.nanmax(ds["n_particles"].values)) if "n_particles" in ds else 0
+
+
+def largest_relative_overlap(snapshot: xr.Dataset) -> float:
+    """The largest overlap of two particles in contact relative to the sum of their radii, (r_i + r_j − |x_i −
+    x_j|) / (r_i + r_j), in one snapshot (P1 §3: "up to 10 %" at the largest ρ); 0 without contacts."""
+    i = np.asarray(snapshot["contact_i"].values, dtype=int)
+    j = np.asarray(snapshot["contact_j"].values, dtype=int)
+    if i.size == 0:
+        return 0.0
+    position = np.asarray(snapshot["position"].values, dtype=float)
+    radius = np.asarray(snapshot["radius"].values, dtype=float)
+    reach = radius[i] + radius[j]
+    gap = np.linalg.norm(position[i] - position[j], axis=1)
+    return float(np.max((reach - gap) / reach))
+
+
 def _config_system(ds: xr.Dataset, name: str) -> dict:
     """The system's entry of the config recorded in the dataset's ``config`` attribute ({} when absent)."""
     try:

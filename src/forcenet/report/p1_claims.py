@@ -18,9 +18,10 @@ import xarray as xr
 from forcenet.report.claims import (Claim, ClaimTolerances, Judgement, NotEvaluated, claim_register, contrast_margin,
                                     relative_margin, smallest_margin)
 from forcenet.report.p1 import (HERTZ_2D, HERTZ_3D, LINEAR_2D, P1_HALF, P1_LARGE_THRESHOLD, P1_PERCOLATION_MAJORITY,
-                                P1_SMALL_THRESHOLD, PAPER_CLUSTER_SIZE_PEAK, PAPER_RHO_MAX_BY_ROLE, cut_at_rho_max,
-                                finite_max, force_bins, force_pdf_width, percolating_size_mean, percolation_fraction,
-                                select_total)
+                                P1_SMALL_THRESHOLD, PAPER_CLUSTER_SIZE_PEAK, PAPER_PHI_C, PAPER_RHO_MAX_BY_ROLE,
+                                PAPER_Z_AT_JAMMING, cut_at_rho_max, value_at, finite_max, force_bins, force_pdf_width,
+                                percolating_size_mean, percolation_fraction, select_total, system_friction,
+                                system_particles)
 from forcenet.report.p1_diagnostics import size_peak_threshold_per_rho
 from forcenet.report.p1_judging import (ALL_2D, ClaimContext, SystemData, expected_for_law, finite_values, fmt_values,
                                         peak_verdict, require, strongest_peak)
@@ -53,24 +54,114 @@ def clusters_below_jamming(system: SystemData, tolerances: ClaimTolerances) -> J
 
 
 def _not_measured(reason: str) -> Callable:
-    """A judge for a claim that one set of runs cannot decide: always not evaluated, for `reason`."""
+    """A judge for a claim that no run in reach can decide: always not evaluated, for `reason`."""
     def judge(context: ClaimContext) -> Judgement:
         """Not evaluated: the reason of `_not_measured`."""
         raise NotEvaluated(reason)
     return judge
 
 
-for _id, _statement, _reason in (
-        ("p1-3-overlap", "at the largest rho the particles overlap by up to 10 % of the sum of the radii",
-         "the overlaps are not among the network measures (they are in the snapshots)"),
-        ("p1-3-system-size", "the results stay qualitatively the same for 25x25 and 75x75 (2D), 10^3 and 30^3 (3D)",
-         "needs runs at several box sizes"),
-        ("p1-3-friction", "friction (mu = 0, 0.03, 0.5) changes only rho_J and the precise values (also §6)",
-         "needs runs at several friction coefficients"),
-        ("p1-3-relaxation", "stricter or other relaxation criteria change neither conclusions nor measured values",
-         "needs runs under several relaxation protocols")):
-    claim(_id, "3", _statement, "not computable from one set of runs", per_system=False,
-          needs_rho_j=False)(_not_measured(_reason))
+@claim("p1-3-overlap", "3", "at the largest rho the particles overlap by up to 10 % of the sum of the radii",
+       "largest overlap / (r_i + r_j) over the snapshots at the system's largest rho <= {overlap_bound}",
+       needs_rho_j=False)
+def overlap_up_to_bound(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
+    """Judge of claim p1-3-overlap (per system), on the overlaps measured in the snapshots (`SystemData.overlap`)."""
+    if not np.isfinite(system.overlap):
+        raise NotEvaluated("no snapshot overlaps given (the overlaps are in the snapshots, not the network measures)")
+    evidence = (f"largest overlap at rho={system.rho[-1]:.3f}: {100 * system.overlap:.2f} % of the sum of the radii "
+                f"({system.name})")
+    return Judgement(system.overlap, evidence, system.overlap <= tolerances.overlap_bound,
+                     margin=relative_margin(system.overlap, tolerances.overlap_bound))
+
+
+def _same_verdicts(context: ClaimContext, pairs: list[tuple[SystemData, SystemData]], what: str) -> Judgement:
+    """P1 §3's "qualitatively the same": every per-system claim judged on both systems of each pair (each on its
+    own ρ_J), the share with the same verdict ≥ same_verdicts."""
+    from forcenet.report.p1_validation import CLAIMS as every_claim  # this list is part of it
+
+    same, differing = 0, []
+    for reference, other in pairs:
+        for judged in every_claim:
+            if not judged.per_system or (judged.scope is not None and reference.role not in judged.scope):
+                continue
+            verdicts = []
+            for system in (reference, other):
+                try:
+                    verdicts.append(judged.judge(system, context.tolerances).holds)
+                except NotEvaluated:
+                    break
+            if len(verdicts) < 2:
+                continue
+            if verdicts[0] == verdicts[1]:
+                same += 1
+            else:
+                differing.append(f"{judged.id} ({other.name})")
+    compared = same + len(differing)
+    if compared == 0:
+        raise NotEvaluated(f"no claim judged on both runs of {what}")
+    share = same / compared
+    evidence = (f"{what}: " + ", ".join(f"{a.name} (rho_J={a.rho_j:.3f}) vs {b.name} (rho_J={b.rho_j:.3f})"
+                                         for a, b in pairs)
+                + f"; same verdict for {same} of {compared} per-system claims"
+                + (f"; different: {', '.join(differing)}" if differing else ""))
+    return Judgement(share, evidence, share >= context.tolerances.same_verdicts,
+                     margin=relative_margin(share, context.tolerances.same_verdicts))
+
+
+def _counterparts(context: ClaimContext, roles, differs) -> list[tuple[SystemData, SystemData]]:
+    """(P1's system, another run of the same role) for each role of `roles` present, the other run chosen by
+    `differs(reference, other)` (a located ρ_J on both)."""
+    pairs = []
+    for role in roles:
+        try:
+            reference = context.role(role)
+        except NotEvaluated:
+            continue
+        pairs += [(reference, other) for other in context.systems.values()
+                  if other.name != reference.name and other.role == role and np.isfinite(other.rho_j)
+                  and differs(reference, other)]
+    return pairs
+
+
+@claim("p1-3-system-size", "3",
+       "the results stay qualitatively the same for 25x25 and 75x75 boxes (2D; one realization each at P1's "
+       "protocol is within reach)",
+       "for each 2D system with a run of another particle number (same friction): the same verdict for >= "
+       "{same_verdicts} of the per-system claims judged on both", per_system=False, needs_rho_j=False)
+def system_size(context: ClaimContext) -> Judgement:
+    """Judge of claim p1-3-system-size (across systems): P1's 2D systems against runs of other sizes."""
+    pairs = _counterparts(context, ALL_2D, lambda a, b: system_particles(a.full) != system_particles(b.full)
+                          and system_friction(a.full, a.name) == system_friction(b.full, b.name))
+    if not pairs:
+        raise NotEvaluated("needs a 25 x 25 or 75 x 75 run (one realization at P1's protocol) of a 2D P1 system "
+                           "beside the 50 x 50 one: not in these results")
+    return _same_verdicts(context, pairs, "other box sizes")
+
+
+claim("p1-3-system-size-3d", "3", "the results stay qualitatively the same for 10^3 and 30^3 spheres (3D)",
+      "not judged: no run in reach", per_system=False, needs_rho_j=False)(_not_measured(
+          "30^3 = 27000 spheres at P1's protocol is out of reach of this project's runs (6.6 x the 4096-sphere "
+          "run, the largest it makes); not run"))
+
+
+@claim("p1-3-friction", "3",
+       "friction (mu = 0, 0.03, 0.5) changes only rho_J and the precise values (also §6)",
+       "for each P1 system with a mu = 0 run beside it (same N): the same verdict, each on its own rho_J, for "
+       ">= {same_verdicts} of the per-system claims judged on both", per_system=False, needs_rho_j=False)
+def friction_changes_only_rho_j(context: ClaimContext) -> Judgement:
+    """Judge of claim p1-3-friction (across systems): P1's frictional systems against their μ = 0 runs."""
+    pairs = _counterparts(context, (HERTZ_2D, LINEAR_2D, HERTZ_3D),
+                          lambda a, b: system_friction(a.full, a.name) > 0 and system_friction(b.full, b.name) == 0
+                          and system_particles(a.full) == system_particles(b.full))
+    if not pairs:
+        raise NotEvaluated("needs the mu = 0 run of a P1 system beside the frictional one (the paper-size mu = 0 "
+                           "pair): not in these results")
+    return _same_verdicts(context, pairs, "mu = 0 against mu > 0")
+
+
+claim("p1-3-relaxation", "3", "stricter or other relaxation criteria change neither conclusions nor measured values",
+      "not computable from one set of runs", per_system=False, needs_rho_j=False)(_not_measured(
+          "needs runs under several relaxation protocols"))
 
 
 # --- §4 Force distribution, percolation and jamming -------------------------------------------------------------
@@ -344,6 +435,44 @@ def percolating_smaller_in_3d(context: ClaimContext) -> Judgement:
     evidence = f"N_per/N at the percolation onset: 3D {three:.3g}; " + ", ".join(f"{n} {v:.3g}" for n, v in two.items())
     return Judgement(three / min(two.values()) if min(two.values()) > 0 else math.inf, evidence,
                      three < min(two.values()))
+
+
+def _z_at_jamming(system: SystemData) -> tuple[float, str]:
+    """The mean contact number of the network P1 analyses (rattlers removed, where the measures hold it) at ρ_J,
+    and which one it is."""
+    name = "Z_no_rattlers" if "Z_no_rattlers" in system.full else "Z"
+    z = value_at(system.full, name, system.rho_j)
+    if not np.isfinite(z):
+        raise NotEvaluated(f"{name} at rho_J undefined")
+    return z, "rattlers excluded" if name == "Z_no_rattlers" else "all particles"
+
+
+@claim("p1-4.3-contact-number-at-jamming", "4.3", "close to jamming <k> ~ 3 in 2D and ~ 6 in 3D",
+       "mean Z of the network (rattlers excluded) at rho_J within {approx_fraction} of P1's value, relative",
+       paper={role: PAPER_Z_AT_JAMMING[role[0]] for role in (HERTZ_2D, LINEAR_2D, HERTZ_3D)})
+def contact_number_at_jamming(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
+    """Judge of claim p1-4.3-contact-number-at-jamming (per system)."""
+    paper = PAPER_Z_AT_JAMMING.get(system.dimension, math.nan)
+    z, which = _z_at_jamming(system)
+    deviation = abs(z - paper) / paper
+    return Judgement(z, f"Z ({which}) at {system.label()}: {z:.3g}; P1 {paper:g}",
+                     deviation <= tolerances.approx_fraction, margin=relative_margin(deviation, tolerances.approx_fraction))
+
+
+@claim("p1-4.3-phi-c-at-jamming", "4.3", "phi_c = 1/(<k> - 1) ~ 0.5 in 2D and ~ 0.2 in 3D at rho_J (Eq. 6)",
+       "1/(Z - 1) with the mean Z of the network (rattlers excluded) at rho_J within {approx_fraction} of P1's "
+       "value, relative", paper={role: PAPER_PHI_C[role[0]] for role in (HERTZ_2D, LINEAR_2D, HERTZ_3D)})
+def phi_c_at_jamming(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
+    """Judge of claim p1-4.3-phi-c-at-jamming (per system)."""
+    paper = PAPER_PHI_C.get(system.dimension, math.nan)
+    z, which = _z_at_jamming(system)
+    if z <= 1:
+        return Judgement(math.inf, f"Z ({which}) at {system.label()}: {z:.3g} <= 1: phi_c unbounded", False)
+    phi_c = 1.0 / (z - 1.0)  # P1 Eq. 6 with <k^2> = <k>^2
+    deviation = abs(phi_c - paper) / paper
+    return Judgement(phi_c, f"phi_c = 1/(Z - 1) with Z ({which}) {z:.3g} at {system.label()}: {phi_c:.3g}; P1 "
+                            f"{paper:g}", deviation <= tolerances.approx_fraction,
+                     margin=relative_margin(deviation, tolerances.approx_fraction))
 
 
 @claim("p1-4.3-phi-c-lower-bound", "4.3",

@@ -93,18 +93,37 @@ def b0_ridge_law_contrast(context: ClaimContext) -> Judgement:
                      ratio >= factor, margin=ratio_margin(ratio, factor))
 
 
-@claim("p1-5.1-b0-interior-maximum", "5.1",
-       "beyond jamming B0/N first grows with F_th, then falls as F_th -> max (arrows of Fig. 6)",
-       "median over rho > rho_J + tol of the F_th maximising mean B0/N lies strictly inside the F_th grid")
-def b0_interior_maximum(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
-    """Judge of claim p1-5.1-b0-interior-maximum (per system)."""
+def _b0_maximum_threshold(system: SystemData) -> tuple[float, np.ndarray]:
+    """Median over ρ > ρ_J + tol of the F_th [⟨F⟩] maximising the mean B0/N, and those F_th per ρ."""
     beyond = require(system.beyond, "rho beyond rho_J")
     b0 = system.mean("betti", homology_dim=0).transpose("rho", "threshold").values[beyond]
     rows = [row for row in b0 if np.isfinite(row).any() and np.nanmax(row) > 0]
     if not rows:
         raise NotEvaluated("no clusters beyond rho_J")
     best = np.array([system.thresholds[int(np.nanargmax(row))] for row in rows])
-    median = float(np.median(best))
+    return float(np.median(best)), best
+
+
+@claim("p1-1-b0-maximum-above-mean-force", "1",
+       "beyond jamming the B0 maximum lies at a force threshold slightly larger than the average contact force",
+       "median over rho > rho_J + tol of the F_th maximising mean B0/N in (1, 1 + 2 x {threshold_tolerance}] <F>")
+def b0_maximum_above_mean_force(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
+    """Judge of claim p1-1-b0-maximum-above-mean-force (per system): P1 §1's "slightly larger" read as above 1 by
+    at most two of P1's threshold steps (0.25)."""
+    median, best = _b0_maximum_threshold(system)
+    upper = 1.0 + 2 * tolerances.threshold_tolerance
+    evidence = (f"F_th of the largest B0/N at each rho beyond rho_J: {fmt_values(best)}; median {median:.3g} "
+                f"({system.label()})")
+    return Judgement(median, evidence, bool(1.0 < median <= upper + 1e-12),
+                     margin=smallest_margin(relative_margin(median, 1.0), relative_margin(median, upper)))
+
+
+@claim("p1-5.1-b0-interior-maximum", "5.1",
+       "beyond jamming B0/N first grows with F_th, then falls as F_th -> max (arrows of Fig. 6)",
+       "median over rho > rho_J + tol of the F_th maximising mean B0/N lies strictly inside the F_th grid")
+def b0_interior_maximum(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
+    """Judge of claim p1-5.1-b0-interior-maximum (per system)."""
+    median, best = _b0_maximum_threshold(system)
     holds = system.thresholds.min() < median < system.thresholds.max()
     evidence = (f"F_th of the largest B0/N at each rho beyond rho_J: {fmt_values(best)}; grid "
                 f"[{system.thresholds.min():.3g}, {system.thresholds.max():.3g}] ({system.label()})")

@@ -25,7 +25,8 @@ class SystemData:
     data : total-force measures over the judged ρ range (all ρ, or ρ ≤ ρ_max with ``judge_up_to_rho_max``);
     full : total-force measures over every simulated ρ; rho_j : ρ_J (inflection of Z, from every ρ); rho_max :
     ρ_max under the table's force unit; tolerance, window : `ClaimTolerances.rho_tolerance`/`rho_window` resolved
-    for this system; below_cut : `ClaimTolerances.below_cut`.
+    for this system; below_cut : `ClaimTolerances.below_cut`; overlap : the largest overlap of two particles
+    relative to the sum of their radii at the system's largest ρ, from its snapshots (NaN when not given).
     """
 
     name: str
@@ -38,6 +39,7 @@ class SystemData:
     tolerance: float
     window: float
     below_cut: str = BELOW_BEFORE_JUMP
+    overlap: float = math.nan
 
     @property
     def role(self) -> tuple[int, str]:

@@ -70,7 +70,7 @@ P1_READINGS = (Reading(BELOW_TOLERANCE, tolerances={"below_cut": BELOW_TOLERANCE
 def p1_validation(measures: Mapping[str, xr.Dataset], *, force_unit: str = DEFAULT_P1_FORCE_UNIT,
                   judge_up_to_rho_max: bool = False, readings: Sequence[Reading] = P1_READINGS,
                   beside: Mapping[str, Mapping[str, xr.Dataset]] | None = None, resamples: int = 0, seed: int = 0,
-                  **tolerances) -> pd.DataFrame:
+                  overlaps: Mapping[str, float] | None = None, **tolerances) -> pd.DataFrame:
     """P1's numbers and claims beside what `measures` (system → network_measures dataset) shows.
 
     Rows of kind ``"value"``: F_max and per system ρ_max under each unit of `P1_FORCE_UNITS` (the one the figures
@@ -88,6 +88,9 @@ def p1_validation(measures: Mapping[str, xr.Dataset], *, force_unit: str = DEFAU
     `beside` ({reading name: {system: dataset}}, e.g. the measures with filled tetrahedra), wherever that reading
     changes its verdict, marker or key number; the ``reading`` column names it.
 
+    `overlaps` ({system: largest overlap / sum of radii at its largest ρ}, `largest_relative_overlap` of its
+    snapshots there) judges P1 §3's "overlaps up to 10 %"; without it that claim is not evaluated.
+
     Claims are judged over every simulated ρ, or over ρ ≤ ρ_max (P1's shown range) with `judge_up_to_rho_max`;
     those P1 states at ρ_max (PDF order, B1 plateau) use ρ_max either way. `tolerances`: the fields of
     `ClaimTolerances` (documented there), e.g. ``rho_tolerance=0.03``.
@@ -98,15 +101,16 @@ def p1_validation(measures: Mapping[str, xr.Dataset], *, force_unit: str = DEFAU
     present = {name: ds for name, ds in measures.items() if ds is not None}
     names = set(P1_SYSTEMS) | set(present)
     cuts = _cuts(present)
-    context = _context(present, tolerances_, force_unit, judge_up_to_rho_max, cuts)
+    context = _context(present, tolerances_, force_unit, judge_up_to_rho_max, cuts, overlaps)
     draws = bootstrap_draws(present, resamples, seed)
     resampled = [_context({name: resample_realizations(ds, draw[name]) for name, ds in present.items()},
-                          tolerances_, force_unit, judge_up_to_rho_max) for draw in draws]
+                          tolerances_, force_unit, judge_up_to_rho_max, overlaps=overlaps) for draw in draws]
     rows = _force_rows(cuts, force_unit)
     for name in system_order(names):
         rows.extend(_value_rows(name, context.systems.get(name), cuts, force_unit))
     others = [(reading.name, _context(reading.measures(present) if reading.measures else present,
-                                      replace(tolerances_, **reading.tolerances), force_unit, judge_up_to_rho_max))
+                                      replace(tolerances_, **reading.tolerances), force_unit, judge_up_to_rho_max,
+                                      overlaps=overlaps))
               for reading in readings]
     others += [(name, _context({n: ds for n, ds in sets.items() if ds is not None}, tolerances_, force_unit,
                                judge_up_to_rho_max)) for name, sets in (beside or {}).items()]
@@ -128,10 +132,13 @@ def _rounded(value: float) -> float | str:
 
 
 def _context(present: Mapping[str, xr.Dataset], tolerances: ClaimTolerances, force_unit: str, up_to_rho_max: bool,
-             cuts: Mapping[str, FMaxCut | str] | None = None) -> ClaimContext:
-    """Every system of `present` as the judges see it, under the F_max cut of `force_unit`."""
+             cuts: Mapping[str, FMaxCut | str] | None = None,
+             overlaps: Mapping[str, float] | None = None) -> ClaimContext:
+    """Every system of `present` as the judges see it, under the F_max cut of `force_unit`, with its snapshot
+    overlap from `overlaps`."""
     cut = (cuts if cuts is not None else _cuts(present)).get(force_unit)
-    systems = {name: system_data(name, ds, cut if isinstance(cut, FMaxCut) else None, tolerances, up_to_rho_max)
+    systems = {name: replace(system_data(name, ds, cut if isinstance(cut, FMaxCut) else None, tolerances,
+                                         up_to_rho_max), overlap=float((overlaps or {}).get(name, math.nan)))
                for name, ds in present.items()}
     return ClaimContext(systems, tolerances)
 
