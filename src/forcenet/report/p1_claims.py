@@ -74,11 +74,15 @@ def overlap_up_to_bound(system: SystemData, tolerances: ClaimTolerances) -> Judg
                      margin=relative_margin(system.overlap, tolerances.overlap_bound))
 
 
-def _same_verdicts(context: ClaimContext, pairs: list[tuple[SystemData, SystemData]], what: str) -> Judgement:
+def _same_verdicts(context: ClaimContext, pairs: list[tuple[SystemData, SystemData]], what: str,
+                   missing: str) -> Judgement:
     """P1 §3's "qualitatively the same": every per-system claim judged on both systems of each pair (each on its
-    own ρ_J), the share with the same verdict ≥ same_verdicts."""
+    own ρ_J), the share with the same verdict ≥ same_verdicts; not evaluated, for the reason `missing`, without a
+    pair."""
     from forcenet.report.p1_validation import CLAIMS as every_claim  # this list is part of it
 
+    if not pairs:
+        raise NotEvaluated(missing)
     same, differing = 0, []
     for reference, other in pairs:
         for judged in every_claim:
@@ -132,10 +136,8 @@ def system_size(context: ClaimContext) -> Judgement:
     """Judge of claim p1-3-system-size (across systems): P1's 2D systems against runs of other sizes."""
     pairs = _counterparts(context, ALL_2D, lambda a, b: system_particles(a.full) != system_particles(b.full)
                           and system_friction(a.full, a.name) == system_friction(b.full, b.name))
-    if not pairs:
-        raise NotEvaluated("needs a 25 x 25 or 75 x 75 run (one realization at P1's protocol) of a 2D P1 system "
-                           "beside the 50 x 50 one: not in these results")
-    return _same_verdicts(context, pairs, "other box sizes")
+    return _same_verdicts(context, pairs, "other box sizes", "needs a 25 x 25 or 75 x 75 run (one realization at "
+                          "P1's protocol) of a 2D P1 system beside the 50 x 50 one: not in these results")
 
 
 claim("p1-3-system-size-3d", "3", "the results stay qualitatively the same for 10^3 and 30^3 spheres (3D)",
@@ -153,10 +155,8 @@ def friction_changes_only_rho_j(context: ClaimContext) -> Judgement:
     pairs = _counterparts(context, (HERTZ_2D, LINEAR_2D, HERTZ_3D),
                           lambda a, b: system_friction(a.full, a.name) > 0 and system_friction(b.full, b.name) == 0
                           and system_particles(a.full) == system_particles(b.full))
-    if not pairs:
-        raise NotEvaluated("needs the mu = 0 run of a P1 system beside the frictional one (the paper-size mu = 0 "
-                           "pair): not in these results")
-    return _same_verdicts(context, pairs, "mu = 0 against mu > 0")
+    return _same_verdicts(context, pairs, "mu = 0 against mu > 0", "needs the mu = 0 run of a P1 system beside "
+                          "the frictional one (the paper-size mu = 0 pair): not in these results")
 
 
 claim("p1-3-relaxation", "3", "stricter or other relaxation criteria change neither conclusions nor measured values",
