@@ -362,6 +362,25 @@ def p2_shaped(*, frictionless=False, rho_j=None, tangential="track", n_realizati
         attrs={"essential_convention": "minus_one", "dimension": 2})
 
 
+def pd1_diagrams(points_per_state: int, n_realizations: int = 3) -> xr.Dataset:
+    """A diagrams.nc-shaped dataset with `points_per_state` normal-force PD1 points (and one PD0 point) in every
+    state of `RHO` and realization."""
+    kind, dim, realization, rho = [], [], [], []
+    for r in range(n_realizations):
+        for x in RHO:
+            kind += [FORCE_KINDS.index("normal")] * (points_per_state + 1)
+            dim += [0] + [1] * points_per_state
+            realization += [r] * (points_per_state + 1)
+            rho += [x] * (points_per_state + 1)
+    return xr.Dataset({"diagram_force_kind": ("point", np.array(kind)), "diagram_homology_dim": ("point", np.array(dim)),
+                       "point_realization": ("point", np.array(realization)), "point_rho": ("point", np.array(rho))},
+                      coords={"force_kind": list(FORCE_KINDS)})
+
+
+#: P2 §IV C: more PD1 points without friction than with it
+DIAGRAMS = {p2.FRICTIONAL: pd1_diagrams(20), p2.FRICTIONLESS: pd1_diagrams(30)}
+
+
 def both_systems(frictional=None, frictionless=None):
     return {p2.FRICTIONAL: p2_shaped(**(frictional or {})),
             p2.FRICTIONLESS: p2_shaped(frictionless=True, **(frictionless or {}))}
@@ -395,7 +414,7 @@ SHAPED_DATA_FAIL = {"V-2"}
 
 
 def test_data_shaped_as_p2_describes_satisfy_every_claim_but_v2():
-    table = p2_validation.p2_validation(both_systems(), paper_tables()).set_index("claim_id")
+    table = p2_validation.p2_validation(both_systems(), paper_tables(), diagrams=DIAGRAMS).set_index("claim_id")
     not_holding = table[table["verdict"] != claims.HOLDS]
     assert set(not_holding.index) == SHAPED_DATA_FAIL, not_holding[["evidence", "verdict"]].to_string()
     assert (not_holding["verdict"] == claims.FAILS).all()
@@ -466,6 +485,8 @@ VIOLATIONS = [
     ("IV.C-5", {"frictionless": {"loop_factors": (2.0, 4.0, 2.0)}}),  # loops change faster for mu = 0 early on
     ("IV.C-6", {"frictionless": {"loop_factors": (0.4, 1.0, 2.0)}}),  # no stronger change near jamming
     ("IV.C-7", {"frictionless": {"loop_factors": (0.4, 4.0, 1.0)}}),  # same loop rates after jamming
+    ("IV.C-8", {"diagrams": {p2.FRICTIONAL: pd1_diagrams(30), p2.FRICTIONLESS: pd1_diagrams(20)}}),
+    ("IV.C-9", {"frictionless": {"loop_factors": (0.4, 4.0, 1.0)}}),  # friction leaves the loop rates alone
     ("V-1", {"frictional": {"ratio_w1": 0.02}}),  # frictional d_W1 peak 10x larger
     ("V-2", {}),  # the shaped data themselves (SHAPED_DATA_FAIL)
 ]
@@ -479,7 +500,8 @@ def test_every_claim_has_a_violating_variation():
 def test_verdict_is_does_not_hold_when_the_data_violate_the_claim(claim_id, variation):
     tables = variation.get("tables", paper_tables)()
     data = both_systems(variation.get("frictional"), variation.get("frictionless"))
-    table = p2_validation.p2_validation(data, tables).set_index("claim_id")
+    table = p2_validation.p2_validation(data, tables, diagrams=variation.get("diagrams", DIAGRAMS))
+    table = table.set_index("claim_id")
     assert table.loc[claim_id, "verdict"] == claims.FAILS, table.loc[claim_id, "evidence"]
 
 
@@ -526,7 +548,7 @@ def test_jamming_density_from_z_crossing():
 
 
 def test_validation_markdown_lists_every_claim(tmp_path):
-    table = p2_validation.p2_validation(both_systems(), paper_tables())
+    table = p2_validation.p2_validation(both_systems(), paper_tables(), diagrams=DIAGRAMS)
     p2_validation.write_p2_validation(table, tmp_path / "p2_validation.csv", tmp_path / "p2_validation.md")
     md = (tmp_path / "p2_validation.md").read_text()
     n = len(p2_claims.CLAIMS)
@@ -814,3 +836,12 @@ def test_robustness_is_the_share_of_bootstrap_resamples_and_is_seeded():
     carried[p2.FRICTIONLESS]["distance"].loc[dict(realization=0, homology_dim=1)] *= 40.0
     table = p2_validation.p2_validation(carried, paper_tables(), resamples=20, seed=0).set_index("claim_id")
     assert 0.0 < table.loc["IV.C-5", "robustness"] < 1.0
+
+
+def test_pd1_points_are_counted_per_state_and_need_the_diagrams():
+    counts = p2.diagram_point_counts(pd1_diagrams(7, n_realizations=2), "normal", 1)
+    assert counts.dims == ("realization", "rho") and counts.shape == (2, RHO.size) and (counts == 7).all()
+    assert (p2.diagram_point_counts(pd1_diagrams(7), "normal", 0) == 1).all()
+    assert (p2.diagram_point_counts(pd1_diagrams(7), "tangential", 1) == 0).all()
+    table = p2_validation.p2_validation(both_systems(), paper_tables()).set_index("claim_id")
+    assert table.loc["IV.C-8", "verdict"] == claims.NOT_EVALUATED and "diagrams.nc" in table.loc["IV.C-8", "evidence"]

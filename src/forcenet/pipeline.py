@@ -364,17 +364,26 @@ def movie(*, kind: str, system: str, inputs: Sequence[str], output: str, rattler
 
 
 def p1_validation_table(*, measures: Sequence[str], systems: Sequence[str], csv: str, md: str, force_unit: str,
-                        paper_size: str | None = None, log_path: str | None = None) -> None:
+                        paper_size: str | None = None, snapshots: Sequence[str] = (),
+                        log_path: str | None = None) -> None:
     """P1's numbers and claims next to ours (results/tables/p1_validation.{csv,md}); `force_unit`
     (``analysis.p1_force_unit``) is the unit of the F_max rule the figures use; `paper_size` (the campaign's
-    ``docs/validation/p1.csv``, or None in a paper-size config) adds our paper-size values beside P1's."""
+    ``docs/validation/p1.csv``, or None in a paper-size config) adds our paper-size values beside P1's;
+    `snapshots` (each system's snapshots at its largest ρ, every realization) give the overlaps P1 §3 bounds."""
+    from forcenet.datasets import read_snapshot
     from forcenet.report.claims import verdict_counts
+    from forcenet.report.p1 import largest_relative_overlap
     from forcenet.report.p1_validation import p1_validation, write_p1_validation
     from forcenet.report.realizations import ROBUSTNESS_RESAMPLES
 
     with job_logger(log_path, "p1_validation") as log:
+        overlaps: dict[str, float] = {}
+        for path in snapshots:
+            with read_snapshot(path) as snapshot:
+                name = str(snapshot.attrs["system"])
+                overlaps[name] = max(overlaps.get(name, 0.0), largest_relative_overlap(snapshot))
         table = p1_validation(_open_by_system(measures, "network_measures"), force_unit=force_unit,
-                              resamples=ROBUSTNESS_RESAMPLES)
+                              resamples=ROBUSTNESS_RESAMPLES, overlaps=overlaps)
         write_p1_validation(table, csv, md, paper_size=paper_size)
         log.info("P1 validation: %d rows, claim verdicts %s", len(table), verdict_counts(table))
 
@@ -451,22 +460,24 @@ def p2_tables(*, snapshots: Sequence[str], states: str, csv: Sequence[str], md: 
 
 def p2_validation_table(*, distances: Sequence[str], tables: Sequence[str], measures: Sequence[str], states: str,
                         frictional: str, frictionless: str | None, md: str, csv: str, paper_size: str | None = None,
-                        log_path: str | None = None) -> None:
+                        diagrams: Sequence[str] = (), log_path: str | None = None) -> None:
     """Each claim of P2 §IV with its measured evidence, verdict and, where it does not hold, the explanation
     (results/tables/p2_validation.md); `measures` (network_measures.nc) and `states` (the p2_table_states CSV)
-    feed the explanations' diagnostics; `paper_size` (the campaign's ``docs/validation/p2.csv``, or None in a
+    feed the explanations' diagnostics; `diagrams` (diagrams.nc) the PD point counts; `paper_size` (the campaign's ``docs/validation/p2.csv``, or None in a
     paper-size config) adds our paper-size values beside P2's."""
     import pandas as pd
 
     from forcenet.report.claims import verdict_counts
     from forcenet.report.p2_tables import read_table
+    from forcenet.report.realizations import ROBUSTNESS_RESAMPLES
     from forcenet.report.p2_validation import p2_validation, write_p2_validation
 
     with job_logger(log_path, "p2_validation") as log:
         table = p2_validation(_open_by_system(distances, "distances"),
                               {f"table{i + 1}": read_table(path) for i, path in enumerate(sorted(tables))},
                               frictional=frictional, frictionless=frictionless or "",
-                              measures=_open_by_system(measures, "network_measures"), states=pd.read_csv(states))
+                              measures=_open_by_system(measures, "network_measures"), states=pd.read_csv(states),
+                              diagrams=_open_by_system(diagrams, "diagrams"), resamples=ROBUSTNESS_RESAMPLES)
         write_p2_validation(table, csv, md, paper_size=paper_size)
         log.info("P2 validation: claim verdicts %s", verdict_counts(table))
 

@@ -86,6 +86,7 @@ rule p2_validation:
         distances=[paths.distances(RESULTS, s) for s in P2_SYSTEMS],
         tables=rules.p2_tables.output.csv,
         measures=[paths.network_measures(RESULTS, s) for s in P2_SYSTEMS],
+        diagrams=[paths.diagrams(RESULTS, s) for s in P2_SYSTEMS],  # PD1 point counts (IV.C-8)
         states=P2_TABLE_STATES,
         paper_size=paper_size_input("p2"),
     output:

@@ -4,6 +4,6 @@ from forcenet.pipeline import p1_validation_table
 p1_validation_table(  # noqa: F821 — `snakemake` is injected by Snakemake
     measures=list(snakemake.input.measures), systems=snakemake.params.systems,
     csv=snakemake.output.csv, md=snakemake.output.md, force_unit=snakemake.params.force_unit,
-    paper_size=snakemake.params.paper_size,
+    paper_size=snakemake.params.paper_size, snapshots=list(snakemake.input.snapshots),
     log_path=snakemake.log[0],
 )

@@ -87,6 +87,20 @@ def jamming_density_per_realization(distances: xr.Dataset, dimension: int = 2) -
                      for i in range(distances.sizes["realization"])])
 
 
+def diagram_point_counts(diagrams: xr.Dataset, kind: str = "normal", homology_dim: int = 1) -> xr.DataArray:
+    """The number of points of each persistence diagram PD_k (force kind `kind`) of a ``diagrams.nc`` product
+    (`forcenet.datasets.aggregate.stack_diagrams`), dims (realization, rho); 0 for a state without such points."""
+    kinds = [str(k) for k in diagrams["force_kind"].values]
+    selected = ((diagrams["diagram_force_kind"].values == kinds.index(kind))
+                & (diagrams["diagram_homology_dim"].values == homology_dim))
+    realization = np.asarray(diagrams["point_realization"].values, dtype=int)
+    rho = np.asarray(diagrams["point_rho"].values, dtype=float)
+    realizations, rhos = np.unique(realization), np.unique(rho)
+    counts = np.zeros((realizations.size, rhos.size))
+    np.add.at(counts, (np.searchsorted(realizations, realization[selected]), np.searchsorted(rhos, rho[selected])), 1)
+    return xr.DataArray(counts, dims=("realization", "rho"), coords={"realization": realizations, "rho": rhos})
+
+
 @dataclass(frozen=True)
 class QuotedLevel:
     """A level P2 quotes in words for one of its figures, drawn on ours over the ρ range it applies to.

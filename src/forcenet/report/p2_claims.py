@@ -18,11 +18,12 @@ import pandas as pd
 
 from forcenet.report.claims import (Claim, ClaimTolerances, Judgement, NotEvaluated, claim_register, contrast_margin,
                                     ratio_margin, relative_margin, smallest_margin)
-from forcenet.report.p2 import (METRIC_SYMBOLS, METRICS, P2_HOMOLOGY_DIMS, TABLE_PAIRS, jamming_density_per_realization,
-                                table_column)
+from forcenet.report.p2 import (METRIC_SYMBOLS, METRICS, P2_HOMOLOGY_DIMS, TABLE_PAIRS, diagram_point_counts,
+                                jamming_density_per_realization, table_column)
 from forcenet.report.p2_judging import (B, NORMAL, TANGENTIAL, W1, W2, Context, Curves, coefficient_of_variation, fmt,
                                         log10_ratio, on_grid, pearson, per_dim_metric_text, per_metric_text,
                                         rate_quotient, spearman, within_factor, within_factor_margin)
+from forcenet.report.realizations import realization_mean
 
 
 CLAIMS: list[Claim] = []  # in the order of the table
@@ -589,6 +590,42 @@ _criterion, _judge = _quotient_after_jamming(1, 2.0)
 claim("IV.C-7", "§IV C, Figs 6(b), 9(b)",
       "After jamming the loop structure (beta1) changes about twice as fast for mu = 0 as for mu = 0.5",
       _criterion, paper="2", scope="both")(_judge)
+
+
+@claim("IV.C-8", "§IV C",
+       "There are more points in PD1 (loops) for mu = 0 than for mu = 0.5",
+       "median over the states of the realization-mean number of normal-force PD1 points: mu = 0 > mu = 0.5",
+       paper="more PD1 points for mu = 0", scope="both")
+def _c_more_loops_without_friction(ctx: Context) -> Judgement:
+    """Judge of claim IV.C-8 by its criterion."""
+    medians = {}
+    for name in (ctx.frictional, ctx.frictionless):
+        ctx.system(name)
+        if name not in ctx.diagrams:
+            raise NotEvaluated(f"{name}: no persistence diagrams (diagrams.nc) to count PD1 points in")
+        counts = realization_mean(diagram_point_counts(ctx.diagrams[name], NORMAL, 1))
+        medians[name] = float(np.median(counts.values))
+    without, with_ = medians[ctx.frictionless], medians[ctx.frictional]
+    return Judgement(without / with_ if with_ > 0 else math.inf,
+                     f"median number of PD1 points per state: {ctx.frictionless} {fmt(without)}, {ctx.frictional} "
+                     f"{fmt(with_)}", without > with_, margin=contrast_margin(without, with_))
+
+
+@claim("IV.C-9", "§IV C",
+       "After jamming the influence of friction is much more obvious for loops (beta1) than for components (beta0)",
+       "median over d_B, d_W1, d_W2 of |log10(median mu=0 / median mu=0.5)| over rho > both rho_J: beta1 > beta0",
+       paper="loops more than components", scope="both")
+def _c_friction_matters_more_for_loops(ctx: Context) -> Judgement:
+    """Judge of claim IV.C-9 by its criterion."""
+    f, n = ctx.both()
+    lo = max(f.jammed(), n.jammed())
+    influence = {dim: float(np.median([abs(math.log10(v)) if 0 < v < math.inf else math.inf for v in
+                                       _median_quotient(ctx, dim, METRICS, lo=lo, closed_lo=False).values()]))
+                 for dim in P2_HOMOLOGY_DIMS}
+    return Judgement(influence[1] - influence[0],
+                     f"median |log10(mu=0 / mu=0.5)| over rho > {fmt(lo)}: beta0 {fmt(influence[0], 2)}, beta1 "
+                     f"{fmt(influence[1], 2)} decades", influence[1] > influence[0],
+                     margin=contrast_margin(influence[1], influence[0]))
 
 
 @claim("V-1", "§V (conclusions)",

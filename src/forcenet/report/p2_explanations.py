@@ -195,6 +195,10 @@ EXPLANATIONS: dict[str, tuple[str, str, tuple[Callable[[Context], str], ...]]] =
                f"d_W2 ratios are 2-3.4 (paper size 2.8 and 2.2; {_PAPER}).",
                THIS_TABLE,
                (_never_dying_events(_frictional, 1, "after"), _never_dying_events(_frictionless, 1, "after"))),
+    "IV.C-8": ("Not measured: the PD1 point counts of both systems have not been compared at paper size.",
+               HYPOTHESIS_ONLY, ()),
+    "IV.C-9": (_NEVER_DYING + " The d_B part of both quotients sits on that floor; not measured further.",
+               HYPOTHESIS_ONLY, ()),
     "V-1": ("Not a few-realization effect: it fails at paper size with 2 and 3 realizations too (d_B and d_W2 "
             "peaks before jamming are as high or higher without friction; docs/validation/p2.md); no cause "
             "measured.", CAMPAIGN, ()),

@@ -177,8 +177,9 @@ def rate_quotient(numerator: float, denominator: float, what: str = "") -> float
 @dataclass
 class Context:
     """Everything P2's claims are judged on: the curves of each system present, Tables I–III (frictional system),
-    the tolerances, the names of the frictional and frictionless systems, and for the explanations the network
-    measures (never-dying class counts) and the candidate states a, b, c."""
+    the tolerances, the names of the frictional and frictionless systems, for the explanations the network
+    measures (never-dying class counts) and the candidate states a, b, c, and each system's persistence diagrams
+    (``diagrams.nc``: how many PD points a state has)."""
 
     curves: dict[str, Curves]
     tables: Mapping[str, pd.DataFrame] | None
@@ -187,6 +188,7 @@ class Context:
     frictionless: str
     measures: Mapping[str, xr.Dataset] = field(default_factory=dict)
     states: pd.DataFrame | None = None
+    diagrams: Mapping[str, xr.Dataset] = field(default_factory=dict)
 
     def system(self, name: str) -> Curves:
         """The curves of system `name`; not evaluated when it is not in the results."""

@@ -33,7 +33,8 @@ VALIDATION_COLUMNS = tuple(P2_LAYOUT.columns)
 def p2_validation(distances: Mapping[str, xr.Dataset], tables: Mapping[str, pd.DataFrame] | None = None, *,
                   frictional: str = FRICTIONAL, frictionless: str = FRICTIONLESS,
                   tolerances: ClaimTolerances | None = None, measures: Mapping[str, xr.Dataset] | None = None,
-                  states: pd.DataFrame | None = None, resamples: int = 0, seed: int = 0) -> pd.DataFrame:
+                  states: pd.DataFrame | None = None, resamples: int = 0, seed: int = 0,
+                  diagrams: Mapping[str, xr.Dataset] | None = None) -> pd.DataFrame:
     """Judge each claim of P2 §III D–§IV (and §V's summary of them) on the measured data.
 
     Parameters
@@ -46,6 +47,7 @@ def p2_validation(distances: Mapping[str, xr.Dataset], tables: Mapping[str, pd.D
     tolerances : how "≈", "roughly constant", "dramatically" … are tested (`ClaimTolerances`).
     measures : ``{system: network_measures.nc dataset}`` (never-dying class counts) and `states` (the
         `table_state_candidates` of Tables I–III): what the explanations of failed claims measure (optional).
+    diagrams : ``{system: diagrams.nc dataset}``: the number of PD points per state (IV.C-8; optional).
     resamples, seed : each claim on the realizations (not Tables I–III, one realization) is judged again on
         `resamples` bootstrap resamples of every system's realizations (seeded by `seed`); its robustness is the
         share under which it holds (NaN with 0 resamples or one realization).
@@ -60,7 +62,7 @@ def p2_validation(distances: Mapping[str, xr.Dataset], tables: Mapping[str, pd.D
     tol = tolerances or ClaimTolerances()
     judged_systems = {name: ds for name, ds in distances.items() if name in (frictional, frictionless)}
     curves = {name: Curves(name, ds, _dimension(ds), tol) for name, ds in judged_systems.items()}
-    ctx = Context(curves, tables, tol, frictional, frictionless, dict(measures or {}), states)
+    ctx = Context(curves, tables, tol, frictional, frictionless, dict(measures or {}), states, dict(diagrams or {}))
     resampled = [Context({name: Curves(name, resample_realizations(ds, draw[name]), _dimension(ds), tol)
                           for name, ds in judged_systems.items()}, tables, tol, frictional, frictionless)
                  for draw in bootstrap_draws(judged_systems, resamples, seed)]
