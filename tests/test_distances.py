@@ -224,3 +224,21 @@ def test_many_points_on_the_line_death_minus_one_match_the_full_solve(seed):
         assert d[f"wasserstein_{q}"] == pytest.approx(full_graph_cost(a, b, q) ** (1 / q), rel=1e-12)
     assert d["bottleneck"] == brute_force_bottleneck(a, b)
     assert d["bottleneck"] == bottleneck_distance(a, b, upper_bound=np.inf)  # the binary search alone
+
+
+def test_never_dying_classes_matched_only_with_each_other():
+    # convention "apart" (issue 25): P2's worked example with the two never-dying classes paired by birth (5 vs 3:
+    # 2 in L-infinity) and the seven finite points of g going to the diagonal (0.5 each)
+    f = np.array([[5.0, -np.inf]])
+    g = np.array([[3.0, -np.inf]] + [[1.0, 0.0]] * 7)
+    d = diagram_distances(f, g, 0, "apart")
+    assert d["bottleneck"] == pytest.approx(2.0) and d["wasserstein_1"] == pytest.approx(3.5 + 2.0)
+    assert d["wasserstein_2"] == pytest.approx(math.sqrt(7 * 0.25 + 4.0))
+    # births pair off in order (the optimal matching on a line), whatever the order given
+    two = diagram_distances(np.array([[5.0, -np.inf], [1.0, -np.inf]]), np.array([[1.5, -np.inf], [4.0, -np.inf]]),
+                            0, "apart")
+    assert two["bottleneck"] == pytest.approx(1.0) and two["wasserstein_1"] == pytest.approx(1.5)
+    # different numbers of never-dying classes: no matching exists
+    assert math.isinf(diagram_distances(f, np.array([[5.0, -np.inf], [3.0, -np.inf]]), 0, "apart")["bottleneck"])
+    # under P2's -1 the same pair is finite: the floor the never-dying classes put under d_B
+    assert diagram_distances(f, np.array([[5.0, -np.inf], [3.0, -np.inf]]), 0, "minus_one")["bottleneck"] == 2.0

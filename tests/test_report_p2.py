@@ -845,3 +845,23 @@ def test_pd1_points_are_counted_per_state_and_need_the_diagrams():
     assert (p2.diagram_point_counts(pd1_diagrams(7), "tangential", 1) == 0).all()
     table = p2_validation.p2_validation(both_systems(), paper_tables()).set_index("claim_id")
     assert table.loc["IV.C-8", "verdict"] == claims.NOT_EVALUATED and "diagrams.nc" in table.loc["IV.C-8", "evidence"]
+
+
+def test_another_reading_is_set_beside_the_claims_it_changes():
+    # distances under another never-dying convention in which the rates no longer fall after jamming: IV.A-11a
+    # turns and gets a row of that reading beside its own; claims the reading leaves alone get none
+    other = both_systems(frictional={"after": 3000.0})
+    table = p2_validation.p2_validation(both_systems(), paper_tables(),
+                                        beside={"never-dying apart": {"distances": other}})
+    primary, beside = table[table["reading"] == ""], table[table["reading"] == "never-dying apart"]
+    assert len(primary) == len(p2_claims.CLAIMS)
+    assert "IV.A-11a" in set(beside["claim_id"]) and "IV.C-1" not in set(beside["claim_id"])
+    assert beside.set_index("claim_id").loc["IV.A-11a", "verdict"] == claims.FAILS
+    assert primary.set_index("claim_id").loc["IV.A-11a", "verdict"] == claims.HOLDS
+    assert claims.verdict_counts(table)[claims.FAILS] == claims.verdict_counts(primary)[claims.FAILS]
+    # the literal states of Tables I-III beside the table's own: only the table claims can turn
+    literal = p2_validation.p2_validation(both_systems(), paper_tables(),
+                                          beside={"literal rho = 0.79": {"tables": table_variation(swap_rows)()}})
+    turned = literal[literal["reading"] == "literal rho = 0.79"].set_index("claim_id")
+    assert set(turned.index) <= {"III.D-1", "III.D-2", "III.D-3", "III.D-4"}
+    assert turned.loc["III.D-2", "verdict"] == claims.FAILS

@@ -28,7 +28,7 @@ import pandas as pd
 __all__ = ["HOLDS", "FAILS", "NOT_EVALUATED", "MARGINAL", "VACUOUS", "MARGINAL_FRACTION", "MEASURED", "HYPOTHESIS",
            "BELOW_BEFORE_JUMP", "BELOW_TOLERANCE", "ClaimTolerances", "NotEvaluated", "Judgement", "relative_margin",
            "contrast_margin", "smallest_margin", "ratio_margin", "Claim", "claim_register", "Explanation",
-           "JudgedClaim", "holds_share", "judge_claim", "verdict_counts", "verdict_summary", "VERDICT_COLUMNS",
+           "JudgedClaim", "holds_share", "judge_claim", "rows_beside", "verdict_counts", "verdict_summary", "VERDICT_COLUMNS",
            "TableLayout", "TableSection", "claims_frame", "markdown_table", "validation_markdown",
            "write_validation_table", "PAPER_SIZE", "PAPER_SIZE_HEADER", "with_paper_size", "paper_size_placeholder"]
 
@@ -347,6 +347,16 @@ def judge_claim(claim: Claim, system: str, paper: float | str, criterion: str, j
                        robustness=holds_share(resampled) if verdict != NOT_EVALUATED else math.nan,
                        reading=reading, explanation=explanation.text if explanation else "",
                        explanation_basis=explanation.basis if explanation else "")
+
+
+def rows_beside(primary: Sequence[JudgedClaim], other: Sequence[JudgedClaim]) -> list[JudgedClaim]:
+    """The rows of `other` (the same claims judged under another reading, row for row) that differ from `primary`
+    in verdict, marker or key number (4 significant digits, as the table prints it): the rows set beside."""
+    def key(row: JudgedClaim) -> tuple:
+        """What a reader compares between the two rows."""
+        return row.verdict, row.marker, f"{row.measured:.4g}"
+
+    return [row for row, first in zip(other, primary, strict=True) if key(row) != key(first)]
 
 
 def verdict_counts(table: pd.DataFrame) -> dict[str, int]:

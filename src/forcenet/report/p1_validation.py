@@ -20,7 +20,7 @@ import xarray as xr
 from forcenet.report import p1_claims, p1_claims_topology
 from forcenet.report.claims import (BELOW_TOLERANCE, NOT_EVALUATED, VERDICT_COLUMNS, Claim, ClaimTolerances,
                                     JudgedClaim, Judgement, NotEvaluated, TableLayout, TableSection, claims_frame,
-                                    judge_claim, validation_markdown, verdict_summary, with_paper_size,
+                                    judge_claim, rows_beside, validation_markdown, verdict_summary, with_paper_size,
                                     write_validation_table)
 from forcenet.report.p1 import (DEFAULT_P1_FORCE_UNIT, P1_FORCE_UNITS, P1_RHO_STEP, P1_ROLES, P1_SYSTEMS, PAPER_PHI_C,
                                 PAPER_RHO_J, PAPER_RHO_MAX, PAPER_Z_AT_JAMMING, FMaxCut, cut_at_rho_max, f_max_cut,
@@ -118,17 +118,10 @@ def p1_validation(measures: Mapping[str, xr.Dataset], *, force_unit: str = DEFAU
         primary = _claim_rows(claim_, context, names, resampled)
         rows.extend(primary)
         for name, other in others:
-            rows.extend(row for row, first in zip(_claim_rows(claim_, other, names, (), reading=name), primary)
-                        if (row.verdict, row.marker, _rounded(row.measured))
-                        != (first.verdict, first.marker, _rounded(first.measured)))
+            rows.extend(rows_beside(primary, _claim_rows(claim_, other, names, (), reading=name)))
     table = claims_frame(rows, P1_LAYOUT)
     table.attrs["force_unit"] = force_unit
     return table
-
-
-def _rounded(value: float) -> float | str:
-    """A key number compared between readings (4 significant digits, as the table prints it; NaN as text)."""
-    return f"{value:.4g}"
 
 
 def _context(present: Mapping[str, xr.Dataset], tolerances: ClaimTolerances, force_unit: str, up_to_rho_max: bool,

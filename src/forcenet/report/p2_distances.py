@@ -28,6 +28,7 @@ ESSENTIAL_CONVENTIONS_DOC = {
     "minus_one": "never-dying classes are given death = -1 <F> before matching (P2 §III B, Fig. 5)",
     "zero": "never-dying classes are given death = 0 before matching",
     "drop": "never-dying classes are left out of the matching",
+    "apart": "never-dying classes are matched only with each other, by birth (infinite when their numbers differ)",
 }
 
 

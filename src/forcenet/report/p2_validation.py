@@ -7,14 +7,14 @@ default build a column beside P2's values gives our value at P2's size from the 
 from __future__ import annotations
 
 import os
-from typing import Mapping
+from typing import Any, Mapping
 
 import pandas as pd
 import xarray as xr
 
 from forcenet.report.claims import (HOLDS, VERDICT_COLUMNS, ClaimTolerances, Explanation, Judgement, TableLayout,
-                                    TableSection, claims_frame, judge_claim, validation_markdown, verdict_summary,
-                                    with_paper_size, write_validation_table)
+                                    TableSection, claims_frame, judge_claim, rows_beside, validation_markdown,
+                                    verdict_summary, with_paper_size, write_validation_table)
 from forcenet.report.p2 import FRICTIONAL, FRICTIONLESS, format_number
 from forcenet.report.p2_claims import CLAIMS
 from forcenet.report.p2_explanations import explain
@@ -34,7 +34,8 @@ def p2_validation(distances: Mapping[str, xr.Dataset], tables: Mapping[str, pd.D
                   frictional: str = FRICTIONAL, frictionless: str = FRICTIONLESS,
                   tolerances: ClaimTolerances | None = None, measures: Mapping[str, xr.Dataset] | None = None,
                   states: pd.DataFrame | None = None, resamples: int = 0, seed: int = 0,
-                  diagrams: Mapping[str, xr.Dataset] | None = None) -> pd.DataFrame:
+                  diagrams: Mapping[str, xr.Dataset] | None = None,
+                  beside: Mapping[str, Mapping[str, Any]] | None = None) -> pd.DataFrame:
     """Judge each claim of P2 §III D–§IV (and §V's summary of them) on the measured data.
 
     Parameters
@@ -48,6 +49,10 @@ def p2_validation(distances: Mapping[str, xr.Dataset], tables: Mapping[str, pd.D
     measures : ``{system: network_measures.nc dataset}`` (never-dying class counts) and `states` (the
         `table_state_candidates` of Tables I–III): what the explanations of failed claims measure (optional).
     diagrams : ``{system: diagrams.nc dataset}``: the number of PD points per state (IV.C-8; optional).
+    beside : other readings judged beside P2's conventions, ``{name: {"distances": …, "tables": …}}`` (either
+        key may be left out: the primary's is used), e.g. the distances with never-dying classes matched only
+        with each other (``essential_convention: apart``) or Tables I–III of the literal states at ρ = 0.79; a
+        row of a reading is set beside a claim wherever it changes the verdict, marker or key number.
     resamples, seed : each claim on the realizations (not Tables I–III, one realization) is judged again on
         `resamples` bootstrap resamples of every system's realizations (seeded by `seed`); its robustness is the
         share under which it holds (NaN with 0 resamples or one realization).
@@ -60,27 +65,41 @@ def p2_validation(distances: Mapping[str, xr.Dataset], tables: Mapping[str, pd.D
     are realization means; ρ_J is where the mean Z(ρ) first reaches d + 1 (P2 §IV A).
     """
     tol = tolerances or ClaimTolerances()
+
+    def context(distances: Mapping[str, xr.Dataset], tables: Mapping[str, pd.DataFrame] | None) -> Context:
+        """The claims' view of `distances` (the two judged systems) and `tables`."""
+        curves = {name: Curves(name, ds, _dimension(ds), tol) for name, ds in distances.items()
+                  if name in (frictional, frictionless)}
+        return Context(curves, tables, tol, frictional, frictionless, dict(measures or {}), states,
+                       dict(diagrams or {}))
+
     judged_systems = {name: ds for name, ds in distances.items() if name in (frictional, frictionless)}
-    curves = {name: Curves(name, ds, _dimension(ds), tol) for name, ds in judged_systems.items()}
-    ctx = Context(curves, tables, tol, frictional, frictionless, dict(measures or {}), states, dict(diagrams or {}))
-    resampled = [Context({name: Curves(name, resample_realizations(ds, draw[name]), _dimension(ds), tol)
-                          for name, ds in judged_systems.items()}, tables, tol, frictional, frictionless)
-                 for draw in bootstrap_draws(judged_systems, resamples, seed)]
+    ctx = context(distances, tables)
+    resampled = [context({name: resample_realizations(ds, draw[name]) for name, ds in judged_systems.items()},
+                         tables) for draw in bootstrap_draws(judged_systems, resamples, seed)]
+    others = [(name, context(reading.get("distances", distances), reading.get("tables", tables)))
+              for name, reading in (beside or {}).items()]
     systems = {"frictional": frictional, "frictionless": frictionless, "both": f"{frictional} vs {frictionless}",
                "tables": f"{frictional} (one realization)"}
     judged = []
     for claim in CLAIMS:
-        def judge(claim=claim) -> Judgement:
-            """The claim judged on these data."""
-            return claim.judge(ctx)
+        def judge(within: Context, claim=claim) -> Judgement:
+            """The claim judged on the data of `within`."""
+            return claim.judge(within)
 
         def explanation(verdict: str, claim=claim) -> Explanation | None:
             """Why the claim does not hold (nothing where it does)."""
             return explain(claim.id, ctx) if verdict != HOLDS else None
 
-        on_resamples = [] if claim.scope == "tables" else [lambda c=c, claim=claim: claim.judge(c) for c in resampled]
-        judged.append(judge_claim(claim, systems[claim.scope], claim.paper_value(), claim.criterion_text(tol), judge,
-                                  explanation, resampled=on_resamples))
+        on_resamples = [] if claim.scope == "tables" else [lambda c=c, judge=judge: judge(c) for c in resampled]
+        row = judge_claim(claim, systems[claim.scope], claim.paper_value(), claim.criterion_text(tol),
+                          lambda judge=judge: judge(ctx), explanation, resampled=on_resamples)
+        judged.append(row)
+        for name, other in others:
+            judged += rows_beside([row], [judge_claim(claim, systems[claim.scope], claim.paper_value(),
+                                                      claim.criterion_text(tol), lambda judge=judge, o=other: judge(o),
+                                                      reading=name)])
+    curves = ctx.curves
     table = claims_frame(judged, P2_LAYOUT)
     table.attrs["systems"] = {name: {"rho_J": c.rho_j, "realizations": c.n_realizations,
                                      "rho_range": (float(c.ds["rho"].min()), float(c.ds["rho"].max())),

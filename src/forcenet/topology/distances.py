@@ -6,8 +6,11 @@ diagonal is (birth − death)/2. Always d_B ≤ d_W2 ≤ d_W1.
 
 Never-dying classes (death −inf) cannot be matched as they are; the ``essential`` convention decides:
 ``"minus_one"`` (default) gives them death −1 as P2 §III B does (Fig. 5: PD0(f) = {(5, −1)}), ``"zero"``
-gives death 0, ``"drop"`` leaves them out. Zero-length points (birth == death) are removed: they lie on the
-diagonal and cost nothing.
+gives death 0, ``"drop"`` leaves them out, ``"apart"`` matches them only with each other (the usual treatment of
+essential classes: the finite points are matched as with ``"drop"``, the never-dying ones of the two diagrams pair
+off by birth, in order, each pair costing |b − b'|; diagrams with different numbers of never-dying classes are an
+infinite distance apart). Zero-length points (birth == death) are removed: they lie on the diagonal and cost
+nothing.
 
 Backends
 --------
@@ -44,7 +47,7 @@ import numpy as np
 from forcenet.topology import _matching
 from forcenet.topology.persistence import PersistenceDiagrams
 
-ESSENTIAL_CONVENTIONS = ("minus_one", "zero", "drop")
+ESSENTIAL_CONVENTIONS = ("minus_one", "zero", "drop", "apart")
 METRICS = ("bottleneck", "wasserstein_1", "wasserstein_2")
 BACKENDS = ("exact", "dionysus")
 
@@ -56,7 +59,8 @@ def matchable_points(diagram, homology_dim: int | None = None, essential: str = 
     ----------
     diagram : PersistenceDiagrams, or array-like of shape (n, 2) with death −inf for never-dying classes.
     homology_dim : which diagram, when `diagram` is a PersistenceDiagrams.
-    essential : "minus_one", "zero" or "drop" (module docstring).
+    essential : "minus_one", "zero", "drop" or "apart" (module docstring; "apart" leaves the never-dying classes
+        out here, as "drop": `essential_births` gives them).
 
     Returns
     -------
@@ -73,13 +77,39 @@ def matchable_points(diagram, homology_dim: int | None = None, essential: str = 
     else:
         points = np.asarray(diagram, dtype=np.float64).reshape(-1, 2).copy()
         never_dies = ~np.isfinite(points[:, 1])
-    if essential == "drop":
+    if essential in ("drop", "apart"):
         points = points[~never_dies]
     else:
         points[never_dies, 1] = -1.0 if essential == "minus_one" else 0.0
     if not np.all(np.isfinite(points)):
         raise ValueError("births must be finite")
     return points[points[:, 0] > points[:, 1]].reshape(-1, 2)
+
+
+def essential_births(diagram, homology_dim: int | None = None) -> np.ndarray:
+    """The births of the never-dying classes of a diagram (PersistenceDiagrams or (n, 2) array with death −inf),
+    sorted."""
+    if isinstance(diagram, PersistenceDiagrams):
+        if homology_dim is None:
+            raise ValueError("homology_dim is required for a PersistenceDiagrams")
+        one = diagram.select(homology_dim)
+        return np.sort(np.asarray(one.birth, np.float64)[np.asarray(one.essential, bool)])
+    points = np.asarray(diagram, dtype=np.float64).reshape(-1, 2)
+    return np.sort(points[~np.isfinite(points[:, 1]), 0])
+
+
+def _with_essential_matched(distances: dict[str, float], births_a: np.ndarray, births_b: np.ndarray
+                            ) -> dict[str, float]:
+    """The distances of the finite points combined with the never-dying classes matched only with each other
+    (convention "apart"): births paired in sorted order (optimal for points on one line), each pair costing
+    |b − b'| in L∞; infinite when the diagrams hold different numbers of never-dying classes."""
+    if births_a.size != births_b.size:
+        return {metric: float("inf") for metric in METRICS}
+    gaps = np.abs(births_a - births_b)
+    largest = float(gaps.max()) if gaps.size else 0.0
+    return {"bottleneck": max(distances["bottleneck"], largest),
+            "wasserstein_1": distances["wasserstein_1"] + float(gaps.sum()),
+            "wasserstein_2": float(np.sqrt(distances["wasserstein_2"] ** 2 + float(np.sum(gaps ** 2))))}
 
 
 N_NEAREST = 16  # partners per point in the first sparse Wasserstein graph (with the line band: one solve)
@@ -237,7 +267,7 @@ def diagram_distances(pd_a, pd_b, homology_dim: int = 0, essential: str = "minus
     ----------
     pd_a, pd_b : PersistenceDiagrams, or (n, 2) arrays of (birth, death) with death −inf for never-dying.
     homology_dim : k.
-    essential : never-dying convention, "minus_one" (P2, default), "zero" or "drop".
+    essential : never-dying convention, "minus_one" (P2, default), "zero", "drop" or "apart" (module docstring).
     backend : "exact" (default) or "dionysus" (module docstring).
     timeout_s : wall-clock limit for the dionysus child process [s].
     hera_delta : relative error allowed to hera's Wasserstein (dionysus backend only).
@@ -248,6 +278,11 @@ def diagram_distances(pd_a, pd_b, homology_dim: int = 0, essential: str = "minus
     """
     if backend not in BACKENDS:
         raise ValueError(f"backend must be one of {BACKENDS}, got {backend!r}")
+    if essential == "apart":
+        finite = diagram_distances(pd_a, pd_b, homology_dim, "drop", backend=backend, timeout_s=timeout_s,
+                                   hera_delta=hera_delta)
+        return _with_essential_matched(finite, essential_births(pd_a, homology_dim),
+                                       essential_births(pd_b, homology_dim))
     points_a = matchable_points(pd_a, homology_dim, essential)
     points_b = matchable_points(pd_b, homology_dim, essential)
     if backend == "dionysus":
