@@ -660,6 +660,29 @@ def test_table_states_pick_the_realization_whose_z_and_force_change_least():
     assert list(p2_tables.table_state_candidates(twins)["chosen"]) == [True, False]
 
 
+def test_jammed_table_states_are_the_first_three_at_or_above_table_rho_with_mean_z_over_d_plus_one():
+    rho = [0.78, 0.785, 0.79, 0.795, 0.80, 0.805, 0.81]
+    z = [3.5, 3.6, 0.5, 1.0, 3.5, 4.0, 4.2]  # jams between 0.795 and 0.80 (the states below 0.79 do not count)
+    # 0.79-0.80: mean 1.67; 0.795-0.805: mean 2.83; 0.80-0.81: mean 3.9 >= 3
+    assert p2_tables.jammed_table_states(rho, z, 0.79) == (4, 5, 6)
+    assert p2_tables.jammed_table_states(rho, z, 0.79, dimension=3) is None  # 3D needs mean Z >= 4
+    assert p2_tables.jammed_table_states(rho, [3.0] * 7, 0.79) == (2, 3, 4)  # jammed already: the literal start
+    analyses = [state_analysis(r, x, zz, 1.0 + 0.01 * k) for r in (0, 1) for k, (x, zz) in enumerate(zip(rho, z))]
+    table = p2_tables.table_state_candidates(analyses, "jammed", 0.79)
+    assert list(table[["rho_a", "rho_b", "rho_c"]].iloc[0]) == [0.80, 0.805, 0.81]
+    assert table.attrs["rule"] == "jammed"
+    picked = p2_tables.chosen_states(analyses, table)  # the candidates beyond a, b, c are left out
+    assert [float(ds["rho"]) for ds in picked] == [0.80, 0.805, 0.81]
+    # the literal rule keeps the three states it is given; the jammed one refuses data that never jam
+    literal = p2_tables.table_state_candidates([a for a in analyses if 0.785 <= float(a["rho"]) <= 0.795])
+    assert list(literal[["rho_a", "rho_b", "rho_c"]].iloc[0]) == [0.785, 0.79, 0.795]
+    unjammed = [state_analysis(0, x, 1.0, 1.0) for x in rho]
+    with pytest.raises(ValueError, match="mean Z >= 3"):
+        p2_tables.table_state_candidates(unjammed, "jammed", 0.79)
+    with pytest.raises(ValueError, match="rule must be"):
+        p2_tables.table_state_candidates(analyses, "nearest")
+
+
 def test_table_states_refuse_incomplete_or_mismatched_states():
     with pytest.raises(ValueError, match="need a, b, c"):
         p2_tables.table_state_candidates([state_analysis(0, 0.79, 3.0, 1.0)])

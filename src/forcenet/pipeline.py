@@ -415,14 +415,16 @@ def p2_distances(*, analyses: Sequence[str], realizations: Sequence[int], output
         write_netcdf(stacked, output, kind="distances")
 
 
-def p2_table_states(*, analyses: Sequence[str], csv: str, log_path: str | None = None) -> None:
-    """Which realization gives the states a, b, c of Tables I–III and Figs 1, 3 (P2 Fig. 1's criterion,
+def p2_table_states(*, analyses: Sequence[str], csv: str, rule: str = "jammed", table_rho: float = 0.79,
+                    dimension: int = 2, log_path: str | None = None) -> None:
+    """Which states a, b, c (`rule` of `forcenet.report.p2_tables.TABLE_STATE_RULES`, config key
+    ``studies.p2.table_states``) and which realization give Tables I–III and Figs 1, 3 (P2 Fig. 1's criterion,
     `forcenet.report.p2_tables.TABLE_STATE_CRITERION`): one row per realization, written to `csv`."""
     from forcenet.datasets import read_dataset
     from forcenet.report.p2_tables import table_state_candidates
 
     with job_logger(log_path, "p2_table_states") as log:
-        table = table_state_candidates([read_dataset(p, "analysis") for p in analyses])
+        table = table_state_candidates([read_dataset(p, "analysis") for p in analyses], rule, table_rho, dimension)
         Path(csv).parent.mkdir(parents=True, exist_ok=True)
         table.to_csv(csv, index=False)
         chosen = table[table["chosen"]].iloc[0]

@@ -16,13 +16,23 @@ def p2_table_labels():
     return [spec.rho_labels[i] for i in indices]
 
 
+# which states a, b, c (forcenet.report.p2_tables.TABLE_STATE_RULES): "jammed" (default) or "literal"
+P2_TABLE_STATE_RULE = config["studies"].get("p2", {}).get("table_states", "jammed")
+
+
 def p2_table_candidates(path=snapshot_path, states="abc"):
-    """Files of the states a, b, c (or those named by `states`) of every realization, realization-major: the
-    candidates among which p2_table_states picks one realization (forcenet.report.p2_tables.TABLE_STATE_CRITERION); none
-    when the config has no P2 study."""
+    """Files of the candidate states of every realization, realization-major, among which p2_table_states picks
+    a, b, c and one realization (forcenet.report.p2_tables.TABLE_STATE_CRITERION): under the "literal" rule the
+    states a, b, c (or those named by `states`), under "jammed" every state at or above table_rho (which three
+    are a, b, c is known only from their Z); none when the config has no P2 study."""
     if not P2_FRICTIONAL:
         return []
-    labels = [label for letter, label in zip("abc", p2_table_labels()) if letter in states]
+    if P2_TABLE_STATE_RULE == "jammed":
+        spec = SYSTEMS[P2_FRICTIONAL]
+        table_rho = config["studies"]["p2"].get("table_rho", 0.79)
+        labels = [label for rho, label in zip(spec.rho_grid, spec.rho_labels) if rho >= table_rho - 1e-9]
+    else:
+        labels = [label for letter, label in zip("abc", p2_table_labels()) if letter in states]
     return [path(P2_FRICTIONAL, r, rho) for r in realizations(P2_FRICTIONAL) for rho in labels]
 
 
@@ -58,6 +68,10 @@ rule p2_table_states:
         P2_TABLE_STATES,
     log:
         paths.log(RESULTS, "tables", "p2_table_states"),
+    params:
+        rule=P2_TABLE_STATE_RULE,
+        table_rho=config["studies"].get("p2", {}).get("table_rho", 0.79),
+        dimension=SYSTEMS[P2_FRICTIONAL].dimension if P2_FRICTIONAL else 2,
     script:
         "../scripts/p2_table_states.py"
 

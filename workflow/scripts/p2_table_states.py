@@ -3,5 +3,6 @@ forcenet.pipeline.p2_table_states."""
 from forcenet.pipeline import p2_table_states
 
 p2_table_states(  # noqa: F821 — `snakemake` is injected by Snakemake
-    analyses=list(snakemake.input), csv=snakemake.output[0], log_path=snakemake.log[0],
+    analyses=list(snakemake.input), csv=snakemake.output[0], rule=snakemake.params.rule,
+    table_rho=snakemake.params.table_rho, dimension=snakemake.params.dimension, log_path=snakemake.log[0],
 )

@@ -1,8 +1,10 @@
 """P2 Tables I–III (§III D): distances between three nearby states a, b, c, whole box and per quadrant.
 
-- `table_state_candidates`, `chosen_states` — the states a, b, c of Tables I–III and Figs 1, 3: three consecutive
-  samples around ``table_rho`` (P2: ρ ≈ 0.79; `forcenet.systems.select_table_snapshots`) of the realization whose
-  Z and ⟨F_n⟩ change least over them (P2 Fig. 1: "almost identical"; `TABLE_STATE_CRITERION`).
+- `table_state_candidates`, `chosen_states` — the states a, b, c of Tables I–III and Figs 1, 3 (`TABLE_STATE_RULES`):
+  the first three consecutive samples at or above ``table_rho`` whose mean Z ≥ d + 1 (`jammed_table_states`; P2's
+  states near ρ = 0.79 are jammed), or the three around it (P2: ρ ≈ 0.79; `forcenet.systems.select_table_snapshots`),
+  of the realization whose Z and ⟨F_n⟩ change least over them (P2 Fig. 1: "almost identical";
+  `TABLE_STATE_CRITERION`).
 - `p2_tables` — the distances (a,b) and (a,c) of the normal-force diagrams over the whole box (Table I) and per
   quadrant of the box (Tables II, III), β0 and β1 × d_B, d_W1, d_W2, as P2 prints them.
 - `write_table`, `write_p2_tables`, `read_table` — ``results/tables/p2_table{1,2,3}.{csv,md}`` with P2's printed
@@ -81,28 +83,59 @@ TABLE_STATE_COLUMNS = ("realization", *TABLE_RHO_KEYS, "Z_a", "Z_b", "Z_c", "mea
                        "mean_normal_force_b", "mean_normal_force_c", "Z_change", "force_change", "score", "chosen")
 
 
-def table_state_candidates(analyses: Sequence[xr.Dataset]) -> pd.DataFrame:
+#: which states a, b, c Tables I–III and Figs 1, 3 use (config key ``studies.p2.table_states``, issue 25):
+#: "jammed" — the first three consecutive samples at or above table_rho whose mean Z ≥ d + 1 (P2's states near
+#: ρ = 0.79 are jammed: Z and ⟨F⟩ "almost identical" between them; ours at 0.79 are not), the table's own;
+#: "literal" — the three consecutive samples around table_rho (`forcenet.systems.select_table_snapshots`).
+TABLE_STATE_RULES = ("jammed", "literal")
+
+
+def jammed_table_states(rho: Sequence[float], z: Sequence[float], table_rho: float,
+                        dimension: int = 2) -> tuple[int, int, int] | None:
+    """Indices (into `rho`, sorted ascending) of the first three consecutive samples at or above `table_rho` whose
+    mean contact number Z is ≥ d + 1; None when no such three exist."""
+    rho, z = np.asarray(rho, dtype=float), np.asarray(z, dtype=float)
+    if np.any(np.diff(rho) <= 0):
+        raise ValueError("rho must be strictly increasing")
+    for first in np.flatnonzero(rho >= table_rho - 1e-9):
+        if first + 3 <= rho.size and np.mean(z[first:first + 3]) >= dimension + 1:
+            return int(first), int(first) + 1, int(first) + 2
+    return None
+
+
+def table_state_candidates(analyses: Sequence[xr.Dataset], rule: str = "literal", table_rho: float = 0.79,
+                           dimension: int = 2) -> pd.DataFrame:
     """The candidate states a, b, c of Tables I–III and Figs 1, 3: one row per realization (`TABLE_STATE_COLUMNS`).
 
     Parameters
     ----------
-    analyses : per-snapshot analysis files of states a, b, c of every realization (three per realization, told
-        apart by their ``realization`` attribute): Z and the mean normal force ⟨F_n⟩ [m̄ d_ave τ_c⁻²] are read.
+    analyses : per-snapshot analysis files of every realization (told apart by their ``realization``
+        attribute): Z and the mean normal force ⟨F_n⟩ [m̄ d_ave τ_c⁻²] are read. With `rule` "literal" the three
+        states a, b, c of each realization; with "jammed" its states at and above `table_rho`, among which
+        `jammed_table_states` picks a, b, c (a realization with no such three is no candidate).
 
     Returns
     -------
     DataFrame with ρ, Z, ⟨F_n⟩ of a, b, c, the relative changes, the score and ``chosen`` (one True row) by
-    `TABLE_STATE_CRITERION`.
+    `TABLE_STATE_CRITERION`; ``attrs["rule"]`` the rule.
     """
+    if rule not in TABLE_STATE_RULES:
+        raise ValueError(f"rule must be one of {TABLE_STATE_RULES}, got {rule!r}")
     by_realization: dict[int, list[xr.Dataset]] = {}
     for ds in analyses:
         by_realization.setdefault(int(ds.attrs["realization"]), []).append(ds)
     normal = FORCE_KINDS.index("normal")
     rows = []
     for realization, states in sorted(by_realization.items()):
-        if len(states) != 3:
-            raise ValueError(f"realization {realization}: {len(states)} states, need a, b, c")
         states = sorted(states, key=lambda ds: float(ds["rho"]))
+        if rule == "jammed":
+            picked = jammed_table_states([float(ds["rho"]) for ds in states], [float(ds["Z"]) for ds in states],
+                                         table_rho, dimension)
+            if picked is None:
+                continue
+            states = [states[i] for i in picked]
+        elif len(states) != 3:
+            raise ValueError(f"realization {realization}: {len(states)} states, need a, b, c")
         z = [float(ds["Z"]) for ds in states]
         force = [float(ds["mean_force"].values[normal]) for ds in states]
         z_change = max(abs(z[1] - z[0]), abs(z[2] - z[0])) / z[0] if z[0] > 0 else math.inf
@@ -112,11 +145,14 @@ def table_state_candidates(analyses: Sequence[xr.Dataset]) -> pd.DataFrame:
                      "mean_normal_force_b": force[1], "mean_normal_force_c": force[2], "Z_change": z_change,
                      "force_change": force_change, "score": max(z_change, force_change)})
     if not rows:
-        raise ValueError("no candidate states a, b, c")
+        raise ValueError(f"no candidate states a, b, c ({rule} rule"
+                         + (f": no three consecutive samples at rho >= {table_rho} with mean Z >= {dimension + 1}"
+                            if rule == "jammed" else "") + ")")
     table = pd.DataFrame(rows, columns=list(TABLE_STATE_COLUMNS[:-1]))
     table["chosen"] = False
     table.loc[table["score"].idxmin(), "chosen"] = True  # idxmin: first (lowest realization) on ties
     table.attrs["criterion"] = TABLE_STATE_CRITERION
+    table.attrs["rule"] = rule
     return table
 
 
@@ -126,11 +162,14 @@ def chosen_states(datasets: Sequence[xr.Dataset], candidates: pd.DataFrame) -> l
     if len(chosen) != 1:
         raise ValueError(f"{len(chosen)} chosen realizations in the table-state candidates, need one")
     realization = int(chosen["realization"].iloc[0])
+    expected = chosen[list(TABLE_RHO_KEYS)].to_numpy(dtype=float)[0]
     picked = sorted((ds for ds in datasets if int(ds.attrs.get("realization", -1)) == realization),
                     key=lambda ds: float(ds["rho"]))
+    if len(picked) > len(expected):  # candidates beyond a, b, c (the jammed rule reads every state >= table_rho)
+        picked = [ds for ds in picked if np.isclose(float(ds["rho"]), expected, atol=1e-9).any()]
     if not picked:
         raise ValueError(f"no dataset of the chosen realization {realization}")
-    expected = chosen[list(TABLE_RHO_KEYS)].to_numpy(dtype=float)[0][:len(picked)]
+    expected = expected[:len(picked)]
     if not np.allclose([float(ds["rho"]) for ds in picked], expected, atol=1e-9):
         raise ValueError(f"realization {realization}: states at rho {[float(ds['rho']) for ds in picked]}, "
                          f"expected {expected.tolist()}")
