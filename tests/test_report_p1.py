@@ -859,3 +859,42 @@ def test_the_largest_overlap_is_measured_in_a_snapshot():
     assert verdict(table, "p1-3-overlap", "2d_hertz") == framework.HOLDS
     assert verdict(table, "p1-3-overlap", "2d_linear") == framework.FAILS
     assert verdict(table, "p1-3-overlap", "3d_hertz") == framework.NOT_EVALUATED
+
+
+def _diagrams(name: str, points) -> xr.Dataset:
+    """A diagrams.nc-shaped dataset of the total-force network: points (realization, rho, homology_dim, birth,
+    death | None for a class that never dies)."""
+    total = FORCE_KINDS.index("total")
+    r, rho, h, b, d = (np.array(v) for v in zip(*points))
+    death = np.array([-np.inf if x is None else x for x in d], dtype=float)
+    return xr.Dataset({"diagram_force_kind": ("point", np.full(len(r), total)), "diagram_homology_dim": ("point", h),
+                       "birth": ("point", b.astype(float)), "death": ("point", death),
+                       "essential": ("point", (~np.isfinite(death)).astype(np.int8)),
+                       "point_realization": ("point", r), "point_rho": ("point", rho.astype(float))},
+                      coords={"force_kind": list(FORCE_KINDS)}, attrs={"system": name})
+
+
+def test_never_dying_classes_enter_total_persistence_and_bins_at_death_minus_one():
+    ds = make_measures("2d_hertz")
+    diagrams = _diagrams("2d_hertz", [(0, 0.90, 0, 0.5, None), (0, 0.90, 0, 3.0, None), (1, 0.90, 1, 1.0, None),
+                                      (0, 0.90, 0, 2.0, 1.0)])  # the finite point is in the measures already
+    out = report.never_dying_at_minus_one(ds, diagrams)
+    at = dict(rho=0.90, force_kind="total")
+    tp = out["total_persistence"].sel(**at) - ds["total_persistence"].sel(**at)
+    assert tp.sel(realization=0, homology_dim=0) == pytest.approx(0.5 + 1 + 3.0 + 1)  # births + 1
+    assert tp.sel(realization=1, homology_dim=1) == pytest.approx(2.0)
+    assert float(abs(tp.sel(realization=2)).max()) == 0.0
+    bins = out["persistence_bin_count"].sel(realization=0, **at) - ds["persistence_bin_count"].sel(realization=0, **at)
+    assert dict(zip(bins["persistence_bin"].values, bins.values)) == {"rough": 0, "weak": 1, "medium": 0, "strong": 1,
+                                                                    "essential": -2}
+
+
+def test_the_left_out_reading_of_never_dying_classes_stands_beside():
+    # never-dying cavities below jamming in 3D: TP2 is no longer ~0 there at death -1; left out, it is
+    measures = make_p1_measures()
+    below = [float(x) for x in measures["3d_hertz"]["rho"].values if x < 0.56]
+    diagrams = {"3d_hertz": _diagrams("3d_hertz", [(r, x, 2, 2.0, None) for r in range(3) for x in below])}
+    table = validation.p1_validation(measures, diagrams=diagrams)
+    assert verdict(table, "p1-5.3-tp2-zero-below", "3d_hertz") == framework.FAILS
+    assert verdict(table, "p1-5.3-tp2-zero-below", "3d_hertz", validation.NEVER_DYING_LEFT_OUT) == framework.HOLDS
+    assert verdict(validation.p1_validation(measures), "p1-5.3-tp2-zero-below", "3d_hertz") == framework.HOLDS

@@ -75,6 +75,7 @@ rule p1_validation_table:
         paper_size=paper_size_input("p1"),
         # P1 §3: the overlaps at the largest rho, every realization
         snapshots=[snapshot_path(s, r, SYSTEMS[s].rho_labels[-1]) for s in P1_SYSTEMS for r in realizations(s)],
+        diagrams=[paths.diagrams(RESULTS, s) for s in P1_SYSTEMS],  # never-dying classes at death -1 in TP, bins
     output:
         csv=paths.p1_validation_table(RESULTS, "csv"),
         md=report(paths.p1_validation_table(RESULTS, "md"), caption="../report/table.rst", category="P1",

@@ -5,5 +5,6 @@ p1_validation_table(  # noqa: F821 — `snakemake` is injected by Snakemake
     measures=list(snakemake.input.measures), systems=snakemake.params.systems,
     csv=snakemake.output.csv, md=snakemake.output.md, force_unit=snakemake.params.force_unit,
     paper_size=snakemake.params.paper_size, snapshots=list(snakemake.input.snapshots),
+    diagrams=list(snakemake.input.diagrams),
     log_path=snakemake.log[0],
 )

@@ -324,6 +324,53 @@ def force_pdf_width(ds: xr.Dataset) -> xr.DataArray:
 
 
 # =============================================================================================================
+# P1 §5.3: never-dying classes at death −1 (the papers' group's convention, P2 §III C; P1 takes total persistence
+# from its ref. [7])
+# =============================================================================================================
+NEVER_DYING_DEATH = -1.0  # [⟨F⟩] the death P2 §III C gives a class that never dies
+
+
+def never_dying_at_minus_one(measures: xr.Dataset, diagrams: xr.Dataset) -> xr.Dataset:
+    """`measures` (network_measures.nc) with the never-dying classes of `diagrams` (the same system's diagrams.nc)
+    given death −1 ⟨F⟩: each adds birth + 1 to TP_k (``total_persistence``), and in PD0 it leaves the
+    ``essential`` bin of ``persistence_bin_count`` for the bin of its birth (lifespan b + 1 > 0.1: never rough;
+    weak below 1, a birth under 0.1 counted there too, medium [1, 2.5), strong ≥ 2.5; P1 §5.3's bins). The
+    measures as stored leave them out (their reading, judged beside)."""
+    import pandas as pd
+
+    from forcenet.measures.persistence_stats import MEDIUM_BIRTH, STRONG_BIRTH
+
+    essential = np.asarray(diagrams["essential"].values, dtype=bool)
+    kinds = np.asarray([str(k) for k in diagrams["force_kind"].values])
+    grid = rho_values(measures)
+    point_rho = np.asarray(diagrams["point_rho"].values, dtype=float)[essential]
+    points = pd.DataFrame({
+        "realization": np.asarray(diagrams["point_realization"].values, dtype=int)[essential],
+        "rho": grid[np.abs(point_rho[:, None] - grid[None, :]).argmin(axis=1)] if grid.size else point_rho,
+        "force_kind": kinds[np.asarray(diagrams["diagram_force_kind"].values, dtype=int)[essential]],
+        "homology_dim": np.asarray(diagrams["diagram_homology_dim"].values, dtype=int)[essential],
+        "birth": np.asarray(diagrams["birth"].values, dtype=float)[essential]})
+    out = measures.copy(deep=True)
+    keys = ["realization", "rho", "force_kind"]
+    added = (points["birth"] - NEVER_DYING_DEATH).groupby([points[k] for k in (*keys, "homology_dim")]).sum()
+    if len(added):
+        extra = added.to_xarray().reindex_like(out["total_persistence"]).fillna(0.0)
+        out["total_persistence"] = out["total_persistence"] + extra
+    pd0 = points[points["homology_dim"] == 0]
+    if len(pd0):
+        target = np.where(pd0["birth"] < MEDIUM_BIRTH, "weak", np.where(pd0["birth"] < STRONG_BIRTH, "medium",
+                                                                         "strong"))
+        moved = pd0.groupby([pd0[k] for k in keys] + [pd.Series(target, index=pd0.index,
+                                                                name="persistence_bin")]).size()
+        counts = moved.to_xarray().reindex_like(out["persistence_bin_count"]).fillna(0)
+        leaving = counts.sum("persistence_bin")
+        out["persistence_bin_count"] = (out["persistence_bin_count"] + counts
+                                        - leaving.where(out["persistence_bin"] == "essential", 0))
+    out.attrs["never_dying_death"] = NEVER_DYING_DEATH
+    return out
+
+
+# =============================================================================================================
 # P1 §5.2: shape parameter averaging
 # =============================================================================================================
 def shape_parameter_average(shape: xr.DataArray, dim: str = "realization") -> tuple[xr.DataArray, xr.DataArray]:

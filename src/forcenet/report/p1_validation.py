@@ -24,8 +24,8 @@ from forcenet.report.claims import (BELOW_TOLERANCE, NOT_EVALUATED, VERDICT_COLU
                                     write_validation_table)
 from forcenet.report.p1 import (DEFAULT_P1_FORCE_UNIT, P1_FORCE_UNITS, P1_RHO_STEP, P1_ROLES, P1_SYSTEMS, PAPER_PHI_C,
                                 PAPER_RHO_J, PAPER_RHO_MAX, PAPER_Z_AT_JAMMING, FMaxCut, cut_at_rho_max, f_max_cut,
-                                isostatic_crossing, jamming_point, rho_values, select_total, system_dimension,
-                                system_force_law, system_order, value_at)
+                                isostatic_crossing, jamming_point, rho_values, select_total, never_dying_at_minus_one,
+                                system_dimension, system_force_law, system_order, value_at)
 from forcenet.report.p1_diagnostics import SHAPE_READINGS, with_shape_reading
 from forcenet.report.p1_judging import ClaimContext, SystemData
 from forcenet.report.realizations import bootstrap_draws, resample_realizations
@@ -60,6 +60,8 @@ def _cluster_mean_shape(measures: Mapping[str, xr.Dataset]) -> Mapping[str, xr.D
             for name, ds in measures.items()}
 
 
+NEVER_DYING_LEFT_OUT = "never-dying classes left out of TP and bins"  # the reading beside death -1
+
 #: the readings every table judges beside its own: the older cut of "below jamming" one tolerance lower, and
 #: S_p as the mean over clusters (pooled is P1's definition and primary). Readings that need other analyses (the
 #: filled tetrahedra, never-dying classes left out) are given to `p1_validation` as `beside`.
@@ -70,7 +72,8 @@ P1_READINGS = (Reading(BELOW_TOLERANCE, tolerances={"below_cut": BELOW_TOLERANCE
 def p1_validation(measures: Mapping[str, xr.Dataset], *, force_unit: str = DEFAULT_P1_FORCE_UNIT,
                   judge_up_to_rho_max: bool = False, readings: Sequence[Reading] = P1_READINGS,
                   beside: Mapping[str, Mapping[str, xr.Dataset]] | None = None, resamples: int = 0, seed: int = 0,
-                  overlaps: Mapping[str, float] | None = None, **tolerances) -> pd.DataFrame:
+                  overlaps: Mapping[str, float] | None = None, diagrams: Mapping[str, xr.Dataset] | None = None,
+                  **tolerances) -> pd.DataFrame:
     """P1's numbers and claims beside what `measures` (system → network_measures dataset) shows.
 
     Rows of kind ``"value"``: F_max and per system ρ_max under each unit of `P1_FORCE_UNITS` (the one the figures
@@ -88,6 +91,8 @@ def p1_validation(measures: Mapping[str, xr.Dataset], *, force_unit: str = DEFAU
     `beside` ({reading name: {system: dataset}}, e.g. the measures with filled tetrahedra), wherever that reading
     changes its verdict, marker or key number; the ``reading`` column names it.
 
+    `diagrams` ({system: diagrams.nc}): the never-dying classes then enter TP_k and the PD0 bins at death −1
+    (`never_dying_at_minus_one`, the papers' convention), the measures as stored (classes left out) beside.
     `overlaps` ({system: largest overlap / sum of radii at its largest ρ}, `largest_relative_overlap` of its
     snapshots there) judges P1 §3's "overlaps up to 10 %"; without it that claim is not evaluated.
 
@@ -99,6 +104,10 @@ def p1_validation(measures: Mapping[str, xr.Dataset], *, force_unit: str = DEFAU
         raise ValueError(f"unknown P1 force unit {force_unit!r}; known: {', '.join(P1_FORCE_UNITS)}")
     tolerances_ = ClaimTolerances(**tolerances)
     present = {name: ds for name, ds in measures.items() if ds is not None}
+    if diagrams:
+        beside = {NEVER_DYING_LEFT_OUT: present, **(beside or {})}
+        present = {name: never_dying_at_minus_one(ds, diagrams[name]) if name in diagrams else ds
+                   for name, ds in present.items()}
     names = set(P1_SYSTEMS) | set(present)
     cuts = _cuts(present)
     context = _context(present, tolerances_, force_unit, judge_up_to_rho_max, cuts, overlaps)
