@@ -161,7 +161,8 @@ def make_measures(name: str, *, dimension: int = 2, force_law: str = "hertz", rh
         "essential_count": (("realization", "rho", "force_kind", "homology_dim"), np.ones((R, M, K, dimension))),
         "Z": (("realization", "rho"), z),
         # without rattlers the network reaches P1's <k> (3 in 2D, 6 in 3D, §4.3) at rho_J
-        "Z_no_rattlers": (("realization", "rho"), z + report.PAPER_Z_AT_JAMMING[dimension] - 0.5 * (0.5 + spec["z_high"])),
+        "Z_no_rattlers": (("realization", "rho"),
+                          z + report.PAPER_Z_AT_JAMMING[dimension] - 0.5 * (0.5 + spec["z_high"])),
         "n_particles": (("realization", "rho"), np.full((R, M), N_PARTICLES)),
     }
     coords = {"realization": np.arange(R), "rho": rho, "force_kind": list(FORCE_KINDS), "homology_dim": homology,

@@ -372,7 +372,8 @@ def pd1_diagrams(points_per_state: int, n_realizations: int = 3) -> xr.Dataset:
             dim += [0] + [1] * points_per_state
             realization += [r] * (points_per_state + 1)
             rho += [x] * (points_per_state + 1)
-    return xr.Dataset({"diagram_force_kind": ("point", np.array(kind)), "diagram_homology_dim": ("point", np.array(dim)),
+    return xr.Dataset({"diagram_force_kind": ("point", np.array(kind)),
+                       "diagram_homology_dim": ("point", np.array(dim)),
                        "point_realization": ("point", np.array(realization)), "point_rho": ("point", np.array(rho))},
                       coords={"force_kind": list(FORCE_KINDS)})
 
@@ -788,7 +789,8 @@ def test_never_dying_diagnostic_counts_the_pairs_that_change_the_class_count():
 def test_table_state_diagnostic_reports_where_a_b_c_lie():
     states = p2_tables.table_state_candidates([state_analysis(r, rho, z, f) for r in (0, 1, 2)
                                         for rho, z, f in zip((0.788, 0.791, 0.794), (2.8, 2.9, 3.0), (1.0, 2.0, 4.0))])
-    ctx = p2_judging.Context({p2.FRICTIONAL: p2_judging.Curves(p2.FRICTIONAL, p2_shaped(), 2, claims.ClaimTolerances())}, None,
+    curves = p2_judging.Curves(p2.FRICTIONAL, p2_shaped(), 2, claims.ClaimTolerances())
+    ctx = p2_judging.Context({p2.FRICTIONAL: curves}, None,
                       claims.ClaimTolerances(), p2.FRICTIONAL, p2.FRICTIONLESS, {}, states)
     text = p2_explanations._table_state_diagnostic(ctx)
     assert "realization 0 (the quietest of 3" in text and "<F_n> x 4.00" in text and "Z 2.80 -> 3.00" in text

@@ -180,8 +180,8 @@ def test_each_study_uses_its_rattler_rule_and_p2_products_show_p2(smoke_run):
     for system in config["studies"]["p2"]["systems"]:
         assert open_dataset(paths.distances(results, system)).attrs["rattler_rule"] == "none"
         assert open_dataset(paths.distances(results, system)).attrs["flag_complex"] == "triangles"
-    for system, spec in config["systems"].items():  # analysis.fill_tetrahedra: true fills 3D 4-cliques only
-        complex_ = "tetrahedra" if spec["dimension"] == 3 else "triangles"
+    for system, spec in config["systems"].items():  # analysis.fill_tetrahedra: false (issue 25): 4-cliques hollow
+        complex_ = "triangles"
         analysis = sorted(glob.glob(paths.analysis(results, system, "r00", "*")))[0]
         for path in (analysis, paths.network_measures(results, system), paths.diagrams(results, system)):
             assert open_dataset(path).attrs["flag_complex"] == complex_, (system, path)
@@ -194,10 +194,10 @@ def test_each_study_uses_its_rattler_rule_and_p2_products_show_p2(smoke_run):
 def test_changing_fill_tetrahedra_reruns_the_3d_analyses_only(smoke_run):
     # the text edited, not re-dumped: Snakemake compares params by their text, so sorted keys would look changed
     text = (REPO / "config/smoke.yaml").read_text()
-    assert "  fill_tetrahedra: true" in text
-    hollow = smoke_run / "hollow.yaml"
-    hollow.write_text(text.replace("  fill_tetrahedra: true", "  fill_tetrahedra: false"))
-    dry = snakemake(smoke_run, "-n", config=hollow)
+    assert "  fill_tetrahedra: false" in text
+    filled = smoke_run / "filled.yaml"
+    filled.write_text(text.replace("  fill_tetrahedra: false", "  fill_tetrahedra: true"))
+    dry = snakemake(smoke_run, "-n", config=filled)
     assert dry.returncode == 0, dry.stderr[-3000:]
     rules = set(re.findall(r"^\s*rule (\w+):", dry.stdout, re.M))  # grouped jobs are indented
     assert "analyze_3d_hertz" in rules and "aggregate_system" in rules

@@ -467,8 +467,8 @@ def p2_validation_table(*, distances: Sequence[str], tables: Sequence[str], meas
                         diagrams: Sequence[str] = (), log_path: str | None = None) -> None:
     """Each claim of P2 §IV with its measured evidence, verdict and, where it does not hold, the explanation
     (results/tables/p2_validation.md); `measures` (network_measures.nc) and `states` (the p2_table_states CSV)
-    feed the explanations' diagnostics; `diagrams` (diagrams.nc) the PD point counts; `paper_size` (the campaign's ``docs/validation/p2.csv``, or None in a
-    paper-size config) adds our paper-size values beside P2's."""
+    feed the explanations' diagnostics; `diagrams` (diagrams.nc) the PD point counts; `paper_size` (the campaign's
+    ``docs/validation/p2.csv``, or None in a paper-size config) adds our paper-size values beside P2's."""
     import pandas as pd
 
     from forcenet.report.claims import verdict_counts

@@ -3,11 +3,16 @@
 
 A **claim** (`Claim`) is one statement a paper makes about its results: an id, the paper's section, the statement,
 the paper's value (a number, per system role or one for all, or the paper's words), the criterion it is judged by
-(text with the tolerances filled in) and the function that judges it. Judging it on our data gives a `Judgement`
-(our key number, the evidence, holds or not) or raises `NotEvaluated` (the data cannot decide: a system, a ρ range,
-a quantity is missing; the message says which). A judged claim (`JudgedClaim`) is one row of a validation table:
-id, section, statement, system, paper value, criterion, our value, evidence, verdict (`HOLDS`, `FAILS`,
-`NOT_EVALUATED`) and, where a paper records one, why it does not hold.
+(text with the tolerances of the one record both papers share, `ClaimTolerances`, filled in) and the function
+that judges it. Judging it on our data gives a `Judgement` (our key number, the evidence, holds or not, how far the
+deciding number lies from its threshold, whether it holds only on zeros, the states that carry it) or raises
+`NotEvaluated` (the data cannot decide: a system, a ρ range, a quantity is missing; the message says which). A
+judged claim (`JudgedClaim`) is one row of a validation table, the same record for both papers: id, section,
+statement, system, paper value, criterion, our value (a number), evidence (text), verdict (`HOLDS`, `FAILS`,
+`NOT_EVALUATED`), marker (`MARGINAL`, `VACUOUS`), states, robustness (the share of bootstrap resamples of the
+realizations under which it holds, `holds_share`), reading (another reading set beside, `rows_beside`) and, where
+a paper records one, why it does not hold and on what basis (`Explanation`: measured with a command, or a
+hypothesis). `verdict_counts` counts the fair, marginal and vacuous verdicts apart.
 
 `claims_frame` turns judged claims into a table whose columns each paper names its own way (`TableLayout`), and
 `write_validation_table` writes that table as CSV and Markdown for either paper. `with_paper_size` sets, next to
@@ -28,8 +33,8 @@ import pandas as pd
 __all__ = ["HOLDS", "FAILS", "NOT_EVALUATED", "MARGINAL", "VACUOUS", "MARGINAL_FRACTION", "MEASURED", "HYPOTHESIS",
            "BELOW_BEFORE_JUMP", "BELOW_TOLERANCE", "ClaimTolerances", "NotEvaluated", "Judgement", "relative_margin",
            "contrast_margin", "smallest_margin", "ratio_margin", "Claim", "claim_register", "Explanation",
-           "JudgedClaim", "holds_share", "judge_claim", "rows_beside", "verdict_counts", "verdict_summary", "VERDICT_COLUMNS",
-           "TableLayout", "TableSection", "claims_frame", "markdown_table", "validation_markdown",
+           "JudgedClaim", "holds_share", "judge_claim", "rows_beside", "verdict_counts", "verdict_summary",
+           "VERDICT_COLUMNS", "TableLayout", "TableSection", "claims_frame", "markdown_table", "validation_markdown",
            "write_validation_table", "PAPER_SIZE", "PAPER_SIZE_HEADER", "with_paper_size", "paper_size_placeholder"]
 
 HOLDS, FAILS, NOT_EVALUATED = "holds", "does not hold", "not evaluated"

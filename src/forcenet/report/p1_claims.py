@@ -456,7 +456,8 @@ def contact_number_at_jamming(system: SystemData, tolerances: ClaimTolerances) -
     z, which = _z_at_jamming(system)
     deviation = abs(z - paper) / paper
     return Judgement(z, f"Z ({which}) at {system.label()}: {z:.3g}; P1 {paper:g}",
-                     deviation <= tolerances.approx_fraction, margin=relative_margin(deviation, tolerances.approx_fraction))
+                     deviation <= tolerances.approx_fraction,
+                     margin=relative_margin(deviation, tolerances.approx_fraction))
 
 
 @claim("p1-4.3-phi-c-at-jamming", "4.3", "phi_c = 1/(<k> - 1) ~ 0.5 in 2D and ~ 0.2 in 3D at rho_J (Eq. 6)",

@@ -161,8 +161,8 @@ EXPLANATIONS: dict[str, tuple[str, str, tuple[Callable[[Context], str], ...]]] =
                f"paper size peaks at 0.791 (holds; {_PAPER}).", HYPOTHESIS_ONLY,
                (_argmax_per_realization(_frictional, 1, B),)),
     "IV.A-10": (f"Few realizations: holds at paper size ({_PAPER}).", HYPOTHESIS_ONLY, ()),
-    "IV.A-11a": (_NEVER_DYING + " beta0 falls by > 10x; beta1 does not, also because loops hardly exist before "
-                 "jamming (beta1 distances 0 below rho ~ 0.75 with 400 disks).",
+    "IV.A-11a": (_NEVER_DYING + " The rates are compared with those just before jamming ([rho_J - 0.05, rho_J)), "
+                 "where the loops already change; the beta1 d_B after jamming sits on that floor.",
                  THIS_TABLE, (_never_dying_events(_frictional, 1, "after"),)),
     "IV.A-11b": (_NEVER_DYING + " Without friction loops exist only from jamming on (beta1 distances 0 before "
                  f"rho_J, also at paper size), and beta0 d_W1 falls only 2.5-3x ({_PAPER}).",
