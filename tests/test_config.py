@@ -58,6 +58,8 @@ BAD_CONFIGS = {
     "unknown_damping_model": (["systems", "3d_hertz", "damping_model"], "implicit", "damping_model"),
     "missing_damping_model": (["systems", "2d_linear", "damping_model"], KeyError, "damping_model"),
     "explicit_damping_without_value": (["systems", "2d_linear", "damping_model"], "explicit", "normal_damping"),
+    "box_lattice_without_sites": (["systems", "2d_linear", "initial_state"], {"lattice": "box"}, "sites_per_axis"),
+    "unknown_lattice": (["systems", "2d_linear", "initial_state"], {"lattice": "hexagonal"}, "initial_state"),
     "unknown_p1_force_unit": (["analysis", "p1_force_unit"], "newton", "p1_force_unit"),
     "missing_p1_force_unit": (["analysis", "p1_force_unit"], KeyError, "p1_force_unit"),
     "string_fill_tetrahedra": (["analysis", "fill_tetrahedra"], "no", "fill_tetrahedra"),

@@ -32,6 +32,7 @@ import numpy as np
 
 from forcenet import units
 from forcenet.dem import packing, stability
+from forcenet.dem._kernels.contacts import MAX_OVERLAP_FRACTION
 
 #: Δt ≤ (shortest collision) / MIN_STEPS_PER_COLLISION
 MIN_STEPS_PER_COLLISION = 10
@@ -157,6 +158,13 @@ def system_problems(system) -> list[Problem]:
     if n_axis ** system.dimension < 2:
         return [Problem("box_length", f"a box of {system.box_length} d_ave holds {n_axis ** system.dimension} "
                                       "particle(s) on the initial lattice; need ≥ 2")]
+    overlap = packing.initial_overlap(system)
+    if overlap >= MAX_OVERLAP_FRACTION:
+        return [Problem("initial_state.sites_per_axis",
+                        f"{n_axis} sites per axis in a box of {system.box_length} d_ave are "
+                        f"{packing.lattice_spacing(system):.4f} d_ave apart, so two large particles overlap by "
+                        f"{overlap:.0%} of their diameter at t = 0, at or above the engine's blow-up limit "
+                        f"{MAX_OVERLAP_FRACTION:.0%}: use fewer sites or a larger box")]
     problems += _rho_problems(system)
     problems += _time_step_problems(system)
     return problems

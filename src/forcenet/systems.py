@@ -46,6 +46,22 @@ class Relaxation:
 
 
 @dataclass(frozen=True)
+class InitialState:
+    """How a run starts (`systems.<name>.initial_state`).
+
+    lattice : ``"gapped"`` (spacing = largest diameter + a gap: no overlaps, as many sites as fit) or ``"box"``
+        (P1 §3: `sites_per_axis` sites per axis spread evenly over the whole box)
+    sites_per_axis : sites per axis of the ``"box"`` lattice (N = sites_per_axis^d)
+    relax_first : relax at the initial ρ with the system's relaxation rule before the first compression (P1 §3:
+        a relaxation after every compression step from the start; resolves the ``"box"`` lattice's overlaps)
+    """
+
+    lattice: str = "gapped"
+    sites_per_axis: int | None = None
+    relax_first: bool = False
+
+
+@dataclass(frozen=True)
 class SystemSpec:
     """One simulated system in reduced units (d_ave, m̄, τ_c).
 
@@ -67,6 +83,9 @@ class SystemSpec:
         in the system's own τ_c units (P1 ref. [47]), or ``"head_on"``, a head-on collision of two mean particles
         (at `wall_speed` for Hertz) has restitution e_n, or ``"explicit"``, γ_n = `normal_damping`
     normal_damping : γ_n [d_ave^(−β) τ_c^(−1)] of ``damping_model: explicit``, None otherwise
+    initial_state : the start (`InitialState`), None for the default gapped lattice without a first relaxation
+        (left out of the repr, so the checkpoint fingerprints of runs without it are unchanged; the fingerprint
+        adds it when set)
     walls : ``"flat"`` (P1) or ``"rough"`` (P2, monodisperse wall particles)
     time_step : Δt [τ_c]
     protocol : ``"quasistatic"`` (P1) or ``"continuous"`` (P2)
@@ -99,6 +118,7 @@ class SystemSpec:
     relaxation: Relaxation | None
     paper: str = field(default="P1")
     normal_damping: float | None = None
+    initial_state: InitialState | None = field(default=None, repr=False)
 
     @property
     def rho_labels(self) -> list[str]:
@@ -175,6 +195,7 @@ def system_from_config(name: str, config: Mapping[str, Any]) -> SystemSpec:
         restitution=float(entry["restitution"]),
         damping_model=entry["damping_model"],
         normal_damping=float(entry["normal_damping"]) if "normal_damping" in entry else None,
+        initial_state=InitialState(**entry["initial_state"]) if "initial_state" in entry else None,
         walls=entry["walls"],
         time_step=float(entry["time_step"]),
         protocol=entry["protocol"],
