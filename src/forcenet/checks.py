@@ -8,14 +8,14 @@
   whose lattice ρ varies with the seed, the expectation plus `INITIAL_RHO_SIGMAS` standard deviations.
 * **ρ grid against the densest packing.** The last grid value must stay at or below the densest packing of equal
   disks, π/(2√3) = 0.9069, or spheres, π/(3√2) = 0.7405, compressed to a uniform overlap of `RHO_OVERLAP_MARGIN`
-  of a diameter: ρ_max = ρ_densest / (1 − margin)^d = 0.9105 (2D), 0.7449 (3D). (No bidisperse packing of these
-  particles can be denser: Florian's bound for disks of diameter ratio 1.4 is 0.9091.) The margin is small on
-  purpose: a disordered packing is never compressed uniformly, so its largest overlap is far above the mean
-  (14–15 % of a diameter at ρ = 0.91 in 2D, 13.5 % at 0.71 in 3D, growing ≈ 0.7 % per 0.01 in ρ), and the
+  of a diameter: ρ_max = ρ_densest / (1 − margin)^d = 0.9105 (2D), 0.7449 (3D). (Hard disks of two sizes
+  cannot be packed much denser: Florian's bound is 0.9091 for diameter ratio 1.4, 0.9101 for 1.5.) The margin is
+  small on purpose: a disordered packing is never compressed uniformly, so its largest overlap is far above the
+  mean (14–15 % of a diameter at ρ = 0.91 in 2D, 13.5 % at 0.71 in 3D, growing ≈ 0.7 % per 0.01 in ρ), and the
   earlier margin of 1 % (0.9253, 0.7631) let grids well beyond the densest packing through (0.92 in 2D; 0.76 in
   3D, which passed the engine's 20 % blow-up limit at job time). 0.2 % admits the ends of P1's grids (0.91, 0.71)
-  and refuses the next grid points (0.92, 0.75).
-  The walls must also be able to reach it: the final box must stay wider than two of the largest particles.
+  and refuses the next grid points (0.92, 0.75). The walls must also be able to reach it: the final box must stay
+  wider than two of the largest particles.
 * **Δt against the collision time of the lightest pair.** The undamped head-on collision of two of the lightest
   particles at twice the fastest imposed speed (initial or wall speed; P1 Eq. 4 generalised,
   `forcenet.units.undamped_collision_time`) must span at least `MIN_STEPS_PER_COLLISION` steps.
