@@ -3,6 +3,7 @@ config. Kept light (no numba or xarray imports) so that a dry run stays fast."""
 from __future__ import annotations
 
 import dataclasses
+import os
 from pathlib import Path
 from typing import Any, Mapping
 
@@ -104,11 +105,9 @@ def resolve_results_dir(value: str | None, working_dir: str | Path) -> tuple[str
     (a cluster's scratch space) is taken as given, normalised; ``~`` is expanded. Environment variables are not
     expanded, and braces would be read as Snakemake wildcards: both are refused. Raises `ConfigError` naming
     ``results_dir``."""
-    import os
-
     raw = DEFAULT_RESULTS_DIR if value is None else value
     if not raw.strip():
-        raise ConfigError("results_dir", "is empty: name the folder that receives the outputs (default: results)")
+        raise ConfigError("results_dir", f"is empty: name the folder that receives the outputs (default: {DEFAULT_RESULTS_DIR})")
     for character, why in (("$", "environment variables are not expanded"), ("{", "braces are Snakemake wildcards"),
                            ("}", "braces are Snakemake wildcards"),
                            ("\n", "a newline cannot be part of a folder name")):
