@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import dataclasses
+import errno
 import logging
 import os
 import signal
@@ -241,6 +242,44 @@ def test_an_expected_error_is_one_log_line_without_traceback(tmp_path):
     assert len(lines) == 1 and " ERROR DEM blow-up at step 3, particle 1" in lines[0]
     with pytest.raises(ZeroDivisionError), job_logger(log, "test"):  # a bug keeps its traceback
         1 / 0
+    assert "Traceback" in log.read_text()
+
+
+@pytest.mark.parametrize("error, free", [
+    (OSError(errno.ENOSPC, "No space left on device"), 10 ** 12),
+    (RuntimeError("NetCDF: HDF error"), 0),  # how netCDF/HDF5 report a write that a full disk stopped
+    (PermissionError(errno.EACCES, "Permission denied"), 4096),
+])
+def test_a_full_disk_is_one_log_line_without_traceback(tmp_path, monkeypatch, capsys, error, free):
+    import shutil
+    from collections import namedtuple
+
+    from forcenet.pipeline import job_logger
+
+    usage = namedtuple("usage", "total used free")
+    monkeypatch.setattr(shutil, "disk_usage", lambda folder: usage(10 ** 12, 10 ** 12 - free, free))
+    log = tmp_path / "logs" / "job.log"
+    with pytest.raises(SystemExit) as stop, job_logger(log, "test"):
+        raise error
+    assert stop.value.code == 1
+    lines = capsys.readouterr().err.splitlines()
+    assert len(lines) == 1 and lines[0].endswith(
+        f" ERROR no space left on the disk holding {log.parent}, {free} bytes free ({type(error).__name__}: {error}): "
+        "free space there (or set results_dir to a larger filesystem), then run the same command again"), lines
+    assert "Traceback" not in log.read_text()
+
+
+def test_an_error_with_disk_space_left_keeps_its_traceback(tmp_path, monkeypatch):
+    import shutil
+    from collections import namedtuple
+
+    from forcenet.pipeline import job_logger
+
+    usage = namedtuple("usage", "total used free")
+    monkeypatch.setattr(shutil, "disk_usage", lambda folder: usage(10 ** 12, 0, 10 ** 12))
+    log = tmp_path / "job.log"
+    with pytest.raises(PermissionError), job_logger(log, "test"):  # a real permission problem, not a full disk
+        raise PermissionError(errno.EACCES, "Permission denied")
     assert "Traceback" in log.read_text()
 
 

@@ -6,10 +6,12 @@ that need them, keeping the per-job start-up of light rules small.
 """
 from __future__ import annotations
 
+import errno
 import json
 import logging
 import os
 import shutil
+import sys
 from contextlib import contextmanager
 from pathlib import Path
 from typing import Any, Iterator, Mapping, Sequence
@@ -19,20 +21,60 @@ from forcenet.errors import ForcenetError
 from forcenet.systems import config_sha256, material_from_config, realization_seed, system_from_config
 
 
+#: an error while the outputs' filesystem has fewer free bytes than this is reported as a full disk [bytes] (a failed
+#: write's temporary file is removed before the check, so this must exceed the largest file a job writes)
+FULL_DISK_BYTES = 64 << 20
+_FULL_DISK_ERRNOS = (errno.ENOSPC, errno.EDQUOT)
+
+
+def full_disk_message(error: BaseException, folder: str | os.PathLike) -> str | None:
+    """One line for an error that a full disk caused, None for any other: an OSError ENOSPC or EDQUOT, or any error
+    while `folder`'s filesystem has under `FULL_DISK_BYTES` free (netCDF/HDF5 reports a failed write as
+    ``RuntimeError: NetCDF: HDF error`` or a PermissionError). The line keeps the original error's type and text."""
+    try:
+        free = shutil.disk_usage(folder).free
+    except OSError:
+        free = None
+    if getattr(error, "errno", None) not in _FULL_DISK_ERRNOS and (free is None or free >= FULL_DISK_BYTES):
+        return None
+    left = "" if free is None else f", {free} bytes free"
+    return (f"no space left on the disk holding {os.path.abspath(folder)}{left} ({type(error).__name__}: {error}): "
+            "free space there (or set results_dir to a larger filesystem), then run the same command again")
+
+
+class _JobLogFile(logging.FileHandler):
+    """The job's log file; what a full disk cannot take is dropped quietly (stderr still shows every line), not
+    reported with logging's own traceback."""
+
+    def handleError(self, record: logging.LogRecord) -> None:
+        error = sys.exc_info()[1]
+        if isinstance(error, OSError) and error.errno in _FULL_DISK_ERRNOS:
+            return
+        super().handleError(record)
+
+    def close(self) -> None:
+        try:
+            super().close()
+        except OSError as error:
+            if error.errno not in _FULL_DISK_ERRNOS:
+                raise
+
+
 @contextmanager
 def job_logger(log_path: str | os.PathLike | None, name: str) -> Iterator[logging.Logger]:
     """A logger writing to the job's log file (and stderr), closed afterwards.
 
     An expected error (`forcenet.errors.ForcenetError`: an invalid file or config, a simulation blow-up) is logged
     as its one-line message and ends the process with exit status 1, no traceback: the message names the file or
-    the setting. Any other exception is a bug and is logged and re-raised with its traceback."""
+    the setting. So is an error that a full disk caused (`full_disk_message`). Any other exception is a bug and is
+    logged and re-raised with its traceback."""
     logger = logging.getLogger(f"forcenet.{name}")
     logger.setLevel(logging.INFO)
     logger.propagate = False
     handlers: list[logging.Handler] = [logging.StreamHandler()]
     if log_path:
         Path(log_path).parent.mkdir(parents=True, exist_ok=True)
-        handlers.append(logging.FileHandler(log_path, mode="a"))
+        handlers.append(_JobLogFile(log_path, mode="a"))
     formatter = logging.Formatter("%(asctime)s %(levelname)s %(message)s", "%Y-%m-%d %H:%M:%S")
     for handler in handlers:
         handler.setFormatter(formatter)
@@ -41,6 +83,13 @@ def job_logger(log_path: str | os.PathLike | None, name: str) -> Iterator[loggin
         yield logger
     except ForcenetError as error:
         logger.error("%s", error)
+        raise SystemExit(1) from None
+    except Exception as error:
+        message = full_disk_message(error, Path(log_path).parent if log_path else Path.cwd())
+        if message is None:
+            logger.exception("job failed")
+            raise
+        logger.error("%s", message)
         raise SystemExit(1) from None
     except BaseException:
         logger.exception("job failed")  # the traceback belongs in the job's log, not only on the console

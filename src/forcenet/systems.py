@@ -35,6 +35,9 @@ RHO_DECIMALS = 3
 #: rattler rules of the force networks (`study_rattler_rule`; `forcenet.network` applies them)
 RATTLER_RULES = ("once", "iterative", "none")
 
+#: P2's states a, b, c (Tables I–III, Figs 1, 3) are this many consecutive snapshots of one run
+TABLE_STATES = 3
+
 
 @dataclass(frozen=True)
 class Relaxation:
@@ -259,8 +262,31 @@ def study_rattler_rule(config: Mapping[str, Any], system: str) -> str:
         raise ConfigError("analysis.remove_rattlers", str(error)) from None
 
 
+def non_finite_number(config: Any, key: str = "") -> ConfigError | None:
+    """The first NaN or ±inf anywhere in `config` (YAML's ``.nan``, ``.inf``, ``-.inf``; nested mappings and lists
+    walked in order), as a `ConfigError` naming its key (``systems.2d_hertz.rho[1]``); None when every number is
+    finite. A JSON schema cannot say this: every comparison with NaN is false, so NaN passes any bound."""
+    if isinstance(config, float) and not math.isfinite(config):
+        return ConfigError(key or "(top level)", f"is {config}, not a finite number: every number in a config must "
+                                                 "be finite")
+    if isinstance(config, Mapping):
+        items = ((f"{key}.{name}" if key else str(name), value) for name, value in config.items())
+    elif isinstance(config, (list, tuple)):
+        items = ((f"{key}[{index}]", value) for index, value in enumerate(config))
+    else:
+        return None
+    for item_key, value in items:
+        problem = non_finite_number(value, item_key)
+        if problem is not None:
+            return problem
+    return None
+
+
 def validate_config(config: Mapping[str, Any]) -> dict[str, SystemSpec]:
     """Semantic validation after the JSON schema; returns every system by name. Raises `ConfigError`."""
+    problem = non_finite_number(config)
+    if problem is not None:
+        raise problem
     for study, entry in config["studies"].items():
         for i, name in enumerate(entry["systems"]):
             if name not in config["systems"]:
@@ -271,7 +297,13 @@ def validate_config(config: Mapping[str, Any]) -> dict[str, SystemSpec]:
         raise ConfigError("analysis.thresholds", "stop must exceed start")
     for name in config["systems"]:
         study_rattler_rule(config, name)
-    return {name: system_from_config(name, config) for name in config["systems"]}
+    systems = {name: system_from_config(name, config) for name in config["systems"]}
+    for name in config["studies"].get("p2", {}).get("systems", []):
+        if len(systems[name].rho_grid) < TABLE_STATES:
+            raise ConfigError(f"systems.{name}.rho", f"has {len(systems[name].rho_grid)} snapshot(s), but a system of "
+                                                     f"study p2 needs at least {TABLE_STATES} (the consecutive states "
+                                                     "a, b, c of Tables I–III): extend the ρ grid")
+    return systems
 
 
 def config_sha256(config: Mapping[str, Any]) -> str:
@@ -289,8 +321,8 @@ def select_table_snapshots(rhos, table_rho: float) -> tuple[int, int, int]:
     to 0.79): b is the grid point nearest `table_rho`, a and c its neighbours below and above (shifted inwards at
     the ends of the grid). Indices refer to `rhos` as given (it need not be sorted)."""
     rhos = np.asarray(rhos, dtype=float)
-    if rhos.ndim != 1 or rhos.size < 3:
-        raise ValueError(f"need at least three snapshots, got {rhos.size}")
+    if rhos.ndim != 1 or rhos.size < TABLE_STATES:
+        raise ValueError(f"need at least {TABLE_STATES} snapshots, got {rhos.size}")
     if not np.all(np.isfinite(rhos)) or len(np.unique(rhos)) != rhos.size:
         raise ValueError("rho values must be finite and distinct")
     order = np.argsort(rhos)
