@@ -12,8 +12,9 @@ analysis (`network_measures.nc`) and its run cost, and returns one row:
   `NEAR_CONTACT_GAP` and approaching; the snapshots hold the velocities at the end of each relaxation, so this
   is the speed at which particles still meet when the relaxation criterion is met);
 * ρ_J of the box and of the bulk (the inner box 1 d_ave from the walls), from the logistic fit of Z(ρ);
-* the particles with ≥ 2 contacts (P1's non-rattlers) in the last two grid states below ρ_J (clusters below
-  jamming, P1 §3);
+* the particles with ≥ 2 contacts (P1's non-rattlers) in the last two grid states before the jump: below ρ_J
+  and with Z < `UNJAMMED_Z` (clusters below jamming, P1 §3; the inflection of Z(ρ) can fall just above a
+  state that is already half jammed);
 * near ρ_J (|ρ − ρ_J| ≤ `NEAR_JAMMING`): the largest B0/N at F_th < 0.5 ⟨F⟩ and, for the same curve, its
   mean beyond ρ_J + 0.03 (P1 §5.1's ridge is a within-curve peak); the largest weak- and strong-bin N0/N
   (P1 §5.3); the largest ⟨S⟩/N at the smallest F_th (P1 §6);
@@ -42,6 +43,8 @@ NEAR_JAMMING = 0.02
 BEYOND_JAMMING = 0.03
 #: B0/N ridge thresholds: F_th below this [⟨F⟩] (P1 §5.1: "small F_th")
 SMALL_THRESHOLD = 0.5
+#: a state before the jump has fewer contacts per particle than this (every run jumps from Z < 0.4) [-]
+UNJAMMED_Z = 1.0
 #: the rule's margin on λΔt: at most this share of the Gear corrector's bound (docs/decisions.md)
 DAMPING_MARGIN = 0.8
 
@@ -121,7 +124,7 @@ def series_row(run: SeriesRun) -> dict:
     z = np.array([s["Z"] for s in states])
     rho_j = _fit(rho, z)
     rho_j_bulk = _fit([s["rho_bulk"] for s in states], z)
-    below = [s for s in states if s["rho"] < rho_j] if math.isfinite(rho_j) else []
+    below = [s for s in states if s["rho"] < rho_j and s["Z"] < UNJAMMED_Z] if math.isfinite(rho_j) else []
     n = len(read_positions(states[0]["path"])[2])
     near = [s for s in states if math.isfinite(rho_j) and abs(s["rho"] - rho_j) <= NEAR_JAMMING + 1e-9]
     speeds = np.concatenate([approach_speeds(*read_positions(s["path"])) for s in near]) if near else np.empty(0)
@@ -143,6 +146,7 @@ def series_row(run: SeriesRun) -> dict:
                             and damping_dt <= DAMPING_MARGIN * stability.GEAR_DAMPING_BOUND),
         "rho_J": rho_j, "rho_J_bulk": rho_j_bulk,
         "connected_below_rho_J": [int(s["connected"]) for s in below[-2:]],
+        "rho_below_rho_J": [round(s["grid_rho"], 3) for s in below[-2:]],
         "cpu_hours": _cpu_hours(run),
     }
     row.update(network_readings(run, rho_j))
