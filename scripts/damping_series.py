@@ -5,7 +5,8 @@
         [--linear results/validation] [--markdown docs/validation/damping_runs.md]
 
 Each folder is a `results_dir` made with `config/validation.yaml` and one overlay of `config/damping/` (system
-taken from the folder name, up to `_g`). `--linear` names a results folder holding the linear system's
+taken from the folder name, up to `_g`), or `FOLDER:SYSTEM` for any other run folder (e.g. P1's start,
+`results/p1_start:2d_linear`, docs/validation/p1_start.md). `--linear` names a results folder holding the linear system's
 `2d_linear/network_measures.nc` (P1's paper-size protocol), whose B0/N ridge is printed beside the Hertz rows.
 What each column means: `forcenet.report.damping_series`.
 """
@@ -50,14 +51,14 @@ def _format(value) -> str:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("folders", nargs="+", type=Path)
+    parser.add_argument("folders", nargs="+", help="series run folders (FOLDER or FOLDER:SYSTEM)")
     parser.add_argument("--linear", type=Path, help="results folder with 2d_linear/network_measures.nc")
     parser.add_argument("--markdown", type=Path, help="also write the table to this file")
     args = parser.parse_args()
     rows = []
-    for folder in args.folders:
-        system = folder.name.split("_g")[0]
-        rows.append(series_row(SeriesRun(folder, system)))
+    for argument in args.folders:
+        folder, _, system = str(argument).partition(":")
+        rows.append(series_row(SeriesRun(Path(folder), system or Path(folder).name.split("_g")[0])))
     if args.linear is not None:
         from forcenet.report.p1 import jamming_point
         import xarray as xr
