@@ -84,7 +84,7 @@ def run_job(job, log: Path) -> str:
 CASES = {
     # kind: (how it is broken, variable, what the message must say)
     "snapshot-missing": ("snapshot", "missing", "force_tangential", "variable 'force_tangential' missing"),
-    "snapshot-velocity": ("snapshot", "missing", "velocity", "variable 'velocity' missing"),
+    "snapshot-radius": ("snapshot", "missing", "radius", "variable 'radius' missing"),
     "snapshot-truncated": ("snapshot", "truncated", None, "cannot be read as netCDF"),
     "analysis-missing": ("analysis", "missing", "betti", "variable 'betti' missing"),
     "analysis-float": ("analysis", "float", "betti", "variable 'betti' is float64, expected int"),

@@ -16,7 +16,7 @@ from typing import Any, Iterator, Mapping, Sequence
 
 from forcenet.datasets.paths import CHECKPOINT, realization_index, rho_file, staging_dir
 from forcenet.errors import ForcenetError
-from forcenet.systems import config_sha256, material_from_config, realization_seed, system_from_config
+from forcenet.systems import material_from_config, realization_seed, system_from_config
 
 
 @contextmanager
@@ -64,7 +64,7 @@ def simulation_params(config: Mapping[str, Any], system: str) -> dict[str, Any]:
     under the same ones."""
     entry = config["systems"][system]
     params = {"system": entry, "seed": config["seed"]}
-    if entry["stiffness"] == "material":
+    if entry.get("stiffness") == "material":
         params["material"] = config["material"]
     return params
 
@@ -73,7 +73,9 @@ def prepare_stage(stage: Path, config: Mapping[str, Any], system: str) -> Path:
     """Create (or keep) the staging folder of a run. A stage written under other simulation settings is
     discarded (its checkpoint must not be resumed); one whose config differs only in what the run does not depend
     on (`simulation_params`: analysis keys, other systems, studies) is kept, so long runs survive such edits."""
-    marker, fingerprint = stage / "simulation_sha256", config_sha256(simulation_params(config, system))
+    from forcenet.datasets.runs import simulation_sha256
+
+    marker, fingerprint = stage / "simulation_sha256", simulation_sha256(config, system)
     if stage.exists() and (not marker.exists() or marker.read_text() != fingerprint):
         shutil.rmtree(stage)
     stage.mkdir(parents=True, exist_ok=True)
@@ -180,13 +182,15 @@ def snapshot_analysis_params(config: Mapping[str, Any], system: str) -> dict[str
 
 
 def analyze_run(*, snapshots: Sequence[str], outputs: Sequence[str], analysis: Mapping[str, Any],
-                log_path: str | None = None) -> None:
+                log_path: str | None = None, expect: Mapping[str, Any] | None = None) -> None:
     """Analyse every snapshot of one compression run (one process: imports and JIT paid once). Every snapshot is
-    read and checked before the first analysis is written, so a bad one stops the job with nothing written."""
+    read and checked before the first analysis is written, so a bad one stops the job with nothing written.
+    `expect` (`forcenet.datasets.snapshot.run_expectation` of the run): a snapshot recorded for another system,
+    dimension or simulation settings is refused, naming the file and the attribute."""
     from forcenet.datasets import read_snapshot
 
     with job_logger(log_path, "analyze") as log:
-        snaps = [read_snapshot(snapshot) for snapshot in snapshots]
+        snaps = [read_snapshot(snapshot, expect=expect) for snapshot in snapshots]
         for snapshot, snap, output in zip(snapshots, snaps, outputs, strict=True):
             analyze_snapshot(snapshot, output, analysis, log, snap=snap)
 

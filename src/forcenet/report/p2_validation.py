@@ -16,6 +16,7 @@ import xarray as xr
 from forcenet.report.claims import (FAILS, HOLDS, NOT_EVALUATED, Judgement, TableLayout, TableSection, claims_frame,
                                     judge_claim, validation_markdown, verdict_counts, with_paper_size,
                                     write_validation_table)
+from forcenet.report.p1 import system_dimension
 from forcenet.report.p2 import FRICTIONAL, FRICTIONLESS, format_number
 from forcenet.report.p2_claims import CLAIMS
 from forcenet.report.p2_explanations import explain
@@ -84,8 +85,8 @@ def p2_validation(distances: Mapping[str, xr.Dataset], tables: Mapping[str, pd.D
 
 
 def _dimension(ds: xr.Dataset) -> int:
-    """The spatial dimension of a distances dataset (its ``dimension`` attribute; 2 when absent, as P2)."""
-    return int(ds.attrs.get("dimension", 2))
+    """The spatial dimension of a distances dataset (its ``dimension`` attribute, which every distances.nc records)."""
+    return system_dimension(ds)
 
 
 def _markdown_head(table: pd.DataFrame) -> list[str]:
