@@ -121,6 +121,17 @@ def simulate(*, config: Mapping[str, Any], system: str, realization: str, output
             os.replace(temporary, cost_path)
 
 
+def import_states(*, config: Mapping[str, Any], system: str, realization: str, outputs: Sequence[str],
+                  log_path: str | None = None) -> None:
+    """The snapshots of one run of an imported system (``source:`` in its config entry): every state of the run's
+    source files, checked against the snapshot contract, written in ρ order (`forcenet.importers.import_run`). A
+    malformed source stops the job with one line naming the file and line or column, and nothing is written."""
+    from forcenet.importers import import_run
+
+    with job_logger(log_path, f"import.{system}.{realization}") as log:
+        import_run(config=config, system=system, realization=realization_index(realization), outputs=outputs, log=log)
+
+
 def force_constants(config: Mapping[str, Any], system: str) -> dict[str, float]:
     """The per-system constants in which P1's F_max rule (§3) compares ⟨F⟩ across systems
     (`analysis.p1_force_unit`), stored as global attributes of network_measures.nc (`forcenet.datasets.aggregate` lists them with units).
@@ -134,7 +145,7 @@ def force_constants(config: Mapping[str, Any], system: str) -> dict[str, float]:
     spec = system_from_config(system, config)
     constants = {"force_unit_dyn": float("nan"), "stiffness_scale_reduced": float(spec.normal_stiffness),
                  "normal_stiffness_cgs": float("nan")}
-    if config["systems"][system]["stiffness"] == "material":
+    if config["systems"][system].get("stiffness") == "material":
         material = material_from_config(config)
         constants["force_unit_dyn"] = units.force_unit_dyn(material, spec.beta)
         constants["normal_stiffness_cgs"] = units.normal_stiffness_cgs(material, spec.beta)
