@@ -361,10 +361,10 @@ FIGURE_INPUT_READERS = {
 
 
 def movie(*, kind: str, system: str, inputs: Sequence[str], output: str, rattler_rule: bool | str,
-          log_path: str | None = None) -> None:
+          log_path: str | None = None, force_unit: str | None = None) -> None:
     """One compression movie of `system` (`forcenet.plotting.movies`): kind "network" from the snapshots of one
     run in ρ order (`inputs`), networks made by the study's `rattler_rule`; kind "b0_surface" from the
-    network_measures.nc of every P1 system."""
+    network_measures.nc of every P1 system, its ρ_max from ⟨F⟩ in `force_unit` (``analysis.p1_force_unit``)."""
     from forcenet.datasets import read_snapshot
     from forcenet.plotting import movies
 
@@ -372,7 +372,8 @@ def movie(*, kind: str, system: str, inputs: Sequence[str], output: str, rattler
         if kind == "network":
             frames = movies.network_movie([read_snapshot(p) for p in inputs], output, rattler_rule=rattler_rule)
         elif kind == "b0_surface":
-            frames = movies.b0_surface_movie(_open_by_system(inputs, "network_measures"), system, output)
+            frames = movies.b0_surface_movie(_open_by_system(inputs, "network_measures"), system, output,
+                                             force_unit=force_unit)
         else:
             raise ValueError(f"unknown movie kind {kind!r}; known: network, b0_surface")
         log.info("%s movie of %s: %d frames", kind, system, frames)

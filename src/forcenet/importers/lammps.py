@@ -6,7 +6,8 @@ Atoms dump (``dump custom``): columns ``id``, ``x``, ``y``, ``z`` (a 2D dump may
 boxes only) unless the config gives ``source.box``; ρ is the particles' area (2D) or volume (3D) over the box's.
 Optional wall forces: ``source.wall_columns`` names the atom columns holding the force of the walls on each atom
 (e.g. ``[f_walls[2], f_walls[3], f_walls[4]]`` of ``fix wall/gran/region … contacts``); an atom with a non-zero wall
-force gets one wall contact, at the box face nearest to it.
+force gets one wall contact, at the box face nearest to it (fix wall/gran/region's per-atom output holds one contact
+per atom: a particle in a corner, touching two walls, is imported with one of them).
 
 Pairs dump (``dump local``): one row per pair (``compute property/local patom1 patom2`` and ``compute pair/local
 force p1 p2 p3`` of a ``gran/*`` pair style); ``source.pair_columns`` names the columns: ``i``, ``j`` (atom ids),
