@@ -58,21 +58,10 @@ def run_attrs(config: Mapping[str, Any], system: str, realization: int, title: s
     return provenance_attrs(system=system, realization=realization, seed=seed, config=config, title=title)
 
 
-def simulation_params(config: Mapping[str, Any], system: str) -> dict[str, Any]:
-    """What a compression run depends on: its own system entry, the seed and (P1 units) the material — not the
-    analysis keys or other systems. Snakemake reruns a simulation when these change; a staged run resumes only
-    under the same ones."""
-    entry = config["systems"][system]
-    params = {"system": entry, "seed": config["seed"]}
-    if entry.get("stiffness") == "material":
-        params["material"] = config["material"]
-    return params
-
-
 def prepare_stage(stage: Path, config: Mapping[str, Any], system: str) -> Path:
     """Create (or keep) the staging folder of a run. A stage written under other simulation settings is
     discarded (its checkpoint must not be resumed); one whose config differs only in what the run does not depend
-    on (`simulation_params`: analysis keys, other systems, studies) is kept, so long runs survive such edits."""
+    on (`forcenet.systems.simulation_params`: analysis keys, other systems, studies) is kept, so long runs survive such edits."""
     from forcenet.datasets.runs import simulation_sha256
 
     marker, fingerprint = stage / "simulation_sha256", simulation_sha256(config, system)
@@ -414,7 +403,7 @@ def p2_distances(*, analyses: Sequence[str], realizations: Sequence[int], output
         spec = system_from_config(system, config)
         attrs = provenance_attrs(system=system, realization=-1, seed=config["seed"], config=config,
                                  title=f"forcenet distances between consecutive persistence diagrams, {system}")
-        attrs["dimension"] = spec.dimension
+        attrs.update(dimension=spec.dimension, force_law=spec.force_law)
         attrs.update(common_analysis_attrs(datasets))  # the rule and complex that made every compared diagram
         stacked = distances_on_grid(stack_distances(results, realizations, attrs), spec.rho_grid[1:])
         write_netcdf(stacked, output, kind="distances")

@@ -106,6 +106,10 @@ class SystemSpec:
         return [format_rho(rho) for rho in self.rho_grid]
 
 
+#: the `force_law` an imported system records (its stacked files' global attribute): the law is the source's own
+IMPORTED_FORCE_LAW = "imported"
+
+
 @dataclass(frozen=True)
 class ImportedSystem:
     """A system whose states are imported (`forcenet.importers`) instead of simulated: a config entry with
@@ -127,7 +131,7 @@ class ImportedSystem:
     rho_grid: tuple[float, ...]
     source: Mapping[str, Any] = field(compare=False)
     particles: int = 0
-    force_law: str = "imported"
+    force_law: str = IMPORTED_FORCE_LAW
     paper: str = "imported"
     normal_stiffness: float = float("nan")
 
@@ -301,6 +305,17 @@ def validate_config(config: Mapping[str, Any]) -> dict[str, SystemSpec | Importe
     for name in config["systems"]:
         study_rattler_rule(config, name)
     return {name: system_from_config(name, config) for name in config["systems"]}
+
+
+def simulation_params(config: Mapping[str, Any], system: str) -> dict[str, Any]:
+    """What a compression run depends on: its own system entry, the seed and (P1 units) the material — not the
+    analysis keys or other systems. Snakemake reruns a simulation when these change; a staged run resumes only
+    under the same ones."""
+    entry = config["systems"][system]
+    params = {"system": entry, "seed": config["seed"]}
+    if entry.get("stiffness") == "material":
+        params["material"] = config["material"]
+    return params
 
 
 def config_sha256(config: Mapping[str, Any]) -> str:

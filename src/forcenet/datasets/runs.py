@@ -14,10 +14,9 @@ RUN_ATTRS = ("system", "dimension", "simulation_sha256")
 
 
 def simulation_sha256(config: Mapping[str, Any], system: str) -> str:
-    """The fingerprint of what a system's snapshots depend on (`forcenet.pipeline.simulation_params`: its own
+    """The fingerprint of what a system's snapshots depend on (`forcenet.systems.simulation_params`: its own
     entry, the seed and the material it uses; not the analysis keys or other systems)."""
-    from forcenet.pipeline import simulation_params
-    from forcenet.systems import config_sha256
+    from forcenet.systems import config_sha256, simulation_params
 
     return config_sha256(simulation_params(config, system))
 
