@@ -54,8 +54,11 @@ def job_logger(log_path: str | os.PathLike | None, name: str) -> Iterator[loggin
 def run_attrs(config: Mapping[str, Any], system: str, realization: int, title: str) -> dict[str, Any]:
     from forcenet.datasets import provenance_attrs
 
+    from forcenet.datasets.schema import ENGINE_SOURCE_FORMAT, SOURCE_FORMAT_ATTR
+
     seed = realization_seed(config["seed"], system, realization)
-    return provenance_attrs(system=system, realization=realization, seed=seed, config=config, title=title)
+    return {**provenance_attrs(system=system, realization=realization, seed=seed, config=config, title=title),
+            SOURCE_FORMAT_ATTR: ENGINE_SOURCE_FORMAT}
 
 
 def prepare_stage(stage: Path, config: Mapping[str, Any], system: str) -> Path:
