@@ -30,8 +30,11 @@ def write(path, system="2d_hertz", config=CONFIG, **changes):
 
 
 def test_an_engine_snapshot_without_the_new_attributes_still_reads(tmp_path):
-    """A snapshot as the engine wrote it before the contract (no source_format) passes unchanged."""
-    path = write(tmp_path / "rho0.800.nc")
+    """A snapshot as the engine wrote it before the contract (no source_format) passes unchanged; the engine now
+    records source_format forcenet-dem."""
+    assert run_attrs()["source_format"] == "forcenet-dem"
+    old = {key: value for key, value in run_attrs().items() if key != "source_format"}
+    path = write_snapshot(tmp_path / "rho0.800.nc", attrs=old, **two_triangles_snapshot())
     ds = read_snapshot(path, expect=run_expectation(CONFIG, "2d_hertz"))
     assert "source_format" not in ds.attrs and int(ds.attrs["dimension"]) == 2
 
