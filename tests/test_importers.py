@@ -250,3 +250,27 @@ def test_a_3d_lammps_dump_reads(tmp_path):
     # given on atom 2 from atom 1: stored on atom 1 (index 0) from atom 2, so both forces reversed
     np.testing.assert_allclose(state.force_normal, [[0, 0, -3.0]])
     np.testing.assert_allclose(state.force_tangential, [[-0.5, 0, 0]])
+
+
+# --- the config: schema and checks of a `source:` entry -----------------------------------------------------------
+def checked(config):
+    from forcenet.workflow_io import CONFIG_SCHEMA, checked_config
+
+    return checked_config(config, REPO / CONFIG_SCHEMA)
+
+
+def test_the_example_config_passes_and_a_bad_source_entry_names_its_key():
+    systems = checked(EXAMPLE)
+    assert sorted(systems) == ["lammps_2d", "lammps_2d_p2", "table_2d"] and "material" not in EXAMPLE
+    mixed = {**EXAMPLE, "systems": {**EXAMPLE["systems"], "table_2d": {**EXAMPLE["systems"]["table_2d"],
+                                                                        "force_law": "hertz"}}}
+    with pytest.raises(ConfigError, match="config key 'systems.table_2d': .*'force_law' was unexpected"):
+        checked(mixed)
+    no_forces = {k: v for k, v in EXAMPLE["systems"]["table_2d"]["source"].items() if k != "forces"}
+    with pytest.raises(ConfigError, match="config key 'systems.table_2d.source': 'forces' is a required property"):
+        checked({**EXAMPLE, "systems": {"table_2d": {"dimension": 2, "source": no_forces}},
+                 "studies": {"p1": {"systems": ["table_2d"]}}})
+    same_rho = [dict(state, box={"lo": [0, 0], "hi": [6, 4]}) for state in EXAMPLE["systems"]["table_2d"]["source"]["runs"][0]]
+    flat = {"dimension": 2, "source": {**EXAMPLE["systems"]["table_2d"]["source"], "runs": [same_rho]}}
+    with pytest.raises(ConfigError, match="config key 'systems.table_2d.source.runs\\[0\\].*must increase"):
+        checked({**EXAMPLE, "systems": {"table_2d": flat}, "studies": {"p1": {"systems": ["table_2d"]}}})
