@@ -206,5 +206,6 @@ for rule in ("none", "once"):
     pd = persistence_diagrams(network)
     never_dying = int(np.sum(np.isneginf(pd.death[pd.homology_dim == 0])))
     loops = int(np.sum(pd.homology_dim == 1))
-    print(f"rattler rule {rule}: <F> = {network.mean_force:.2f}, PD0 never-dying classes {never_dying}, PD1 points {loops}")
+    print(f"rattler rule {rule}: <F> = {network.mean_force:.2f}, PD0 never-dying classes {never_dying}, "
+          f"PD1 points {loops}")
     assert loops == 1  # the square's loop, whatever the rattler rule

@@ -140,7 +140,8 @@ TABLE_CASES = {
                      "line 3, column 'x': nan is not finite"),
     "negative radius": (PARTICLES.replace("2.0,2.0,0.5", "2.0,2.0,-0.5"), CONTACTS, 2, "p.csv",
                         "line 4, column 'radius': radius -0.5 is not positive"),
-    "NaN force": (PARTICLES, CONTACTS.replace("0.5,0.0", "NaN,0.0"), 2, "c.csv", "line 3, column 'fn': NaN is not finite"),
+    "NaN force": (PARTICLES, CONTACTS.replace("0.5,0.0", "NaN,0.0"), 2, "c.csv",
+                  "line 3, column 'fn': NaN is not finite"),
     "no such particle": (PARTICLES, CONTACTS.replace("2,3,", "2,9,"), 2, "c.csv",
                          "line 3, column 'j': no particle with id 9 in"),
     "2D file declared 3D": (PARTICLES, CONTACTS, 3, "p.csv", "column 'z': missing: the system is declared 3D"),
@@ -153,15 +154,16 @@ def test_a_malformed_table_stops_with_one_line_and_writes_nothing(tmp_path, case
     particles, contacts, dimension, bad, expected = TABLE_CASES[case]
     (tmp_path / "p.csv").write_text(particles)
     (tmp_path / "c.csv").write_text(contacts)
-    config = {"systems": {"t": {"dimension": dimension, "source": {"format": "table", "forces": "magnitudes", "runs": [
-        [{"particles": str(tmp_path / "p.csv"), "contacts": str(tmp_path / "c.csv")}]]}}}}
+    state = {"particles": str(tmp_path / "p.csv"), "contacts": str(tmp_path / "c.csv")}
+    config = {"realizations": 1, "systems": {"t": {"dimension": dimension, "source": {
+        "format": "table", "forces": "magnitudes", "runs": [[state]]}}}}
     out = tmp_path / "out" / "rho0.500.nc"
     with pytest.raises(SourceError) as caught:
         import_run(config=config, system="t", realization=0, outputs=[str(out)])
     message = str(caught.value)
     assert message.startswith(f"{tmp_path / bad}, ") and expected in message and "\n" not in message, message
     assert not out.parent.exists()
-    with pytest.raises(ConfigError if False else SourceError, match=expected.split(":")[0]):
+    with pytest.raises(SourceError, match=expected.split(":")[0]):
         system_from_config("t", config)  # the workflow parses the same sources: refused before any job
 
 
@@ -270,7 +272,11 @@ def test_the_example_config_passes_and_a_bad_source_entry_names_its_key():
     with pytest.raises(ConfigError, match="config key 'systems.table_2d.source': 'forces' is a required property"):
         checked({**EXAMPLE, "systems": {"table_2d": {"dimension": 2, "source": no_forces}},
                  "studies": {"p1": {"systems": ["table_2d"]}}})
-    same_rho = [dict(state, box={"lo": [0, 0], "hi": [6, 4]}) for state in EXAMPLE["systems"]["table_2d"]["source"]["runs"][0]]
+    same_rho = [dict(state, box={"lo": [0, 0], "hi": [6, 4]})
+                for state in EXAMPLE["systems"]["table_2d"]["source"]["runs"][0]]
     flat = {"dimension": 2, "source": {**EXAMPLE["systems"]["table_2d"]["source"], "runs": [same_rho]}}
     with pytest.raises(ConfigError, match="config key 'systems.table_2d.source.runs\\[0\\].*must increase"):
         checked({**EXAMPLE, "systems": {"table_2d": flat}, "studies": {"p1": {"systems": ["table_2d"]}}})
+    with pytest.raises(ConfigError, match="config key 'systems.lammps_2d.source.runs': lists 1 run\\(s\\), but "
+                                          "realizations is 2: one run per realization"):
+        checked({**EXAMPLE, "realizations": 2})

@@ -64,7 +64,8 @@ def run_attrs(config: Mapping[str, Any], system: str, realization: int, title: s
 def prepare_stage(stage: Path, config: Mapping[str, Any], system: str) -> Path:
     """Create (or keep) the staging folder of a run. A stage written under other simulation settings is
     discarded (its checkpoint must not be resumed); one whose config differs only in what the run does not depend
-    on (`forcenet.systems.simulation_params`: analysis keys, other systems, studies) is kept, so long runs survive such edits."""
+    on (`forcenet.systems.simulation_params`: analysis keys, other systems, studies) is kept, so long runs survive
+    such edits."""
     from forcenet.datasets.runs import simulation_sha256
 
     marker, fingerprint = stage / "simulation_sha256", simulation_sha256(config, system)

@@ -195,6 +195,10 @@ def system_from_config(name: str, config: Mapping[str, Any]) -> SystemSpec | Imp
         raise ConfigError(key, "no such system")
     entry = config["systems"][name]
     if "source" in entry:
+        runs = len(entry["source"]["runs"])
+        if runs != config["realizations"]:
+            raise ConfigError(f"{key}.source.runs", f"lists {runs} run(s), but realizations is "
+                                                    f"{config['realizations']}: one run per realization")
         return imported_system(name, entry)
     if entry["stiffness"] == "material" and "material" not in config:
         raise ConfigError("material", f"missing: system '{name}' takes its stiffness from the material")

@@ -15,7 +15,8 @@ for _name, _spec in SYSTEMS.items():
                 f"import_{_name}"
             localrule: True
             input:
-                lambda wildcards, name=_name: run_files(config["systems"][name], realization_index(wildcards.realization)),
+                lambda wildcards, name=_name: run_files(config["systems"][name],
+                                                        realization_index(wildcards.realization)),
             output:
                 snapshots=[snapshot_path(_name, "{realization}", rho) for rho in _spec.rho_labels],
             log:

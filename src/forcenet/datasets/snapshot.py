@@ -5,8 +5,8 @@ write snapshots with `write_snapshot`; the analysis, figures and tables read the
 snapshot holds is declared in `forcenet.datasets.schema` (SNAPSHOT_VARIABLES, of which SNAPSHOT_DYNAMICS are
 optional; REQUIRED_GLOBAL_ATTRS and SNAPSHOT_GLOBAL_ATTRS; SNAPSHOT_SOURCE_ATTRS for an imported one) and checked,
 values included, on writing and on reading (`forcenet.datasets.io.snapshot_value_problems`). A reader that knows the
-run a snapshot belongs to passes `expect=` (`forcenet.datasets.runs.run_expectation`): a snapshot recorded for another system, dimension or
-simulation settings is refused, naming the file and the attribute.
+run a snapshot belongs to passes `expect=` (`forcenet.datasets.runs.run_expectation`): a snapshot recorded for
+another system, dimension or simulation settings is refused, naming the file and the attribute.
 """
 from __future__ import annotations
 

@@ -26,7 +26,8 @@ import numpy as np
 import pandas as pd
 
 __all__ = ["HOLDS", "FAILS", "NOT_EVALUATED", "IMPORTED_NOT_EVALUATED", "NotEvaluated", "Judgement", "Claim",
-           "claim_register", "JudgedClaim", "judge_claim", "verdict_counts", "TableLayout", "TableSection", "claims_frame", "markdown_table",
+           "claim_register", "JudgedClaim", "judge_claim", "verdict_counts", "TableLayout", "TableSection",
+           "claims_frame", "markdown_table",
            "validation_markdown", "write_validation_table", "PAPER_SIZE", "PAPER_SIZE_HEADER", "with_paper_size",
            "paper_size_placeholder"]
 
