@@ -1,15 +1,16 @@
 #!/usr/bin/env python
-"""The shipped LAMMPS example of `forcenet.importers.lammps` (data/examples/lammps_2d/): LAMMPS dumps of states
-our engine made, and those states themselves, so that a test can check that the imported network is the one our
-engine evaluates on the same state.
+"""The shipped LAMMPS examples of `forcenet.importers.lammps` (data/examples/lammps_2d/, lammps_3d/): LAMMPS dumps
+of states our engine made, and those states themselves, so that a test can check that the imported network is the
+one our engine evaluates on the same state.
 
-usage: python bench/lammps/make_import_example.py [--out data/examples/lammps_2d] [--box 24] [--rho 0.82 0.84 0.86]
+usage: python bench/lammps/make_import_example.py [--dim 2|3] [--out DIR] [--box L] [--rho R1 R2 ...]
 
-Our engine compresses the 2d_linear system of config/smoke.yaml (in a box of --box d_ave, flat walls, seed 7) and
-stops at each ρ of --rho; at each stop the walls rest for a while, random velocities of 0.05 d_ave/τ_c are added
+Our engine compresses the 2d_linear (--dim 2: box 24 d_ave, ρ 0.82, 0.84, 0.86) or the 3d_hertz (--dim 3: box 7,
+ρ 0.58, 0.60, 0.62) system of config/smoke.yaml (flat walls, seed 7) and stops at each ρ of --rho; at each stop the walls rest for a while, random velocities of 0.05 d_ave/τ_c are added
 (so that the damping matters) and the state is saved. LAMMPS (bench/lammps/setup.sh) then evaluates each state
-without an integrator for one step, in the variant `bench/lammps_same_state.py` checks (its `damping` probe: one
-spring increment, γ_t = γ_n, limit_damping, walls through LAMMPS's granular model), and writes
+without an integrator for one step, with the input `bench/lammps_same_state.py` writes for its `damping` probe (one
+spring increment, γ_t = γ_n, limit_damping, Hertz with every term × √R_eff, walls through LAMMPS's granular model),
+and writes
 
 - ``atoms.dump`` — ``dump custom``: id type x y z radius (and the wall force on each atom, f_walls[1..3]: the
   per-atom contact force of fix wall/gran/region's ``contacts`` option), one timestep per state;
@@ -36,17 +37,18 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 sys.path.insert(0, str(HERE.parent))
 from lammps_same_state import (COMPRESSION_SPEED, PROBE_SPEED, RELAX_STEPS, LammpsUnavailable,  # noqa: E402
-                               find_lammps, probe_law)
-from run_lammps import contact_args, num, run_lmp  # noqa: E402
+                               find_lammps, lammps_input as same_state_input, probe_law)
+from run_lammps import num, run_lmp  # noqa: E402
 
 REPO = HERE.parent.parent
-SYSTEM = "2d_linear"
+#: --dim → (config/smoke.yaml system, box [d_ave], packing fractions, output folder)
+CASES = {2: ("2d_linear", 24.0, (0.82, 0.84, 0.86), "lammps_2d"), 3: ("3d_hertz", 7.0, (0.58, 0.60, 0.62), "lammps_3d")}
 SEED = 7
 #: the LAMMPS timestep given to state k (distinct, increasing: the dumps' TIMESTEP items)
 TIMESTEP_STRIDE = 1000
 
 
-def make_states(box: float, rhos, seed: int = SEED) -> list[dict]:
+def make_states(system: str, box: float, rhos, seed: int = SEED) -> list[dict]:
     """Our engine's states at each ρ of `rhos` (module docstring)."""
     import yaml
 
@@ -54,8 +56,8 @@ def make_states(box: float, rhos, seed: int = SEED) -> list[dict]:
     from forcenet.systems import system_from_config
 
     config = yaml.safe_load((REPO / "config" / "smoke.yaml").read_text())
-    entry = dict(config["systems"][SYSTEM], box_length=box, rho=list(rhos))
-    spec = system_from_config(SYSTEM, dict(config, systems={SYSTEM: entry}))
+    entry = dict(config["systems"][system], box_length=box, rho=list(rhos))
+    spec = system_from_config(system, dict(config, systems={system: entry}))
     sim, _ = build_simulation(spec, seed)
     rng = np.random.default_rng(seed)
     law = contact_law_for_system(spec)
@@ -93,49 +95,47 @@ def data_file(state: dict) -> str:
 
 
 def lammps_input(states: list[dict]) -> str:
-    """One input: per state, read it, evaluate one step without an integrator, append both dumps."""
+    """One input: per state, `bench/lammps_same_state.py`'s input of its `damping` probe (read the state, one step
+    without an integrator) with the state's timestep, the per-atom wall contacts (fix wall/gran/region `contacts`)
+    and both dumps appended instead of its force dump."""
     commands = []
     for k, state in enumerate(states):
-        law = probe_law(state, "damping")
-        ratio = law.tangential_damping / law.normal_damping if law.normal_damping else 0.0
-        pair = contact_args("hooke", law.normal_stiffness, law.tangential_stiffness, law.normal_damping,
-                            law.tangential_damping, law.friction, limit_damping=True)
-        wall = (f"granular hooke {num(law.normal_stiffness)} {num(law.normal_damping)} tangential linear_history "
-                f"{num(law.tangential_stiffness)} {num(ratio)} {num(law.friction)} damping mass_velocity "
-                "limit_damping")
-        lo, hi = state["box_lo"], state["box_hi"]
-        faces = " ".join(f"{num(lo[a])} {num(hi[a])}" if a < 2 else "INF INF" for a in range(3))
         append = " append yes" if k else ""
-        commands += [
-            "clear", "units lj", "dimension 2", "atom_style sphere", "boundary f f p", "newton off",
-            "comm_modify vel yes", f"read_data state{k}.data", f"reset_timestep {(k + 1) * TIMESTEP_STRIDE - 1}",
-            f"pair_style gran/{pair}", "pair_coeff * *", "neighbor 0.2 bin", "neigh_modify delay 0 every 1 check yes",
-            f"timestep {num(state['dt'])}", f"region walls block {faces} side in",
-            f"fix walls all wall/gran/region {wall} region walls contacts",
-            "compute pid all property/local patom1 patom2", "compute pf all pair/local force p1 p2 p3",
-            "run 1",
-            f"write_dump all custom atoms.dump id type x y z radius f_walls[2] f_walls[3] f_walls[4] "
-            f"modify format float %.10g{append}",
-            f"write_dump all local pairs.dump c_pid[1] c_pid[2] c_pf[1] c_pf[2] c_pf[3] c_pf[4] "
-            f"modify format float %.10g{append}",
-        ]
+        for line in same_state_input(state, probe_law(state, "damping"), 1).splitlines():
+            if line.startswith("read_data"):
+                commands += [f"read_data state{k}.data", f"reset_timestep {(k + 1) * TIMESTEP_STRIDE - 1}"]
+            elif line.startswith("fix walls"):
+                commands.append(f"{line} contacts")
+            elif line.startswith("run"):
+                commands += ["compute pid all property/local patom1 patom2", "compute pf all pair/local force p1 p2 p3",
+                             line]
+            elif line.startswith("write_dump"):
+                commands += [
+                    "write_dump all custom atoms.dump id type x y z radius f_walls[2] f_walls[3] f_walls[4] "
+                    f"modify format float %.10g{append}",
+                    "write_dump all local pairs.dump c_pid[1] c_pid[2] c_pf[1] c_pf[2] c_pf[3] c_pf[4] "
+                    f"modify format float %.10g{append}"]
+            else:
+                commands.append(line if line != "units lj" else "clear\nunits lj")
     return "\n".join(commands) + "\n"
 
 
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--out", default=str(REPO / "data" / "examples" / "lammps_2d"))
-    ap.add_argument("--box", type=float, default=24.0)
-    ap.add_argument("--rho", type=float, nargs="+", default=[0.82, 0.84, 0.86])
+    ap.add_argument("--dim", type=int, choices=sorted(CASES), default=2)
+    ap.add_argument("--out", help="default data/examples/lammps_{2d,3d}")
+    ap.add_argument("--box", type=float, help="box side [d_ave] (default: 24 in 2D, 7 in 3D)")
+    ap.add_argument("--rho", type=float, nargs="+", help="packing fractions (default: 0.82 0.84 0.86 / 0.58 0.60 0.62)")
     args = ap.parse_args(argv)
+    system, box, rhos, folder = CASES[args.dim]
     try:
         lmp = find_lammps()
     except LammpsUnavailable as error:
         print(f"error: LAMMPS is not available: {error}", file=sys.stderr)
         return 3
-    out = Path(args.out)
+    out = Path(args.out or REPO / "data" / "examples" / folder)
     out.mkdir(parents=True, exist_ok=True)
-    states = make_states(args.box, args.rho)
+    states = make_states(system, args.box or box, args.rho or rhos)
     for k, state in enumerate(states):
         (out / f"state{k}.data").write_text(data_file(state))
     (out / "in.example").write_text(lammps_input(states))
@@ -152,8 +152,9 @@ def main(argv=None) -> int:
                         dt=states[0]["dt"], normal_stiffness=law.normal_stiffness,
                         tangential_stiffness=law.tangential_stiffness, normal_damping=law.normal_damping,
                         tangential_damping=law.tangential_damping, friction=law.friction, beta=law.beta,
+                        radius_scaled=probe_law(states[0], "damping").radius_scaled,
                         timesteps=np.array([(k + 1) * TIMESTEP_STRIDE for k in range(len(states))]))
-    print(f"{out}: {len(states)} states of {len(states[0]['radii'])} disks, rho "
+    print(f"{out}: {len(states)} states of {len(states[0]['radii'])} {'disks' if args.dim == 2 else 'spheres'}, rho "
           + ", ".join(f"{s['rho']:.4f}" for s in states))
     return 0
 
