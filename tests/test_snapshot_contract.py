@@ -150,3 +150,23 @@ def test_the_analysis_job_refuses_a_snapshot_of_another_run_and_writes_nothing(t
     errors = [line for line in (tmp_path / "log").read_text().splitlines() if " ERROR " in line]
     assert len(errors) == 1 and f"{linear}: not of this run: global attribute 'system'" in errors[0]
     assert not out.exists()
+
+
+def test_stacking_refuses_an_analysis_of_another_run(tmp_path):
+    """An analysis file copied from 2d_linear into 2d_hertz's set is refused by the aggregation, naming it."""
+    analyses = []
+    for system in ("2d_hertz", "2d_linear"):
+        snap = write(tmp_path / f"{system}.nc", system=system)
+        analyses.append(str(tmp_path / f"a_{system}.nc"))
+        pipeline.analyze_run(snapshots=[str(snap)], outputs=[analyses[-1]],
+                             analysis=pipeline.snapshot_analysis_params(CONFIG, "2d_hertz"))
+    out = tmp_path / "out"
+    job = dict(realizations=[0, 0], rhos=[0.80, 0.84], measures_path=str(out / "m.nc"), diagrams_path=str(out / "d.nc"),
+               config=CONFIG, system="2d_hertz", log_path=str(tmp_path / "log"))
+    with pytest.raises(SystemExit):
+        pipeline.aggregate(analyses=analyses, **job)
+    errors = [line for line in (tmp_path / "log").read_text().splitlines() if " ERROR " in line]
+    assert len(errors) == 1 and f"{analyses[1]}: not of this run: global attribute 'system' is '2d_linear'" in errors[0]
+    assert not out.exists()
+    pipeline.aggregate(analyses=[analyses[0]], **{**job, "realizations": [0], "rhos": [0.80]})  # its own: stacked
+    assert (out / "m.nc").exists()

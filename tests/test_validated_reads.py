@@ -25,8 +25,9 @@ CONFIG = load_config()
 
 
 def snapshots(directory: Path, rhos=(0.80, 0.84, 0.88)) -> list[Path]:
-    return [write_snapshot(directory / f"rho{rho:.3f}.nc", attrs={**attrs(), "dimension": 2},
-                           **two_triangles_snapshot(rho)) for rho in rhos]
+    """Snapshots of realization 0 of CONFIG's 2d_linear (the run they are aggregated for)."""
+    run = pipeline.run_attrs(CONFIG, "2d_linear", 0, title="test snapshot")
+    return [write_snapshot(directory / f"rho{rho:.3f}.nc", attrs=run, **two_triangles_snapshot(rho)) for rho in rhos]
 
 
 @pytest.fixture(scope="module")

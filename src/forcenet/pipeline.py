@@ -147,13 +147,15 @@ def force_constants(config: Mapping[str, Any], system: str) -> dict[str, float]:
 
 def aggregate(*, analyses: Sequence[str], realizations: Sequence[int], rhos: Sequence[float], measures_path: str,
               diagrams_path: str, config: Mapping[str, Any], system: str, log_path: str | None = None) -> None:
-    """Stack one system's per-snapshot analyses over (realization, ρ) into network_measures.nc and diagrams.nc."""
-    from forcenet.datasets import provenance_attrs, read_dataset, write_netcdf
+    """Stack one system's per-snapshot analyses over (realization, ρ) into network_measures.nc and diagrams.nc; an
+    analysis recorded for another run (system, dimension, simulation settings) is refused, naming the file."""
+    from forcenet.datasets import provenance_attrs, read_dataset, run_expectation, write_netcdf
     from forcenet.datasets.aggregate import stack_diagrams, stack_network_measures
 
     spec = system_from_config(system, config)
     with job_logger(log_path, f"aggregate.{system}") as log:
-        datasets = [read_dataset(path, "analysis") for path in analyses]
+        expect = run_expectation(config, system)
+        datasets = [read_dataset(path, "analysis", expect=expect) for path in analyses]
         attrs = provenance_attrs(system=system, realization=-1, seed=config["seed"], config=config,
                                  title=f"forcenet network measures, {system}, stacked over realization and rho")
         attrs.update(dimension=spec.dimension, force_law=spec.force_law, **force_constants(config, system))
@@ -394,7 +396,7 @@ def p2_distances(*, analyses: Sequence[str], realizations: Sequence[int], output
                  config: Mapping[str, Any], system: str, log_path: str | None = None) -> None:
     """P2 §III D: d_B, d_W1, d_W2 between consecutive snapshots of every realization → distances.nc, with the
     config's ρ grid as the `rho` coordinate (`forcenet.datasets.aggregate.distances_on_grid`)."""
-    from forcenet.datasets import provenance_attrs, read_dataset, write_netcdf
+    from forcenet.datasets import provenance_attrs, read_dataset, run_expectation, write_netcdf
     from forcenet.datasets.aggregate import distances_on_grid
     from forcenet.report.p2_distances import consecutive_distances, stack_distances
 
@@ -402,7 +404,8 @@ def p2_distances(*, analyses: Sequence[str], realizations: Sequence[int], output
         per_realization_count, left = divmod(len(analyses), len(realizations))
         if left or not per_realization_count:
             raise ValueError(f"{len(analyses)} analyses cannot be split evenly over realizations {list(realizations)}")
-        datasets = [read_dataset(path, "analysis") for path in analyses]  # every file checked before any work
+        expect = run_expectation(config, system)  # every file checked, and of this run, before any work
+        datasets = [read_dataset(path, "analysis", expect=expect) for path in analyses]
         results = []
         for index, realization in enumerate(realizations):
             run = datasets[index * per_realization_count:(index + 1) * per_realization_count]
