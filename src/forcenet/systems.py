@@ -129,6 +129,55 @@ class SystemSpec:
         return [format_rho(rho) for rho in self.rho_grid]
 
 
+#: the `force_law` an imported system records (its stacked files' global attribute): the law is the source's own
+IMPORTED_FORCE_LAW = "imported"
+
+
+@dataclass(frozen=True)
+class ImportedSystem:
+    """A system whose states are imported (`forcenet.importers`) instead of simulated: a config entry with
+    ``source:`` (a format and its files) in place of the DEM settings.
+
+    Attributes
+    ----------
+    name : config name
+    dimension : 2 or 3
+    rho_grid : the packing fractions of run 0's states (from each state's particles and box), rounded to
+        `RHO_DECIMALS`, increasing: the states' labels in file names
+    source : the config's ``source:`` entry
+    particles : particles in run 0's first state (the cost model's job sizes)
+    force_law : ``"imported"`` (the law is the source's own; every network is analysed in units of its mean force)
+    """
+
+    name: str
+    dimension: int
+    rho_grid: tuple[float, ...]
+    source: Mapping[str, Any] = field(compare=False)
+    particles: int = 0
+    force_law: str = IMPORTED_FORCE_LAW
+    paper: str = "imported"
+    normal_stiffness: float = float("nan")
+
+    @property
+    def rho_labels(self) -> list[str]:
+        return [format_rho(rho) for rho in self.rho_grid]
+
+
+def imported_system(name: str, entry: Mapping[str, Any]) -> ImportedSystem:
+    """The `ImportedSystem` of a ``source:`` entry: its runs' states are read (`forcenet.importers.source_states`,
+    which stops at a malformed file with its name and line) to give the ρ grid of run 0."""
+    from forcenet.importers import source_states
+
+    key = f"systems.{name}.source"
+    runs = [source_states(entry, run, where=key) for run in range(len(entry["source"]["runs"]))]
+    grids = [[state.rho for state in states] for states in runs]
+    if len({len(grid) for grid in grids}) != 1:
+        raise ConfigError(f"{key}.runs", f"every run needs the same number of states, got {[len(g) for g in grids]}")
+    return ImportedSystem(name=name, dimension=int(entry["dimension"]),
+                          rho_grid=rho_grid(grids[0], f"{key}.runs[0] (the states' packing fractions, in order)"),
+                          source=dict(entry["source"]), particles=len(runs[0][0].radius))
+
+
 def format_rho(rho: float) -> str:
     return f"{rho:.{RHO_DECIMALS}f}"
 
@@ -161,12 +210,21 @@ def material_from_config(config: Mapping[str, Any]) -> units.Material:
     return units.Material(**config["material"])
 
 
-def system_from_config(name: str, config: Mapping[str, Any]) -> SystemSpec:
-    """Build the `SystemSpec` of ``config["systems"][name]`` (config already schema-validated)."""
+def system_from_config(name: str, config: Mapping[str, Any]) -> SystemSpec | ImportedSystem:
+    """Build the `SystemSpec` of ``config["systems"][name]`` (config already schema-validated), or its
+    `ImportedSystem` when the entry has ``source:``."""
     key = f"systems.{name}"
     if name not in config["systems"]:
         raise ConfigError(key, "no such system")
     entry = config["systems"][name]
+    if "source" in entry:
+        runs = len(entry["source"]["runs"])
+        if runs != config["realizations"]:
+            raise ConfigError(f"{key}.source.runs", f"lists {runs} run(s), but realizations is "
+                                                    f"{config['realizations']}: one run per realization")
+        return imported_system(name, entry)
+    if entry["stiffness"] == "material" and "material" not in config:
+        raise ConfigError("material", f"missing: system '{name}' takes its stiffness from the material")
     beta = units.FORCE_LAW_BETA[entry["force_law"]]
     if entry["stiffness"] == "material":  # P1: Y, σ, d_ave, m̄, v0 → k_n in τ_c units
         k_n = units.reduced_normal_stiffness(material_from_config(config), beta)
@@ -282,7 +340,7 @@ def non_finite_number(config: Any, key: str = "") -> ConfigError | None:
     return None
 
 
-def validate_config(config: Mapping[str, Any]) -> dict[str, SystemSpec]:
+def validate_config(config: Mapping[str, Any]) -> dict[str, SystemSpec | ImportedSystem]:
     """Semantic validation after the JSON schema; returns every system by name. Raises `ConfigError`."""
     problem = non_finite_number(config)
     if problem is not None:
@@ -304,6 +362,17 @@ def validate_config(config: Mapping[str, Any]) -> dict[str, SystemSpec]:
                                                      f"study p2 needs at least {TABLE_STATES} (the consecutive states "
                                                      "a, b, c of Tables I–III): extend the ρ grid")
     return systems
+
+
+def simulation_params(config: Mapping[str, Any], system: str) -> dict[str, Any]:
+    """What a compression run depends on: its own system entry, the seed and (P1 units) the material — not the
+    analysis keys or other systems. Snakemake reruns a simulation when these change; a staged run resumes only
+    under the same ones."""
+    entry = config["systems"][system]
+    params = {"system": entry, "seed": config["seed"]}
+    if entry.get("stiffness") == "material":
+        params["material"] = config["material"]
+    return params
 
 
 def config_sha256(config: Mapping[str, Any]) -> str:

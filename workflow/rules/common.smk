@@ -12,7 +12,8 @@ sys.path.insert(0, str(Path(workflow.basedir) / "src"))  # works before `pip ins
 from forcenet.datasets import paths  # every file name of the build (standard library only)
 from forcenet.datasets.paths import realization_index
 from forcenet.errors import ForcenetError
-from forcenet.pipeline import simulation_params, snapshot_analysis_params
+from forcenet.pipeline import snapshot_analysis_params
+from forcenet.systems import simulation_params
 from forcenet.workflow_io import CONFIG_SCHEMA, DEFAULT_CONFIG, checked_config, read_config_file, resolve_results_dir
 
 # A config given with --configfile stands alone: the default is read only when none is given (Snakemake's
@@ -126,7 +127,8 @@ REPORT_FIGURES, REPORT_PDFS, REPORT_TABLES = "Figures", "Figures as PDF (vector,
 def all_targets():
     """Everything `snakemake` builds by default: figures and tables of the studies in the config."""
     targets = [paths.resolved_config(RESULTS)]
-    targets += [paths.network_measures(RESULTS, s) for s in dict.fromkeys(P1_SYSTEMS + P2_SYSTEMS)]
+    # every system's stacked measures, also of a system in no study (analysed, not drawn)
+    targets += [paths.network_measures(RESULTS, s) for s in dict.fromkeys(P1_SYSTEMS + P2_SYSTEMS + list(SYSTEMS))]
     targets += [paths.figure(RESULTS, name, "pdf") for name in BUILT_FIGURES]  # figures.smk, from the registry
     if P1_SYSTEMS:
         targets += [paths.p1_validation_table(RESULTS, "md")]

@@ -25,12 +25,17 @@ from typing import Any, Callable, Mapping, Sequence
 import numpy as np
 import pandas as pd
 
-__all__ = ["HOLDS", "FAILS", "NOT_EVALUATED", "NotEvaluated", "Judgement", "Claim", "claim_register", "JudgedClaim",
-           "judge_claim", "verdict_counts", "TableLayout", "TableSection", "claims_frame", "markdown_table",
+__all__ = ["HOLDS", "FAILS", "NOT_EVALUATED", "IMPORTED_NOT_EVALUATED", "NotEvaluated", "Judgement", "Claim",
+           "claim_register", "JudgedClaim", "judge_claim", "verdict_counts", "TableLayout", "TableSection",
+           "claims_frame", "markdown_table",
            "validation_markdown", "write_validation_table", "PAPER_SIZE", "PAPER_SIZE_HEADER", "with_paper_size",
            "paper_size_placeholder"]
 
 HOLDS, FAILS, NOT_EVALUATED = "holds", "does not hold", "not evaluated"
+
+#: why a claim about the papers' compression protocol is not judged on imported states (`forcenet.importers`)
+IMPORTED_NOT_EVALUATED = ("imported states: the claim is about the paper's compression protocol (walls, speed, "
+                          "relaxation, sampling through jamming), which an import does not record")
 
 
 class NotEvaluated(Exception):

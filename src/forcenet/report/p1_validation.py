@@ -17,14 +17,15 @@ import pandas as pd
 import xarray as xr
 
 from forcenet.report import p1_claims, p1_claims_topology
-from forcenet.report.claims import (FAILS, HOLDS, NOT_EVALUATED, Claim, JudgedClaim, Judgement, NotEvaluated,
-                                    TableLayout, TableSection, claims_frame, judge_claim, validation_markdown,
-                                    verdict_counts, with_paper_size, write_validation_table)
+from forcenet.report.claims import (FAILS, HOLDS, IMPORTED_NOT_EVALUATED, NOT_EVALUATED, Claim, JudgedClaim,
+                                    Judgement, NotEvaluated, TableLayout, TableSection, claims_frame, judge_claim,
+                                    validation_markdown, verdict_counts, with_paper_size, write_validation_table)
 from forcenet.report.p1 import (DEFAULT_P1_FORCE_UNIT, P1_FORCE_UNITS, P1_RHO_STEP, P1_ROLES, P1_SYSTEMS,
                                 PAPER_PHI_C, PAPER_RHO_J, PAPER_RHO_MAX, PAPER_Z_AT_JAMMING, FMaxCut, cut_at_rho_max,
                                 f_max_cut, isostatic_crossing, jamming_point, rho_values, select_total,
                                 system_dimension, system_force_law, system_order, value_at)
 from forcenet.report.p1_judging import ClaimContext, ClaimTolerances, SystemData
+from forcenet.systems import IMPORTED_FORCE_LAW
 
 #: every claim of P1 §3–6, in the order the table lists them within a section
 CLAIMS: list[Claim] = [*p1_claims.CLAIMS, *p1_claims_topology.CLAIMS]
@@ -115,6 +116,8 @@ def _claim_rows(claim_: Claim, context: ClaimContext, names: set[str]) -> list[J
             """The claim judged on this system, after the checks every per-system claim shares."""
             if system is None:
                 raise NotEvaluated("system not in the results")
+            if claim_.needs_rho_j and system.force_law == IMPORTED_FORCE_LAW:
+                raise NotEvaluated(IMPORTED_NOT_EVALUATED)  # ρ_J and the regimes around it: P1's compression
             if claim_.needs_rho_j and not np.isfinite(system.rho_j):
                 raise NotEvaluated("rho_J could not be located")
             return claim_.judge(system, context.tolerances)
