@@ -13,9 +13,9 @@ import pytest
 import yaml
 
 from conftest import REPO, load_config
-from forcenet.pipeline import simulation_params, snapshot_analysis_params
-from forcenet.systems import (ConfigError, realization_indices, realization_seed, rho_grid, study_rattler_rule,
-                              validate_config)
+from forcenet.pipeline import snapshot_analysis_params
+from forcenet.systems import (ConfigError, realization_indices, realization_seed, rho_grid, simulation_params,
+                              study_rattler_rule, validate_config)
 
 SCHEMA = yaml.safe_load((REPO / "workflow/schemas/config.schema.yaml").read_text())
 CONFIGS = ["config.yaml", "paper.yaml", "smoke.yaml"]
@@ -59,6 +59,8 @@ BAD_CONFIGS = {
     "unknown_damping_model": (["systems", "3d_hertz", "damping_model"], "implicit", "damping_model"),
     "missing_damping_model": (["systems", "2d_linear", "damping_model"], KeyError, "damping_model"),
     "explicit_damping_without_value": (["systems", "2d_linear", "damping_model"], "explicit", "normal_damping"),
+    "box_lattice_without_sites": (["systems", "2d_linear", "initial_state"], {"lattice": "box"}, "sites_per_axis"),
+    "unknown_lattice": (["systems", "2d_linear", "initial_state"], {"lattice": "hexagonal"}, "initial_state"),
     "unknown_p1_force_unit": (["analysis", "p1_force_unit"], "newton", "p1_force_unit"),
     "missing_p1_force_unit": (["analysis", "p1_force_unit"], KeyError, "p1_force_unit"),
     "string_fill_tetrahedra": (["analysis", "fill_tetrahedra"], "no", "fill_tetrahedra"),
@@ -241,10 +243,16 @@ def _one_line_failure(result, *needles: str) -> str:
 
 PHYSICAL_CASES = {
     # (path, value, key named, words of the message)
-    "rho_2d_above_close_packing": (["systems", "2d_linear", "rho"], [0.8, 0.9, 0.95], "systems.2d_linear.rho",
-                                   "densest packing"),
-    "rho_3d_above_close_packing": (["systems", "3d_hertz", "rho"], {"start": 0.5, "stop": 0.78, "step": 0.02},
-                                   "systems.3d_hertz.rho", "densest packing"),
+    "rho_2d_above_close_packing": (["systems", "2d_linear", "rho"], [0.8, 0.9, 0.92], "systems.2d_linear.rho",
+                                   "the last ρ = 0.92 is above 0.9105, the densest packing of equal disks"),
+    "rho_3d_above_close_packing": (["systems", "3d_hertz", "rho"], {"start": 0.5, "stop": 0.76, "step": 0.02},
+                                   "systems.3d_hertz.rho", "the last ρ = 0.76 is above 0.7449, the densest packing"),
+    "rho_nan": (["systems", "2d_linear", "rho"], [0.8, float("nan")], "systems.2d_linear.rho[1]",
+                "is nan, not a finite number"),
+    "p2_two_snapshots": (["systems", "2d_poly_mu05", "rho"], [0.7, 0.8], "systems.2d_poly_mu05.rho",
+                         "has 2 snapshot(s), but a system of study p2 needs at least 3"),
+    "results_dir_outside": (["results_dir"], "results/../../escape", "results_dir",
+                            "which is not a folder inside the working directory"),
     "rho_below_the_lattice": (["systems", "2d_hertz", "rho"], [0.3, 0.8], "systems.2d_hertz.rho", "initial lattice"),
     "time_step_above_the_collision": (["systems", "2d_hertz", "time_step"], 0.05, "systems.2d_hertz.time_step",
                                       "shortest collision"),
@@ -298,3 +306,202 @@ def test_check_config_names_a_non_boolean_fill_tetrahedra(tmp_path: Path, capsys
     good = tmp_path / "good.yaml"
     good.write_text(text.replace("  fill_tetrahedra: true", "  fill_tetrahedra: false"))
     assert check_config_main([str(good)]) == 0
+
+
+# --- NaN and infinities, keys given twice, results_dir, P2's three states, what Snakemake reports first -------------
+NAN, INF = float("nan"), float("inf")
+NON_FINITE_CASES = {
+    # (path, non-finite value, finite value, key named, the value as the message shows it): every kind of place a
+    # number sits in a config
+    "rho_list": (["systems", "2d_linear", "rho"], [0.8, NAN], [0.8, 0.85], "systems.2d_linear.rho[1]", "nan"),
+    "rho_range_stop": (["systems", "2d_hertz", "rho", "stop"], NAN, 0.85, "systems.2d_hertz.rho.stop", "nan"),
+    "rho_range_step": (["systems", "2d_hertz", "rho", "step"], INF, 0.02, "systems.2d_hertz.rho.step", "inf"),
+    "relaxation_tolerance": (["systems", "3d_hertz", "relaxation", "tolerance"], NAN, 0.2,
+                             "systems.3d_hertz.relaxation.tolerance", "nan"),
+    "thresholds_step": (["analysis", "thresholds", "step"], NAN, 0.1, "analysis.thresholds.step", "nan"),
+    "force_pdf_max": (["analysis", "force_pdf", "max"], INF, 5.0, "analysis.force_pdf.max", "inf"),
+    "table_rho": (["studies", "p2", "table_rho"], NAN, 0.8, "studies.p2.table_rho", "nan"),
+    "material": (["material", "young_modulus"], -INF, 2e4, "material.young_modulus", "-inf"),
+}
+
+
+@pytest.mark.parametrize("case", sorted(NON_FINITE_CASES))
+def test_nan_and_infinity_anywhere_are_refused_naming_the_key(default_config, case):
+    from forcenet.workflow_io import checked_config
+
+    path, bad, good, key, shown = NON_FINITE_CASES[case]
+    schema = REPO / "workflow/schemas/config.schema.yaml"
+    config = _mutate(path, bad, default_config)
+    with pytest.raises(ConfigError) as error:
+        checked_config(config, schema)
+    assert str(error.value) == (f"config key '{key}': is {shown}, not a finite number: every number in a config must "
+                                "be finite")
+    with pytest.raises(ConfigError, match=re.escape(key)):  # the DEM driver's own check, without the schema
+        validate_config(config)
+    assert checked_config(_mutate(path, good, default_config), schema)  # a finite number in the same place passes
+
+
+def test_check_config_refuses_yaml_nan_naming_the_key(tmp_path: Path, capsys):
+    from forcenet.workflow_io import check_config_main
+
+    text = (REPO / "config/smoke.yaml").read_text()
+    assert "    rho: [0.8, 0.84, 0.88]\n" in text
+    bad = tmp_path / "nan.yaml"
+    bad.write_text(text.replace("    rho: [0.8, 0.84, 0.88]\n", "    rho: [0.8, .nan]\n", 1))
+    assert check_config_main([str(bad)]) == 1
+    assert capsys.readouterr().err == (f"{bad}: invalid: config key 'systems.2d_linear.rho[1]': is nan, not a finite "
+                                       "number: every number in a config must be finite\n")
+    good = tmp_path / "good.yaml"
+    good.write_text(text)
+    assert check_config_main([str(good)]) == 0
+
+
+DUPLICATED = """seed: 1
+systems:
+  2d_hertz:
+    friction: 0.5
+    dimension: 2
+    friction: 0.0
+"""
+
+
+def test_a_key_given_twice_is_refused_naming_file_line_and_key(tmp_path: Path):
+    from forcenet.workflow_io import ConfigFileError, read_config_file
+
+    path = tmp_path / "twice.yaml"
+    path.write_text(DUPLICATED)
+    with pytest.raises(ConfigFileError) as error:
+        read_config_file(path)
+    assert str(error.value) == (f"config file {path}, line 6: key 'systems.2d_hertz.friction' is given twice (first at "
+                                "line 4); YAML would keep the last value silently: remove one")
+    path.write_text(DUPLICATED.replace("    friction: 0.0\n", "    walls: flat\n"))
+    assert read_config_file(path)["systems"]["2d_hertz"] == {"friction": 0.5, "dimension": 2, "walls": "flat"}
+    # the same key in two different mappings is no repetition
+    path.write_text("a: {x: 1}\nb: {x: 2}\nc: [{x: 1}, {x: 2}]\n")
+    assert read_config_file(path)["c"] == [{"x": 1}, {"x": 2}]
+
+
+def test_check_config_refuses_a_key_given_twice(tmp_path: Path, capsys):
+    from forcenet.workflow_io import check_config_main
+
+    text = (REPO / "config/smoke.yaml").read_text()
+    realizations = next(row for row in text.splitlines() if row.startswith("realizations:"))
+    line = text.splitlines().index(realizations) + 1
+    bad = tmp_path / "twice.yaml"
+    bad.write_text(text.replace(realizations + "\n", realizations + "\nrealizations: 9\n", 1))
+    assert check_config_main([str(bad)]) == 1
+    assert capsys.readouterr().err == (f"{bad}: invalid: config file {bad}, line {line + 1}: key 'realizations' is "
+                                       f"given twice (first at line {line}); YAML would keep the last value silently: "
+                                       "remove one\n")
+    good = tmp_path / "good.yaml"
+    good.write_text(text)
+    assert check_config_main([str(good)]) == 0
+    assert f"results_dir {Path.cwd() / 'results'}" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("value, rules, absolute", [
+    (None, "results", "WD/results"),
+    ("results/validation", "results/validation", "WD/results/validation"),
+    ("./results//quick/", "results/quick", "WD/results/quick"),
+    ("results/../elsewhere", "elsewhere", "WD/elsewhere"),
+    ("/scratch/me/forcenet/../run1", "/scratch/me/run1", "/scratch/me/run1"),
+])
+def test_results_dir_is_resolved_once(tmp_path: Path, value, rules, absolute):
+    from forcenet.workflow_io import resolve_results_dir
+
+    assert resolve_results_dir(value, tmp_path) == (rules, Path(absolute.replace("WD", str(tmp_path))))
+
+
+def test_results_dir_home_is_expanded(tmp_path: Path):
+    from forcenet.workflow_io import resolve_results_dir
+
+    assert resolve_results_dir("~/forcenet", tmp_path)[1] == Path.home() / "forcenet"
+
+
+@pytest.mark.parametrize("value, words", [
+    ("results/../../escape", "resolves to WD_PARENT/escape, which is not a folder inside the working directory WD: "
+                             "give a relative path below it, or an absolute path to write elsewhere"),
+    ("results/..", "resolves to WD, which is not a folder inside the working directory"),
+    ("$SCRATCH/run", "contains '$' (environment variables are not expanded): write the folder's path itself"),
+    ("results/{system}", "contains '{' (braces are Snakemake wildcards)"),
+    (" ", "is empty"),
+])
+def test_results_dir_outside_the_working_directory_is_refused(tmp_path: Path, value, words):
+    from forcenet.workflow_io import resolve_results_dir
+
+    workdir = tmp_path / "repo"
+    with pytest.raises(ConfigError) as error:
+        resolve_results_dir(value, workdir)
+    words = words.replace("WD_PARENT", str(tmp_path)).replace("WD", str(workdir))
+    assert str(error.value).startswith("config key 'results_dir': ") and words in str(error.value), str(error.value)
+
+
+def test_resolved_config_records_the_absolute_results_dir(tmp_path: Path):
+    from forcenet.workflow_io import write_resolved_config
+
+    path = tmp_path / "resolved.yaml"
+    write_resolved_config(load_config("smoke.yaml"), path, "/scratch/me/run1")
+    resolved = yaml.safe_load(path.read_text())
+    assert resolved["results_dir"] == "/scratch/me/run1"
+    assert set(resolved["systems"]) == set(load_config("smoke.yaml")["systems"])
+
+
+def test_a_p2_system_needs_three_snapshots(default_config):
+    config = _mutate(["systems", "2d_poly_mu0", "rho"], [0.7, 0.8], default_config)
+    with pytest.raises(ConfigError) as error:
+        validate_config(config)
+    assert str(error.value) == ("config key 'systems.2d_poly_mu0.rho': has 2 snapshot(s), but a system of study p2 "
+                                "needs at least 3 (the consecutive states a, b, c of Tables I–III): "
+                                "extend the ρ grid")
+    assert len(validate_config(_mutate(["systems", "2d_poly_mu0", "rho"], [0.7, 0.75, 0.8], default_config))[
+        "2d_poly_mu0"].rho_grid) == 3
+    # a system outside study p2 may have fewer
+    config = _mutate(["studies", "p2", "systems"], ["2d_poly_mu05"], config)
+    assert validate_config(config)["2d_poly_mu0"].rho_grid == (0.7, 0.8)
+
+
+def test_a_key_given_twice_in_a_configfile_stops_the_workflow(tmp_path: Path):
+    text = (REPO / "config/smoke.yaml").read_text()
+    seed = next(row for row in text.splitlines() if row.startswith("seed:"))
+    line = text.splitlines().index(seed) + 1
+    bad = tmp_path / "twice.yaml"
+    bad.write_text(text.replace(seed + "\n", seed + "\nseed: 7\n", 1))
+    result = _snakemake("-n", "--cores", "1", "--configfile", str(bad), "--directory", str(tmp_path / "work"),
+                        "--snakefile", str(REPO / "Snakefile"))
+    _one_line_failure(result, f"config file {bad}, line {line + 1}: key 'seed' is given twice (first at line {line})")
+
+
+def test_an_absolute_results_dir_is_printed_and_receives_every_output(tmp_path: Path):
+    config = load_config("smoke.yaml")
+    config["results_dir"] = str(tmp_path / "scratch" / ".." / "run1")  # resolved once: `..` removed
+    path = tmp_path / "absolute.yaml"
+    path.write_text(yaml.safe_dump(config))
+    result = _snakemake("-n", "--cores", "1", "--configfile", str(path), "--directory", str(tmp_path / "work"),
+                        "--snakefile", str(REPO / "Snakefile"))
+    assert result.returncode == 0, result.stderr[-3000:]
+    assert f"forcenet: results_dir = {tmp_path / 'run1'} (every output is written there)" in result.stderr.splitlines()
+    outputs = [word.rstrip(",") for line in result.stdout.splitlines() if line.strip().startswith("output:")
+               for word in line.split()[1:]]
+    assert outputs and all(word.startswith(f"{tmp_path / 'run1'}/") for word in outputs), outputs[:5]
+    default = _snakemake("-n", "--cores", "1", "--directory", str(tmp_path / "work"),
+                         "--snakefile", str(REPO / "Snakefile"))
+    assert f"forcenet: results_dir = {tmp_path / 'work' / 'results'} (every output" in default.stderr
+
+
+def test_what_snakemake_reports_before_the_workflow(tmp_path: Path):
+    """Snakemake reads every --configfile before the workflow runs, so these messages are Snakemake's; the README's
+    "When a job fails" quotes them and says what to do."""
+    bad = tmp_path / "bad.yaml"
+    bad.write_text("seed: 1\nrealizations: 3: 4\n")
+    result = _snakemake("-n", "--cores", "1", "--configfile", str(bad), "--directory", str(tmp_path / "work"))
+    output = result.stdout + result.stderr
+    assert result.returncode != 0 and "WorkflowError:\nConfig file is not valid JSON or YAML" in output, output
+    # a target after --configfile (which takes several files) is read as a config file
+    target = tmp_path / "rho0.800.nc"
+    target.write_bytes(b"\x89HDF\r\n\x1a\n" + bytes(range(256)))
+    result = _snakemake("-n", "--cores", "1", "--configfile", "config/smoke.yaml", str(target))
+    output = result.stdout + result.stderr
+    assert result.returncode != 0 and "UnicodeDecodeError: 'utf-8' codec can't decode" in output, output[-2000:]
+    result = _snakemake("-n", "--cores", "1", "--configfile", "config/smoke.yaml", "results/sim/nothing.nc")
+    output = result.stdout + result.stderr
+    assert "FileNotFoundError: [Errno 2] No such file or directory: 'results/sim/nothing.nc'" in output, output[-2000:]

@@ -108,7 +108,8 @@ def test_analysis_config_fill_tetrahedra_reaches_the_3d_diagrams_and_is_recorded
     """analysis.fill_tetrahedra through the pipeline: four mutually touching spheres enclose no void when the
     tetrahedron is filled, one never-dying void born at the weakest contact when it is not; each analysis file
     names its complex, and stacking refuses to mix the two."""
-    snapshot = write_snapshot(tmp_path / "sim.nc", attrs={**attrs(), "system": "3d_test"}, **tetrahedron_snapshot())
+    snapshot = write_snapshot(tmp_path / "sim.nc", attrs=pipeline.run_attrs(default_config, "3d_hertz", 0, "test"),
+                              **tetrahedron_snapshot())
     analyses = {}
     for fill in (True, False):
         analysis = {**default_config["analysis"], "fill_tetrahedra": fill}

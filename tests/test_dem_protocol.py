@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import dataclasses
+import errno
 import logging
 import os
 import signal
@@ -244,6 +245,44 @@ def test_an_expected_error_is_one_log_line_without_traceback(tmp_path):
     assert "Traceback" in log.read_text()
 
 
+@pytest.mark.parametrize("error, free", [
+    (OSError(errno.ENOSPC, "No space left on device"), 10 ** 12),
+    (RuntimeError("NetCDF: HDF error"), 0),  # how netCDF/HDF5 report a write that a full disk stopped
+    (PermissionError(errno.EACCES, "Permission denied"), 4096),
+])
+def test_a_full_disk_is_one_log_line_without_traceback(tmp_path, monkeypatch, capsys, error, free):
+    import shutil
+    from collections import namedtuple
+
+    from forcenet.pipeline import job_logger
+
+    usage = namedtuple("usage", "total used free")
+    monkeypatch.setattr(shutil, "disk_usage", lambda folder: usage(10 ** 12, 10 ** 12 - free, free))
+    log = tmp_path / "logs" / "job.log"
+    with pytest.raises(SystemExit) as stop, job_logger(log, "test"):
+        raise error
+    assert stop.value.code == 1
+    lines = capsys.readouterr().err.splitlines()
+    assert len(lines) == 1 and lines[0].endswith(
+        f" ERROR no space left on the disk holding {log.parent}, {free} bytes free ({type(error).__name__}: {error}): "
+        "free space there (or set results_dir to a larger filesystem), then run the same command again"), lines
+    assert "Traceback" not in log.read_text()
+
+
+def test_an_error_with_disk_space_left_keeps_its_traceback(tmp_path, monkeypatch):
+    import shutil
+    from collections import namedtuple
+
+    from forcenet.pipeline import job_logger
+
+    usage = namedtuple("usage", "total used free")
+    monkeypatch.setattr(shutil, "disk_usage", lambda folder: usage(10 ** 12, 0, 10 ** 12))
+    log = tmp_path / "job.log"
+    with pytest.raises(PermissionError), job_logger(log, "test"):  # a real permission problem, not a full disk
+        raise PermissionError(errno.EACCES, "Permission denied")
+    assert "Traceback" in log.read_text()
+
+
 def test_relaxation_cap_is_logged(tmp_path, caplog):
     system = tiny(rho_grid=(0.70,), relaxation=Relaxation(window_steps=100, tolerance=1e-12, max_steps=300))
     with caplog.at_level(logging.WARNING):
@@ -295,3 +334,61 @@ def test_a_stage_survives_edits_the_run_does_not_depend_on(tmp_path):
         (stage / "checkpoint.npz").write_bytes(b"state")
         prepare_stage(stage, changed, "2d_hertz")
         assert not (stage / "checkpoint.npz").exists(), path
+
+
+# --- P1's start (systems.<name>.initial_state) -----------------------------------------------------------------
+
+def p1_start(name: str = "2d_hertz", sites: int = 5, box: float = 5.6, relax_first: bool = True, **changes):
+    from forcenet.systems import InitialState
+
+    return tiny(name, box_length=box, initial_state=InitialState(lattice="box", sites_per_axis=sites,
+                                                                 relax_first=relax_first), **changes)
+
+
+def test_p1_start_spreads_the_lattice_over_the_box():
+    """P1 §3: sites_per_axis^d particles on a square grid spread over the whole box (spacing L / n, the outer
+    sites half a spacing from the walls); 45² disks in 50 d_ave give ρ0 = 0.654 and large neighbours overlapping
+    by 10 % of their diameter, the default lattice none."""
+    from forcenet.dem import packing
+
+    system = p1_start(sites=5, box=5.6)
+    initial = packing.initial_packing(system, np.random.default_rng(0))
+    assert len(initial.radius) == 25
+    sites = np.unique(np.round(initial.position[:, 0], 12))
+    np.testing.assert_allclose(sites, 0.56 + 1.12 * np.arange(5))
+    paper = p1_start(sites=45, box=50.0)
+    assert packing.initial_packing(paper, np.random.default_rng(0)).packing_fraction == pytest.approx(0.6538, abs=1e-4)
+    large = packing.largest_diameter(paper)
+    assert packing.initial_overlap(paper) == pytest.approx((large - 50.0 / 45) / large)
+    assert 0.09 < packing.initial_overlap(paper) < 0.11
+    assert packing.initial_overlap(tiny("2d_hertz")) == 0.0
+
+
+def test_p1_start_refuses_a_lattice_that_starts_past_the_blow_up_limit():
+    from forcenet.systems import check_system
+
+    check_system(p1_start(sites=5, box=5.6, rho_grid=(0.75, 0.8)), "systems.2d_hertz")  # 9 % overlap: accepted
+    with pytest.raises(ConfigError, match=r"systems\.2d_hertz\.initial_state\.sites_per_axis.*overlap by 2\d%"):
+        check_system(p1_start(sites=6, box=5.6, rho_grid=(0.9,)), "systems.2d_hertz")
+
+
+def test_p1_start_relaxes_its_overlaps_before_the_first_compression(tmp_path, caplog):
+    """The t = 0 overlaps (9 % of a large diameter) are resolved by a relaxation at ρ0 before the walls move:
+    the first snapshot is written, overlaps below the blow-up limit, and the log says it relaxed first."""
+    system = p1_start(sites=5, box=5.6, rho_grid=(0.75, 0.78))
+    with caplog.at_level(logging.INFO, logger="forcenet"):
+        paths = run(system, tmp_path)
+    assert "relaxing the initial state" in caplog.text
+    with xr.open_dataset(paths[0]) as ds:
+        assert float(ds.rho) == pytest.approx(0.75)
+    without = run(p1_start(sites=5, box=5.6, rho_grid=(0.75, 0.78), relax_first=False), tmp_path / "b")
+    with xr.open_dataset(paths[0]) as a, xr.open_dataset(without[0]) as b:
+        assert int(a.step) > int(b.step)  # the first relaxation took steps the other run did not
+
+
+def test_a_run_without_initial_state_keeps_its_checkpoint_fingerprint():
+    """Adding `initial_state` to SystemSpec must not invalidate the checkpoints of runs that do not set it (a
+    campaign resumes across sessions); setting it changes the fingerprint."""
+    system = tiny("2d_hertz")
+    assert "initial_state" not in repr(system)
+    assert protocol._fingerprint(system, 1) != protocol._fingerprint(p1_start(), 1)

@@ -17,7 +17,7 @@ PACKAGE = Path(__file__).resolve().parents[1] / "src" / "forcenet"
 LAYERS = (
     ("foundations", {"__init__", "errors", "_numba", "units"}),
     ("configuration", {"systems", "checks", "cost", "workflow_io"}),
-    ("data model", {"datasets"}),
+    ("data model", {"datasets", "importers"}),
     ("DEM engine", {"dem"}),
     ("network", {"network"}),
     ("topology", {"topology"}),
@@ -27,8 +27,8 @@ LAYERS = (
     ("workflow", {"pipeline", "survey"}),
 )
 #: a config is judged by the engine's own formulas: the initial lattice (dem.packing) and the damping bound
-#: (dem.stability), imported lazily
-EXCEPTIONS = {("checks", "dem"), ("cost", "dem")}
+#: (dem.stability), imported lazily; an imported system's ρ grid is read from its files by the importers
+EXCEPTIONS = {("checks", "dem"), ("cost", "dem"), ("systems", "importers")}
 KERNEL_IMPORTS = {"__future__", "math", "numba", "numpy", "forcenet._numba"}
 
 

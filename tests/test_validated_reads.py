@@ -25,8 +25,9 @@ CONFIG = load_config()
 
 
 def snapshots(directory: Path, rhos=(0.80, 0.84, 0.88)) -> list[Path]:
-    return [write_snapshot(directory / f"rho{rho:.3f}.nc", attrs={**attrs(), "dimension": 2},
-                           **two_triangles_snapshot(rho)) for rho in rhos]
+    """Snapshots of realization 0 of CONFIG's 2d_linear (the run they are aggregated for)."""
+    run = pipeline.run_attrs(CONFIG, "2d_linear", 0, title="test snapshot")
+    return [write_snapshot(directory / f"rho{rho:.3f}.nc", attrs=run, **two_triangles_snapshot(rho)) for rho in rhos]
 
 
 @pytest.fixture(scope="module")
@@ -84,7 +85,7 @@ def run_job(job, log: Path) -> str:
 CASES = {
     # kind: (how it is broken, variable, what the message must say)
     "snapshot-missing": ("snapshot", "missing", "force_tangential", "variable 'force_tangential' missing"),
-    "snapshot-velocity": ("snapshot", "missing", "velocity", "variable 'velocity' missing"),
+    "snapshot-radius": ("snapshot", "missing", "radius", "variable 'radius' missing"),
     "snapshot-truncated": ("snapshot", "truncated", None, "cannot be read as netCDF"),
     "analysis-missing": ("analysis", "missing", "betti", "variable 'betti' missing"),
     "analysis-float": ("analysis", "float", "betti", "variable 'betti' is float64, expected int"),

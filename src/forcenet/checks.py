@@ -8,9 +8,14 @@
   whose lattice ρ varies with the seed, the expectation plus `INITIAL_RHO_SIGMAS` standard deviations.
 * **ρ grid against the densest packing.** The last grid value must stay at or below the densest packing of equal
   disks, π/(2√3) = 0.9069, or spheres, π/(3√2) = 0.7405, compressed to a uniform overlap of `RHO_OVERLAP_MARGIN`
-  of a diameter: ρ_max = ρ_densest / (1 − margin)^d = 0.9253 (2D), 0.7631 (3D). Beyond it the overlaps of a
-  soft packing pass several per cent on average and reach the engine's 20 % blow-up limit locally. The walls
-  must also be able to reach it: the final box must stay wider than two of the largest particles.
+  of a diameter: ρ_max = ρ_densest / (1 − margin)^d = 0.9105 (2D), 0.7449 (3D). (Hard disks of two sizes
+  cannot be packed much denser: Florian's bound is 0.9091 for diameter ratio 1.4, 0.9101 for 1.5.) The margin is
+  small on purpose: a disordered packing is never compressed uniformly, so its largest overlap is far above the
+  mean (14–15 % of a diameter at ρ = 0.91 in 2D, 13.5 % at 0.71 in 3D, growing ≈ 0.7 % per 0.01 in ρ), and the
+  earlier margin of 1 % (0.9253, 0.7631) let grids well beyond the densest packing through (0.92 in 2D; 0.76 in
+  3D, which passed the engine's 20 % blow-up limit at job time). 0.2 % admits the ends of P1's grids (0.91, 0.71)
+  and refuses the next grid points (0.92, 0.75). The walls must also be able to reach it: the final box must stay
+  wider than two of the largest particles.
 * **Δt against the collision time of the lightest pair.** The undamped head-on collision of two of the lightest
   particles at twice the fastest imposed speed (initial or wall speed; P1 Eq. 4 generalised,
   `forcenet.units.undamped_collision_time`) must span at least `MIN_STEPS_PER_COLLISION` steps.
@@ -32,13 +37,15 @@ import numpy as np
 
 from forcenet import units
 from forcenet.dem import packing, stability
+from forcenet.dem._kernels.contacts import MAX_OVERLAP_FRACTION
 
 #: Δt ≤ (shortest collision) / MIN_STEPS_PER_COLLISION
 MIN_STEPS_PER_COLLISION = 10
 #: densest packing of equal disks (hexagonal) and spheres (fcc/hcp)
 DENSEST_PACKING = {2: math.pi / (2.0 * math.sqrt(3.0)), 3: math.pi / (3.0 * math.sqrt(2.0))}
-#: the grid may exceed the densest packing by a uniform overlap of this fraction of a diameter
-RHO_OVERLAP_MARGIN = 0.01
+#: the grid may exceed the densest packing by a uniform overlap of this fraction of a diameter (admits P1's grid
+#: ends 0.91 in 2D and 0.71 in 3D, refuses 0.92 and 0.75: module docstring)
+RHO_OVERLAP_MARGIN = 0.002
 #: polydisperse initial lattices: the first ρ must exceed the expected lattice ρ by this many standard deviations
 INITIAL_RHO_SIGMAS = 5.0
 #: the walls cannot close the box below this many of the largest diameters
@@ -157,6 +164,13 @@ def system_problems(system) -> list[Problem]:
     if n_axis ** system.dimension < 2:
         return [Problem("box_length", f"a box of {system.box_length} d_ave holds {n_axis ** system.dimension} "
                                       "particle(s) on the initial lattice; need ≥ 2")]
+    overlap = packing.initial_overlap(system)
+    if overlap >= MAX_OVERLAP_FRACTION:
+        return [Problem("initial_state.sites_per_axis",
+                        f"{n_axis} sites per axis in a box of {system.box_length} d_ave are "
+                        f"{packing.lattice_spacing(system):.4f} d_ave apart, so two large particles overlap by "
+                        f"{overlap:.0%} of their diameter at t = 0, at or above the engine's blow-up limit "
+                        f"{MAX_OVERLAP_FRACTION:.0%}: use fewer sites or a larger box")]
     problems += _rho_problems(system)
     problems += _time_step_problems(system)
     return problems
@@ -175,7 +189,7 @@ def _rho_problems(system) -> list[Problem]:
     if last > highest:
         return [Problem("rho", f"the last ρ = {last} is above {highest:.4f}, the densest packing of equal "
                                f"{'disks' if dim == 2 else 'spheres'} ({DENSEST_PACKING[dim]:.4f}) compressed to a "
-                               f"uniform overlap of {RHO_OVERLAP_MARGIN:.0%} of a diameter: lower the grid's stop")]
+                               f"uniform overlap of {RHO_OVERLAP_MARGIN:.1%} of a diameter: lower the grid's stop")]
     final_length = system.box_length * (rho0 / last) ** (1.0 / dim)
     smallest_box = SMALLEST_BOX_IN_DIAMETERS * packing.largest_diameter(system)
     if final_length < smallest_box:

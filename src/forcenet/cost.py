@@ -26,9 +26,12 @@ class SimulationCost:
 
 
 def estimated_particles(spec: SystemSpec) -> int:
-    """Particles on the initial lattice of `forcenet.dem.packing` (exact, not an estimate)."""
+    """Particles on the initial lattice of `forcenet.dem.packing` (exact, not an estimate); an imported system's
+    particles in its first state."""
     from forcenet.dem.packing import sites_per_axis
 
+    if getattr(spec, "particles", None) is not None:
+        return int(spec.particles)
     return sites_per_axis(spec) ** spec.dimension
 
 

@@ -6,17 +6,58 @@ that need them, keeping the per-job start-up of light rules small.
 """
 from __future__ import annotations
 
+import errno
 import json
 import logging
 import os
 import shutil
+import sys
 from contextlib import contextmanager
 from pathlib import Path
 from typing import Any, Iterator, Mapping, Sequence
 
 from forcenet.datasets.paths import CHECKPOINT, realization_index, rho_file, staging_dir
 from forcenet.errors import ForcenetError
-from forcenet.systems import config_sha256, material_from_config, realization_seed, system_from_config
+from forcenet.systems import material_from_config, realization_seed, system_from_config
+
+
+#: an error while the outputs' filesystem has fewer free bytes than this is reported as a full disk [bytes] (a failed
+#: write's temporary file is removed before the check, so this must exceed the largest file a job writes)
+FULL_DISK_BYTES = 64 << 20
+_FULL_DISK_ERRNOS = (errno.ENOSPC, errno.EDQUOT)
+
+
+def full_disk_message(error: BaseException, folder: str | os.PathLike) -> str | None:
+    """One line for an error that a full disk caused, None for any other: an OSError ENOSPC or EDQUOT, or any error
+    while `folder`'s filesystem has under `FULL_DISK_BYTES` free (netCDF/HDF5 reports a failed write as
+    ``RuntimeError: NetCDF: HDF error`` or a PermissionError). The line keeps the original error's type and text."""
+    try:
+        free = shutil.disk_usage(folder).free
+    except OSError:
+        free = None
+    if getattr(error, "errno", None) not in _FULL_DISK_ERRNOS and (free is None or free >= FULL_DISK_BYTES):
+        return None
+    left = "" if free is None else f", {free} bytes free"
+    return (f"no space left on the disk holding {os.path.abspath(folder)}{left} ({type(error).__name__}: {error}): "
+            "free space there (or set results_dir to a larger filesystem), then run the same command again")
+
+
+class _JobLogFile(logging.FileHandler):
+    """The job's log file; what a full disk cannot take is dropped quietly (stderr still shows every line), not
+    reported with logging's own traceback."""
+
+    def handleError(self, record: logging.LogRecord) -> None:
+        error = sys.exc_info()[1]
+        if isinstance(error, OSError) and error.errno in _FULL_DISK_ERRNOS:
+            return
+        super().handleError(record)
+
+    def close(self) -> None:
+        try:
+            super().close()
+        except OSError as error:
+            if error.errno not in _FULL_DISK_ERRNOS:
+                raise
 
 
 @contextmanager
@@ -25,14 +66,15 @@ def job_logger(log_path: str | os.PathLike | None, name: str) -> Iterator[loggin
 
     An expected error (`forcenet.errors.ForcenetError`: an invalid file or config, a simulation blow-up) is logged
     as its one-line message and ends the process with exit status 1, no traceback: the message names the file or
-    the setting. Any other exception is a bug and is logged and re-raised with its traceback."""
+    the setting. So is an error that a full disk caused (`full_disk_message`). Any other exception is a bug and is
+    logged and re-raised with its traceback."""
     logger = logging.getLogger(f"forcenet.{name}")
     logger.setLevel(logging.INFO)
     logger.propagate = False
     handlers: list[logging.Handler] = [logging.StreamHandler()]
     if log_path:
         Path(log_path).parent.mkdir(parents=True, exist_ok=True)
-        handlers.append(logging.FileHandler(log_path, mode="a"))
+        handlers.append(_JobLogFile(log_path, mode="a"))
     formatter = logging.Formatter("%(asctime)s %(levelname)s %(message)s", "%Y-%m-%d %H:%M:%S")
     for handler in handlers:
         handler.setFormatter(formatter)
@@ -41,6 +83,13 @@ def job_logger(log_path: str | os.PathLike | None, name: str) -> Iterator[loggin
         yield logger
     except ForcenetError as error:
         logger.error("%s", error)
+        raise SystemExit(1) from None
+    except Exception as error:
+        message = full_disk_message(error, Path(log_path).parent if log_path else Path.cwd())
+        if message is None:
+            logger.exception("job failed")
+            raise
+        logger.error("%s", message)
         raise SystemExit(1) from None
     except BaseException:
         logger.exception("job failed")  # the traceback belongs in the job's log, not only on the console
@@ -54,26 +103,21 @@ def job_logger(log_path: str | os.PathLike | None, name: str) -> Iterator[loggin
 def run_attrs(config: Mapping[str, Any], system: str, realization: int, title: str) -> dict[str, Any]:
     from forcenet.datasets import provenance_attrs
 
+    from forcenet.datasets.schema import ENGINE_SOURCE_FORMAT, SOURCE_FORMAT_ATTR
+
     seed = realization_seed(config["seed"], system, realization)
-    return provenance_attrs(system=system, realization=realization, seed=seed, config=config, title=title)
-
-
-def simulation_params(config: Mapping[str, Any], system: str) -> dict[str, Any]:
-    """What a compression run depends on: its own system entry, the seed and (P1 units) the material — not the
-    analysis keys or other systems. Snakemake reruns a simulation when these change; a staged run resumes only
-    under the same ones."""
-    entry = config["systems"][system]
-    params = {"system": entry, "seed": config["seed"]}
-    if entry["stiffness"] == "material":
-        params["material"] = config["material"]
-    return params
+    return {**provenance_attrs(system=system, realization=realization, seed=seed, config=config, title=title),
+            SOURCE_FORMAT_ATTR: ENGINE_SOURCE_FORMAT}
 
 
 def prepare_stage(stage: Path, config: Mapping[str, Any], system: str) -> Path:
     """Create (or keep) the staging folder of a run. A stage written under other simulation settings is
     discarded (its checkpoint must not be resumed); one whose config differs only in what the run does not depend
-    on (`simulation_params`: analysis keys, other systems, studies) is kept, so long runs survive such edits."""
-    marker, fingerprint = stage / "simulation_sha256", config_sha256(simulation_params(config, system))
+    on (`forcenet.systems.simulation_params`: analysis keys, other systems, studies) is kept, so long runs survive
+    such edits."""
+    from forcenet.datasets.runs import simulation_sha256
+
+    marker, fingerprint = stage / "simulation_sha256", simulation_sha256(config, system)
     if stage.exists() and (not marker.exists() or marker.read_text() != fingerprint):
         shutil.rmtree(stage)
     stage.mkdir(parents=True, exist_ok=True)
@@ -119,6 +163,17 @@ def simulate(*, config: Mapping[str, Any], system: str, realization: str, output
             os.replace(temporary, cost_path)
 
 
+def import_states(*, config: Mapping[str, Any], system: str, realization: str, outputs: Sequence[str],
+                  log_path: str | None = None) -> None:
+    """The snapshots of one run of an imported system (``source:`` in its config entry): every state of the run's
+    source files, checked against the snapshot contract, written in ρ order (`forcenet.importers.import_run`). A
+    malformed source stops the job with one line naming the file and line or column, and nothing is written."""
+    from forcenet.importers import import_run
+
+    with job_logger(log_path, f"import.{system}.{realization}") as log:
+        import_run(config=config, system=system, realization=realization_index(realization), outputs=outputs, log=log)
+
+
 def force_constants(config: Mapping[str, Any], system: str) -> dict[str, float]:
     """The per-system constants in which P1's F_max rule (§3) compares ⟨F⟩ across systems
     (`analysis.p1_force_unit`), stored as global attributes of network_measures.nc (`forcenet.datasets.aggregate` lists them with units).
@@ -132,7 +187,7 @@ def force_constants(config: Mapping[str, Any], system: str) -> dict[str, float]:
     spec = system_from_config(system, config)
     constants = {"force_unit_dyn": float("nan"), "stiffness_scale_reduced": float(spec.normal_stiffness),
                  "normal_stiffness_cgs": float("nan")}
-    if config["systems"][system]["stiffness"] == "material":
+    if config["systems"][system].get("stiffness") == "material":
         material = material_from_config(config)
         constants["force_unit_dyn"] = units.force_unit_dyn(material, spec.beta)
         constants["normal_stiffness_cgs"] = units.normal_stiffness_cgs(material, spec.beta)
@@ -141,13 +196,15 @@ def force_constants(config: Mapping[str, Any], system: str) -> dict[str, float]:
 
 def aggregate(*, analyses: Sequence[str], realizations: Sequence[int], rhos: Sequence[float], measures_path: str,
               diagrams_path: str, config: Mapping[str, Any], system: str, log_path: str | None = None) -> None:
-    """Stack one system's per-snapshot analyses over (realization, ρ) into network_measures.nc and diagrams.nc."""
-    from forcenet.datasets import provenance_attrs, read_dataset, write_netcdf
+    """Stack one system's per-snapshot analyses over (realization, ρ) into network_measures.nc and diagrams.nc; an
+    analysis recorded for another run (system, dimension, simulation settings) is refused, naming the file."""
+    from forcenet.datasets import provenance_attrs, read_dataset, run_expectation, write_netcdf
     from forcenet.datasets.aggregate import stack_diagrams, stack_network_measures
 
     spec = system_from_config(system, config)
     with job_logger(log_path, f"aggregate.{system}") as log:
-        datasets = [read_dataset(path, "analysis") for path in analyses]
+        expect = run_expectation(config, system)
+        datasets = [read_dataset(path, "analysis", expect=expect) for path in analyses]
         attrs = provenance_attrs(system=system, realization=-1, seed=config["seed"], config=config,
                                  title=f"forcenet network measures, {system}, stacked over realization and rho")
         attrs.update(dimension=spec.dimension, force_law=spec.force_law, **force_constants(config, system))
@@ -180,13 +237,15 @@ def snapshot_analysis_params(config: Mapping[str, Any], system: str) -> dict[str
 
 
 def analyze_run(*, snapshots: Sequence[str], outputs: Sequence[str], analysis: Mapping[str, Any],
-                log_path: str | None = None) -> None:
+                log_path: str | None = None, expect: Mapping[str, Any] | None = None) -> None:
     """Analyse every snapshot of one compression run (one process: imports and JIT paid once). Every snapshot is
-    read and checked before the first analysis is written, so a bad one stops the job with nothing written."""
+    read and checked before the first analysis is written, so a bad one stops the job with nothing written.
+    `expect` (`forcenet.datasets.snapshot.run_expectation` of the run): a snapshot recorded for another system,
+    dimension or simulation settings is refused, naming the file and the attribute."""
     from forcenet.datasets import read_snapshot
 
     with job_logger(log_path, "analyze") as log:
-        snaps = [read_snapshot(snapshot) for snapshot in snapshots]
+        snaps = [read_snapshot(snapshot, expect=expect) for snapshot in snapshots]
         for snapshot, snap, output in zip(snapshots, snaps, outputs, strict=True):
             analyze_snapshot(snapshot, output, analysis, log, snap=snap)
 
@@ -235,6 +294,10 @@ def analysis_attrs(snap, source: str, analysis: Mapping[str, Any]) -> dict[str, 
 
     attrs = {key: snap.attrs[key] for key in ("system", "realization", "seed", "forcenet_version", "git_commit",
                                                "config_sha256", "config", "Conventions", "dimension")}
+    from forcenet.datasets.schema import SNAPSHOT_SOURCE_ATTRS, SOURCE_FORMAT_ATTR
+
+    # where the snapshot came from (our engine, or an import's files and their sha256) travels with its analysis
+    attrs.update({key: snap.attrs[key] for key in (SOURCE_FORMAT_ATTR, *SNAPSHOT_SOURCE_ATTRS) if key in snap.attrs})
     attrs["title"] = f"forcenet analysis of one snapshot, {attrs['system']}"
     attrs["source"] = str(source)
     attrs.update(rattler_attrs(analysis["remove_rattlers"]))
@@ -346,10 +409,10 @@ FIGURE_INPUT_READERS = {
 
 
 def movie(*, kind: str, system: str, inputs: Sequence[str], output: str, rattler_rule: bool | str,
-          log_path: str | None = None) -> None:
+          log_path: str | None = None, force_unit: str | None = None) -> None:
     """One compression movie of `system` (`forcenet.plotting.movies`): kind "network" from the snapshots of one
     run in ρ order (`inputs`), networks made by the study's `rattler_rule`; kind "b0_surface" from the
-    network_measures.nc of every P1 system."""
+    network_measures.nc of every P1 system, its ρ_max from ⟨F⟩ in `force_unit` (``analysis.p1_force_unit``)."""
     from forcenet.datasets import read_snapshot
     from forcenet.plotting import movies
 
@@ -357,7 +420,8 @@ def movie(*, kind: str, system: str, inputs: Sequence[str], output: str, rattler
         if kind == "network":
             frames = movies.network_movie([read_snapshot(p) for p in inputs], output, rattler_rule=rattler_rule)
         elif kind == "b0_surface":
-            frames = movies.b0_surface_movie(_open_by_system(inputs, "network_measures"), system, output)
+            frames = movies.b0_surface_movie(_open_by_system(inputs, "network_measures"), system, output,
+                                             force_unit=force_unit)
         else:
             raise ValueError(f"unknown movie kind {kind!r}; known: network, b0_surface")
         log.info("%s movie of %s: %d frames", kind, system, frames)
@@ -394,7 +458,7 @@ def p2_distances(*, analyses: Sequence[str], realizations: Sequence[int], output
                  config: Mapping[str, Any], system: str, log_path: str | None = None) -> None:
     """P2 §III D: d_B, d_W1, d_W2 between consecutive snapshots of every realization → distances.nc, with the
     config's ρ grid as the `rho` coordinate (`forcenet.datasets.aggregate.distances_on_grid`)."""
-    from forcenet.datasets import provenance_attrs, read_dataset, write_netcdf
+    from forcenet.datasets import provenance_attrs, read_dataset, run_expectation, write_netcdf
     from forcenet.datasets.aggregate import distances_on_grid
     from forcenet.report.p2_distances import consecutive_distances, stack_distances
 
@@ -402,7 +466,8 @@ def p2_distances(*, analyses: Sequence[str], realizations: Sequence[int], output
         per_realization_count, left = divmod(len(analyses), len(realizations))
         if left or not per_realization_count:
             raise ValueError(f"{len(analyses)} analyses cannot be split evenly over realizations {list(realizations)}")
-        datasets = [read_dataset(path, "analysis") for path in analyses]  # every file checked before any work
+        expect = run_expectation(config, system)  # every file checked, and of this run, before any work
+        datasets = [read_dataset(path, "analysis", expect=expect) for path in analyses]
         results = []
         for index, realization in enumerate(realizations):
             run = datasets[index * per_realization_count:(index + 1) * per_realization_count]
@@ -411,7 +476,7 @@ def p2_distances(*, analyses: Sequence[str], realizations: Sequence[int], output
         spec = system_from_config(system, config)
         attrs = provenance_attrs(system=system, realization=-1, seed=config["seed"], config=config,
                                  title=f"forcenet distances between consecutive persistence diagrams, {system}")
-        attrs["dimension"] = spec.dimension
+        attrs.update(dimension=spec.dimension, force_law=spec.force_law)
         attrs.update(common_analysis_attrs(datasets))  # the rule and complex that made every compared diagram
         stacked = distances_on_grid(stack_distances(results, realizations, attrs), spec.rho_grid[1:])
         write_netcdf(stacked, output, kind="distances")

@@ -35,6 +35,9 @@ RHO_DECIMALS = 3
 #: rattler rules of the force networks (`study_rattler_rule`; `forcenet.network` applies them)
 RATTLER_RULES = ("once", "iterative", "none")
 
+#: P2's states a, b, c (Tables I–III, Figs 1, 3) are this many consecutive snapshots of one run
+TABLE_STATES = 3
+
 
 @dataclass(frozen=True)
 class Relaxation:
@@ -43,6 +46,22 @@ class Relaxation:
     window_steps: int
     tolerance: float
     max_steps: int
+
+
+@dataclass(frozen=True)
+class InitialState:
+    """How a run starts (`systems.<name>.initial_state`).
+
+    lattice : ``"gapped"`` (spacing = largest diameter + a gap: no overlaps, as many sites as fit) or ``"box"``
+        (P1 §3: `sites_per_axis` sites per axis spread evenly over the whole box)
+    sites_per_axis : sites per axis of the ``"box"`` lattice (N = sites_per_axis^d)
+    relax_first : relax at the initial ρ with the system's relaxation rule before the first compression (P1 §3:
+        a relaxation after every compression step from the start; resolves the ``"box"`` lattice's overlaps)
+    """
+
+    lattice: str = "gapped"
+    sites_per_axis: int | None = None
+    relax_first: bool = False
 
 
 @dataclass(frozen=True)
@@ -67,6 +86,9 @@ class SystemSpec:
         in the system's own τ_c units (P1 ref. [47]), or ``"head_on"``, a head-on collision of two mean particles
         (at `wall_speed` for Hertz) has restitution e_n, or ``"explicit"``, γ_n = `normal_damping`
     normal_damping : γ_n [d_ave^(−β) τ_c^(−1)] of ``damping_model: explicit``, None otherwise
+    initial_state : the start (`InitialState`), None for the default gapped lattice without a first relaxation
+        (left out of the repr, so the checkpoint fingerprints of runs without it are unchanged; the fingerprint
+        adds it when set)
     walls : ``"flat"`` (P1) or ``"rough"`` (P2, monodisperse wall particles)
     time_step : Δt [τ_c]
     protocol : ``"quasistatic"`` (P1) or ``"continuous"`` (P2)
@@ -99,11 +121,61 @@ class SystemSpec:
     relaxation: Relaxation | None
     paper: str = field(default="P1")
     normal_damping: float | None = None
+    initial_state: InitialState | None = field(default=None, repr=False)
 
     @property
     def rho_labels(self) -> list[str]:
         """ρ values as they appear in file names, e.g. ``"0.842"``."""
         return [format_rho(rho) for rho in self.rho_grid]
+
+
+#: the `force_law` an imported system records (its stacked files' global attribute): the law is the source's own
+IMPORTED_FORCE_LAW = "imported"
+
+
+@dataclass(frozen=True)
+class ImportedSystem:
+    """A system whose states are imported (`forcenet.importers`) instead of simulated: a config entry with
+    ``source:`` (a format and its files) in place of the DEM settings.
+
+    Attributes
+    ----------
+    name : config name
+    dimension : 2 or 3
+    rho_grid : the packing fractions of run 0's states (from each state's particles and box), rounded to
+        `RHO_DECIMALS`, increasing: the states' labels in file names
+    source : the config's ``source:`` entry
+    particles : particles in run 0's first state (the cost model's job sizes)
+    force_law : ``"imported"`` (the law is the source's own; every network is analysed in units of its mean force)
+    """
+
+    name: str
+    dimension: int
+    rho_grid: tuple[float, ...]
+    source: Mapping[str, Any] = field(compare=False)
+    particles: int = 0
+    force_law: str = IMPORTED_FORCE_LAW
+    paper: str = "imported"
+    normal_stiffness: float = float("nan")
+
+    @property
+    def rho_labels(self) -> list[str]:
+        return [format_rho(rho) for rho in self.rho_grid]
+
+
+def imported_system(name: str, entry: Mapping[str, Any]) -> ImportedSystem:
+    """The `ImportedSystem` of a ``source:`` entry: its runs' states are read (`forcenet.importers.source_states`,
+    which stops at a malformed file with its name and line) to give the ρ grid of run 0."""
+    from forcenet.importers import source_states
+
+    key = f"systems.{name}.source"
+    runs = [source_states(entry, run, where=key) for run in range(len(entry["source"]["runs"]))]
+    grids = [[state.rho for state in states] for states in runs]
+    if len({len(grid) for grid in grids}) != 1:
+        raise ConfigError(f"{key}.runs", f"every run needs the same number of states, got {[len(g) for g in grids]}")
+    return ImportedSystem(name=name, dimension=int(entry["dimension"]),
+                          rho_grid=rho_grid(grids[0], f"{key}.runs[0] (the states' packing fractions, in order)"),
+                          source=dict(entry["source"]), particles=len(runs[0][0].radius))
 
 
 def format_rho(rho: float) -> str:
@@ -138,12 +210,21 @@ def material_from_config(config: Mapping[str, Any]) -> units.Material:
     return units.Material(**config["material"])
 
 
-def system_from_config(name: str, config: Mapping[str, Any]) -> SystemSpec:
-    """Build the `SystemSpec` of ``config["systems"][name]`` (config already schema-validated)."""
+def system_from_config(name: str, config: Mapping[str, Any]) -> SystemSpec | ImportedSystem:
+    """Build the `SystemSpec` of ``config["systems"][name]`` (config already schema-validated), or its
+    `ImportedSystem` when the entry has ``source:``."""
     key = f"systems.{name}"
     if name not in config["systems"]:
         raise ConfigError(key, "no such system")
     entry = config["systems"][name]
+    if "source" in entry:
+        runs = len(entry["source"]["runs"])
+        if runs != config["realizations"]:
+            raise ConfigError(f"{key}.source.runs", f"lists {runs} run(s), but realizations is "
+                                                    f"{config['realizations']}: one run per realization")
+        return imported_system(name, entry)
+    if entry["stiffness"] == "material" and "material" not in config:
+        raise ConfigError("material", f"missing: system '{name}' takes its stiffness from the material")
     beta = units.FORCE_LAW_BETA[entry["force_law"]]
     if entry["stiffness"] == "material":  # P1: Y, σ, d_ave, m̄, v0 → k_n in τ_c units
         k_n = units.reduced_normal_stiffness(material_from_config(config), beta)
@@ -175,6 +256,7 @@ def system_from_config(name: str, config: Mapping[str, Any]) -> SystemSpec:
         restitution=float(entry["restitution"]),
         damping_model=entry["damping_model"],
         normal_damping=float(entry["normal_damping"]) if "normal_damping" in entry else None,
+        initial_state=InitialState(**entry["initial_state"]) if "initial_state" in entry else None,
         walls=entry["walls"],
         time_step=float(entry["time_step"]),
         protocol=entry["protocol"],
@@ -238,8 +320,31 @@ def study_rattler_rule(config: Mapping[str, Any], system: str) -> str:
         raise ConfigError("analysis.remove_rattlers", str(error)) from None
 
 
-def validate_config(config: Mapping[str, Any]) -> dict[str, SystemSpec]:
+def non_finite_number(config: Any, key: str = "") -> ConfigError | None:
+    """The first NaN or ±inf anywhere in `config` (YAML's ``.nan``, ``.inf``, ``-.inf``; nested mappings and lists
+    walked in order), as a `ConfigError` naming its key (``systems.2d_hertz.rho[1]``); None when every number is
+    finite. A JSON schema cannot say this: every comparison with NaN is false, so NaN passes any bound."""
+    if isinstance(config, float) and not math.isfinite(config):
+        return ConfigError(key or "(top level)", f"is {config}, not a finite number: every number in a config must "
+                                                 "be finite")
+    if isinstance(config, Mapping):
+        items = ((f"{key}.{name}" if key else str(name), value) for name, value in config.items())
+    elif isinstance(config, (list, tuple)):
+        items = ((f"{key}[{index}]", value) for index, value in enumerate(config))
+    else:
+        return None
+    for item_key, value in items:
+        problem = non_finite_number(value, item_key)
+        if problem is not None:
+            return problem
+    return None
+
+
+def validate_config(config: Mapping[str, Any]) -> dict[str, SystemSpec | ImportedSystem]:
     """Semantic validation after the JSON schema; returns every system by name. Raises `ConfigError`."""
+    problem = non_finite_number(config)
+    if problem is not None:
+        raise problem
     for study, entry in config["studies"].items():
         for i, name in enumerate(entry["systems"]):
             if name not in config["systems"]:
@@ -260,7 +365,24 @@ def validate_config(config: Mapping[str, Any]) -> dict[str, SystemSpec]:
         if missing:
             raise ConfigError("realizations", f"no count for system(s) {missing}: a per-system mapping names every "
                                               "system (or give one integer for all)")
-    return {name: system_from_config(name, config) for name in config["systems"]}
+    systems = {name: system_from_config(name, config) for name in config["systems"]}
+    for name in config["studies"].get("p2", {}).get("systems", []):
+        if len(systems[name].rho_grid) < TABLE_STATES:
+            raise ConfigError(f"systems.{name}.rho", f"has {len(systems[name].rho_grid)} snapshot(s), but a system of "
+                                                     f"study p2 needs at least {TABLE_STATES} (the consecutive states "
+                                                     "a, b, c of Tables I–III): extend the ρ grid")
+    return systems
+
+
+def simulation_params(config: Mapping[str, Any], system: str) -> dict[str, Any]:
+    """What a compression run depends on: its own system entry, the seed and (P1 units) the material — not the
+    analysis keys or other systems. Snakemake reruns a simulation when these change; a staged run resumes only
+    under the same ones."""
+    entry = config["systems"][system]
+    params = {"system": entry, "seed": config["seed"]}
+    if entry.get("stiffness") == "material":
+        params["material"] = config["material"]
+    return params
 
 
 def realization_count(config: Mapping[str, Any], system: str) -> int:
@@ -291,8 +413,8 @@ def select_table_snapshots(rhos, table_rho: float) -> tuple[int, int, int]:
     to 0.79): b is the grid point nearest `table_rho`, a and c its neighbours below and above (shifted inwards at
     the ends of the grid). Indices refer to `rhos` as given (it need not be sorted)."""
     rhos = np.asarray(rhos, dtype=float)
-    if rhos.ndim != 1 or rhos.size < 3:
-        raise ValueError(f"need at least three snapshots, got {rhos.size}")
+    if rhos.ndim != 1 or rhos.size < TABLE_STATES:
+        raise ValueError(f"need at least {TABLE_STATES} snapshots, got {rhos.size}")
     if not np.all(np.isfinite(rhos)) or len(np.unique(rhos)) != rhos.size:
         raise ValueError("rho values must be finite and distinct")
     order = np.argsort(rhos)

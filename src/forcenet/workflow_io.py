@@ -3,20 +3,23 @@ config. Kept light (no numba or xarray imports) so that a dry run stays fast."""
 from __future__ import annotations
 
 import dataclasses
+import os
 from pathlib import Path
 from typing import Any, Mapping
 
 import yaml
 
 from forcenet.errors import ForcenetError
-from forcenet.systems import ConfigError, config_sha256, validate_config
+from forcenet.systems import ConfigError, config_sha256, non_finite_number, validate_config
 
 
-def write_resolved_config(config: Mapping[str, Any], path: str | Path) -> None:
-    """Every system in reduced units (k_n, k_t, ρ grid …) plus the config hash, as YAML."""
+def write_resolved_config(config: Mapping[str, Any], path: str | Path, results_dir: str | Path) -> None:
+    """Every system in reduced units (k_n, k_t, ρ grid …) plus the config hash and the absolute folder that received
+    the outputs (`results_dir`, from `resolve_results_dir`), as YAML."""
     systems = validate_config(config)
     resolved = {
         "config_sha256": config_sha256(config),
+        "results_dir": str(results_dir),
         "units": {"length": "d_ave", "mass": "m_mean", "time": "tau_c"},
         "systems": {name: _plain(dataclasses.asdict(spec)) for name, spec in systems.items()},
     }
@@ -39,13 +42,38 @@ DEFAULT_CONFIG = "config/config.yaml"
 CONFIG_SCHEMA = "workflow/schemas/config.schema.yaml"
 
 
+#: where outputs go when a config sets no results_dir (relative to the working directory)
+DEFAULT_RESULTS_DIR = "results"
+
+
 class ConfigFileError(ForcenetError):
     """A config file that cannot be read as YAML: the message names the file and the line."""
 
 
+def duplicate_keys(node: yaml.Node, key: str = "") -> list[tuple[str, int, int]]:
+    """(key, line, line of its first occurrence) of every key given twice in one mapping of a composed YAML
+    document, keys written ``systems.2d_hertz.friction`` and lines counted from 1 (YAML itself keeps the last value
+    silently)."""
+    found = []
+    if isinstance(node, yaml.MappingNode):
+        first_lines: dict[str, int] = {}
+        for key_node, value_node in node.value:
+            name = str(key_node.value)
+            path = f"{key}.{name}" if key else name
+            line = key_node.start_mark.line + 1
+            if name in first_lines:
+                found.append((path, line, first_lines[name]))
+            first_lines.setdefault(name, line)
+            found += duplicate_keys(value_node, path)
+    elif isinstance(node, yaml.SequenceNode):
+        for index, item in enumerate(node.value):
+            found += duplicate_keys(item, f"{key}[{index}]")
+    return found
+
+
 def read_config_file(path: str | Path) -> dict:
-    """The mapping in a YAML config file; `ConfigFileError` naming the file (and line) when it is missing, not YAML
-    or not a mapping."""
+    """The mapping in a YAML config file; `ConfigFileError` naming the file (and line) when it is missing, not YAML,
+    not a mapping, or gives one key twice in a mapping."""
     path = Path(path)
     try:
         text = path.read_text(encoding="utf-8")
@@ -60,7 +88,42 @@ def read_config_file(path: str | Path) -> dict:
         raise ConfigFileError(f"config file {path}{where}: not valid YAML ({problem})") from None
     if not isinstance(config, dict):
         raise ConfigFileError(f"config file {path}: must be a mapping of keys (seed, systems, …) at the top level")
+    repeated = duplicate_keys(yaml.compose(text, Loader=yaml.SafeLoader))
+    if repeated:
+        key, line, first = repeated[0]
+        raise ConfigFileError(f"config file {path}, line {line}: key '{key}' is given twice (first at line {first}); "
+                              "YAML would keep the last value silently: remove one")
     return config
+
+
+def resolve_results_dir(value: str | None, working_dir: str | Path) -> tuple[str, Path]:
+    """The config's `results_dir` resolved once: (the folder as the rules write it, its absolute path).
+
+    A relative path stays relative (so that targets such as ``results/sim/…`` on the command line match the rules'
+    outputs), with ``.`` and ``..`` removed; it must stay inside `working_dir` (the repository root, or Snakemake's
+    ``--directory``): ``results/../../escape`` is refused, an absolute path says where outside. An absolute path
+    (a cluster's scratch space) is taken as given, normalised; ``~`` is expanded. Environment variables are not
+    expanded, and braces would be read as Snakemake wildcards: both are refused. Raises `ConfigError` naming
+    ``results_dir``."""
+    raw = DEFAULT_RESULTS_DIR if value is None else value
+    if not raw.strip():
+        raise ConfigError("results_dir", f"is empty: name the folder that receives the outputs (default: {DEFAULT_RESULTS_DIR})")
+    for character, why in (("$", "environment variables are not expanded"), ("{", "braces are Snakemake wildcards"),
+                           ("}", "braces are Snakemake wildcards"),
+                           ("\n", "a newline cannot be part of a folder name")):
+        if character in raw:
+            raise ConfigError("results_dir", f"{raw!r} contains {character!r} ({why}): write the folder's path itself")
+    expanded = os.path.expanduser(raw)
+    normalised = os.path.normpath(expanded)
+    working_dir = Path(os.path.abspath(working_dir))
+    if os.path.isabs(normalised):
+        return normalised, Path(normalised)
+    if normalised == "." or normalised == ".." or normalised.startswith(".." + os.sep):
+        where = os.path.normpath(working_dir / normalised)
+        raise ConfigError("results_dir", f"{raw!r} resolves to {where}, which is not a folder inside the working "
+                                         f"directory {working_dir}: give a relative path below it, or an absolute "
+                                         "path to write elsewhere")
+    return normalised, working_dir / normalised
 
 
 def schema_problem(config: Mapping[str, Any], schema_path: str | Path) -> ConfigError | None:
@@ -84,8 +147,8 @@ def schema_problem(config: Mapping[str, Any], schema_path: str | Path) -> Config
 def checked_config(config: Mapping[str, Any], schema_path: str | Path) -> dict:
     """Validate a workflow config (JSON schema, then `forcenet.systems.validate_config` with the physical checks of
     `forcenet.checks`) and return its systems by name; raises the first `ConfigError`, whose one-line message names
-    the key."""
-    problem = schema_problem(config, schema_path)
+    the key. A NaN or infinity is named before the schema runs (the schema's bounds cannot see NaN)."""
+    problem = non_finite_number(config) or schema_problem(config, schema_path)
     if problem is not None:
         raise problem
     return validate_config(config)
@@ -94,8 +157,9 @@ def checked_config(config: Mapping[str, Any], schema_path: str | Path) -> dict:
 def check_config_main(argv: list[str] | None = None) -> int:
     """`forcenet-check-config FILE …`: every check the workflow runs on a config before any job, one line per file.
 
-    Snakemake reads a --configfile before the workflow does and reports a YAML syntax error without the file or line;
-    this names both (and runs the schema and physical checks as the workflow would)."""
+    Snakemake reads a --configfile before the workflow does and reports a YAML syntax error without the file or line,
+    and a key given twice not at all; this names both (and runs the schema and physical checks as the workflow
+    would, and resolves `results_dir` against the current directory, as a run from it would)."""
     import sys
 
     paths = sys.argv[1:] if argv is None else argv
@@ -106,12 +170,14 @@ def check_config_main(argv: list[str] | None = None) -> int:
     status = 0
     for path in paths:
         try:
-            systems = checked_config(read_config_file(path), schema)
+            config = read_config_file(path)
+            systems = checked_config(config, schema)
+            _, results = resolve_results_dir(config.get("results_dir"), Path.cwd())
         except ForcenetError as error:
             print(f"{path}: invalid: {error}", file=sys.stderr)
             status = 1
         else:
-            print(f"{path}: valid ({len(systems)} systems: {', '.join(systems)})")
+            print(f"{path}: valid ({len(systems)} systems: {', '.join(systems)}; results_dir {results})")
     return status
 
 

@@ -1,7 +1,7 @@
 # Config loading and validation, paths and input functions. Runs at parse time, before any job: a bad config stops
-# here with one line naming the file and line (YAML) or the key (JSON schema first, then forcenet.systems and the
-# physical checks of forcenet.checks). Kept light (no numba/xarray imports) so a dry-run of thousands of jobs stays
-# fast.
+# here with one line naming the file and line (YAML, a key given twice) or the key (NaN or infinity, JSON schema,
+# then forcenet.systems and the physical checks of forcenet.checks). Kept light (no numba/xarray imports) so a
+# dry-run of thousands of jobs stays fast.
 import sys
 from pathlib import Path
 
@@ -12,9 +12,9 @@ sys.path.insert(0, str(Path(workflow.basedir) / "src"))  # works before `pip ins
 from forcenet.datasets import paths  # every file name of the build (standard library only)
 from forcenet.datasets.paths import realization_index
 from forcenet.errors import ForcenetError
-from forcenet.pipeline import simulation_params, snapshot_analysis_params
-from forcenet.systems import realization_indices
-from forcenet.workflow_io import CONFIG_SCHEMA, DEFAULT_CONFIG, checked_config, read_config_file
+from forcenet.pipeline import snapshot_analysis_params
+from forcenet.systems import realization_indices, simulation_params
+from forcenet.workflow_io import CONFIG_SCHEMA, DEFAULT_CONFIG, checked_config, read_config_file, resolve_results_dir
 
 # A config given with --configfile stands alone: the default is read only when none is given (Snakemake's
 # `configfile:` directive would merge the given file onto the default, so a config could never drop a system, and a
@@ -26,12 +26,23 @@ if not workflow.overwrite_configfiles:
     except ForcenetError as error:
         raise WorkflowError(str(error)) from None
     workflow.configfile(str(_default_config))
+else:
+    # Snakemake has read them already, keeping the last value of a key given twice: refuse that, naming file and line
+    for _configfile in workflow.overwrite_configfiles:
+        try:
+            read_config_file(_configfile)
+        except ForcenetError as error:
+            raise WorkflowError(str(error)) from None
 try:
     SYSTEMS = checked_config(config, Path(workflow.basedir) / CONFIG_SCHEMA)
+    # resolved once, against the working directory (the repository root, or --directory); the recorded config
+    # (every output's `config` attribute) holds the folder as the rules write it
+    RESULTS, RESULTS_ABSOLUTE = resolve_results_dir(config.get("results_dir"), Path.cwd())
 except ForcenetError as error:
     raise WorkflowError(f"Invalid config: {error}") from None
-
-RESULTS = config.get("results_dir", "results").rstrip("/")
+if "results_dir" in config:
+    config["results_dir"] = RESULTS
+print(f"forcenet: results_dir = {RESULTS_ABSOLUTE} (every output is written there)", file=sys.stderr)
 # The committed tables of the validation campaign (docs/validation/, written by validation_report): their values
 # stand beside the papers' in this build's validation tables. A config at the papers' sizes (validation.yaml,
 # paper.yaml) sets null: its tables are the paper-size values and get no such column.
@@ -121,7 +132,8 @@ REPORT_FIGURES, REPORT_PDFS, REPORT_TABLES = "Figures", "Figures as PDF (vector,
 def all_targets():
     """Everything `snakemake` builds by default: figures and tables of the studies in the config."""
     targets = [paths.resolved_config(RESULTS)]
-    targets += [paths.network_measures(RESULTS, s) for s in dict.fromkeys(P1_SYSTEMS + P2_SYSTEMS)]
+    # every system's stacked measures, also of a system in no study (analysed, not drawn)
+    targets += [paths.network_measures(RESULTS, s) for s in dict.fromkeys(P1_SYSTEMS + P2_SYSTEMS + list(SYSTEMS))]
     targets += [paths.figure(RESULTS, name, "pdf") for name in BUILT_FIGURES]  # figures.smk, from the registry
     if P1_SYSTEMS:
         targets += [paths.p1_validation_table(RESULTS, "md")]

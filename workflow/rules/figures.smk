@@ -118,6 +118,7 @@ for _movie, (_kind, _system) in P1_MOVIES.items():
             kind=_kind,
             system=_system,
             rattler_rule=study_rattler_rule(config, _system),
+            force_unit=FORCE_UNIT,  # the b0_surface movie's ρ_max, as the figures
         script:
             "../scripts/movie.py"
 

@@ -7,5 +7,6 @@ rule resolved_config:
         paths.log(RESULTS, "", "resolved_config"),
     params:
         config=config,
+        results_dir=str(RESULTS_ABSOLUTE),
     script:
         "../scripts/resolved_config.py"

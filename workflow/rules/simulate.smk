@@ -2,7 +2,33 @@
 # One rule per system because each system has its own ρ grid (hence its own list of outputs).
 # Snapshots are staged with the checkpoint in .partial/ (forcenet.datasets.paths.staging_dir) and published when the
 # run completes, so a run killed half-way resumes from its checkpoint and never leaves outputs that look complete.
+# A system with `source:` (states from another code or an experiment) is imported instead: rule import_{system}
+# writes the same snapshots (forcenet.importers), and everything downstream treats them alike.
+from forcenet.importers import run_files
+from forcenet.systems import ImportedSystem
+
 for _name, _spec in SYSTEMS.items():
+    if isinstance(_spec, ImportedSystem):
+
+        rule:
+            name:
+                f"import_{_name}"
+            localrule: True
+            input:
+                lambda wildcards, name=_name: run_files(config["systems"][name],
+                                                        realization_index(wildcards.realization)),
+            output:
+                snapshots=[snapshot_path(_name, "{realization}", rho) for rho in _spec.rho_labels],
+            log:
+                paths.run_log(RESULTS, "import", _name, "{realization}"),
+            params:
+                system=_name,
+                depends_on=system_params(_name),
+            threads: 1
+            script:
+                "../scripts/import_states.py"
+
+        continue
 
     rule:
         name:

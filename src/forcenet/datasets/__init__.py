@@ -14,6 +14,7 @@ _EXPORTS = {
     "DatasetError": "io", "SchemaError": "io", "git_commit": "io", "open_dataset": "io", "provenance_attrs": "io",
     "read_dataset": "io", "validate_dataset": "io", "write_netcdf": "io",
     "read_snapshot": "snapshot", "snapshot_dataset": "snapshot", "write_snapshot": "snapshot",
+    "run_expectation": "runs", "run_mismatch": "runs",
 }
 
 __all__ = sorted(_EXPORTS)

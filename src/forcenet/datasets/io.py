@@ -12,7 +12,9 @@ from typing import Any, Mapping
 import numpy as np
 import xarray as xr
 
-from forcenet.datasets.schema import DTYPE_KINDS, FILE_KINDS, REQUIRED_GLOBAL_ATTRS, VariableSpec
+from forcenet.datasets.schema import (ANALYSIS_FINITE_VARIABLES, DTYPE_KINDS, ENGINE_SOURCE_FORMAT, FILE_KINDS,
+                                      OPTIONAL_VARIABLES, REQUIRED_GLOBAL_ATTRS, SNAPSHOT_FINITE_VARIABLES,
+                                      SNAPSHOT_GLOBAL_ATTRS, SNAPSHOT_SOURCE_ATTRS, SOURCE_FORMAT_ATTR, VariableSpec)
 from forcenet.errors import ForcenetError
 
 CONVENTIONS = "CF-1.10"
@@ -92,9 +94,11 @@ def schema_problems(ds: xr.Dataset, kind: str | None = None) -> list[str]:
     problems = []
     if kind is not None:
         variables, coordinates = FILE_KINDS[kind]
+        optional = OPTIONAL_VARIABLES.get(kind, ())
         for name, spec in variables.items():
             if name not in ds.variables:
-                problems.append(f"variable '{name}' missing")
+                if name not in optional:
+                    problems.append(f"variable '{name}' missing")
                 continue
             var = ds.variables[name]
             if tuple(var.dims) != spec.dims:
@@ -105,7 +109,84 @@ def schema_problems(ds: xr.Dataset, kind: str | None = None) -> list[str]:
     problems += [f"variable '{name}' lacks '{key}'" for name, var in ds.variables.items()
                  for key in ("units", "long_name") if key not in var.attrs]
     problems += [f"global attribute '{key}' missing" for key in REQUIRED_GLOBAL_ATTRS if key not in ds.attrs]
+    if not problems and kind in VALUE_CHECKS:  # values only once the structure is right
+        problems += VALUE_CHECKS[kind](ds)
     return problems
+
+
+def _nonfinite(ds: xr.Dataset, name: str, allowed: np.ndarray | None = None) -> list[str]:
+    """"variable 'name' has a NaN or infinite value at <dim> <index>" for the first such value (none: [])."""
+    values = np.asarray(ds[name].values, dtype=float)
+    bad = ~np.isfinite(values)
+    if allowed is not None:
+        bad &= ~allowed
+    if not bad.any():
+        return []
+    where = np.unravel_index(int(np.argmax(bad)), values.shape) if values.ndim else ()
+    at = ", ".join(f"{dim} {index}" for dim, index in zip(ds[name].dims, where))
+    return [f"variable '{name}' has a NaN or infinite value{' at ' + at if at else ''}"]
+
+
+def snapshot_value_problems(ds: xr.Dataset) -> list[str]:
+    """What breaks the snapshot contract in the values (`schema`: the snapshot contract): the `dimension` attribute
+    (2 or 3, the size of `spatial`), an imported snapshot's source provenance, non-finite positions, radii, forces,
+    box or ρ, a radius ≤ 0, contact or wall indices naming no particle or wall, a box with box_hi ≤ box_lo."""
+    problems = [f"global attribute '{key}' missing" for key in SNAPSHOT_GLOBAL_ATTRS if key not in ds.attrs]
+    source = ds.attrs.get(SOURCE_FORMAT_ATTR, ENGINE_SOURCE_FORMAT)
+    if source != ENGINE_SOURCE_FORMAT:
+        problems += [f"global attribute '{key}' missing (imported snapshot, {SOURCE_FORMAT_ATTR} '{source}')"
+                     for key in SNAPSHOT_SOURCE_ATTRS if key not in ds.attrs]
+    if problems:
+        return problems
+    spatial = ds.sizes["spatial"]
+    try:
+        dimension = int(ds.attrs["dimension"])
+    except (TypeError, ValueError):
+        dimension = -1
+    if dimension not in (2, 3) or dimension != spatial:
+        return [f"global attribute 'dimension' is {ds.attrs['dimension']}, but the positions have {spatial} "
+                "components"]
+    for name in SNAPSHOT_FINITE_VARIABLES:
+        problems += _nonfinite(ds, name)
+    if problems:
+        return problems
+    radius = ds["radius"].values
+    if np.any(radius <= 0):
+        problems.append(f"variable 'radius' is not positive at particle {int(np.argmax(radius <= 0))} "
+                        f"({float(radius[np.argmax(radius <= 0)])!r})")
+    n = ds.sizes["particle"]
+    for name in ("contact_i", "contact_j", "wall_contact_particle"):
+        values = ds[name].values
+        outside = (values < 0) | (values >= n)
+        if outside.any():
+            k = int(np.argmax(outside))
+            problems.append(f"variable '{name}' names particle {int(values[k])} at {ds[name].dims[0]} {k}, but there "
+                            f"are {n} particles")
+    same = ds["contact_i"].values == ds["contact_j"].values
+    if same.any():
+        problems.append(f"variables 'contact_i', 'contact_j': particle {int(ds['contact_i'].values[np.argmax(same)])} "
+                        f"in contact with itself at contact {int(np.argmax(same))}")
+    walls = ds["wall_contact_wall"].values
+    if np.any((walls < 0) | (walls >= 2 * dimension)):
+        problems.append(f"variable 'wall_contact_wall' has a wall id outside 0 … {2 * dimension - 1}")
+    if np.any(ds["box_hi"].values <= ds["box_lo"].values):
+        problems.append("variables 'box_lo', 'box_hi': box_hi must exceed box_lo on every axis")
+    return problems
+
+
+def analysis_value_problems(ds: xr.Dataset) -> list[str]:
+    """Non-finite values where an analysis file must have finite ones (`schema.ANALYSIS_FINITE_VARIABLES`; `death`
+    is −inf exactly where `essential` is 1)."""
+    problems = []
+    for name in ANALYSIS_FINITE_VARIABLES:
+        problems += _nonfinite(ds, name)
+    death = np.asarray(ds["death"].values, dtype=float)
+    problems += _nonfinite(ds, "death", allowed=(death == -np.inf) & (ds["essential"].values == 1))
+    return problems
+
+
+#: file kind → the checks of its values (run by `schema_problems` once the variables are there)
+VALUE_CHECKS = {"snapshot": snapshot_value_problems, "analysis": analysis_value_problems}
 
 
 def validate_dataset(ds: xr.Dataset, kind: str | None = None) -> None:
@@ -130,8 +211,11 @@ def _new_private_name(path: Path) -> Path:
 def write_netcdf(ds: xr.Dataset, path: str | os.PathLike, kind: str | None = None) -> Path:
     """Validate (against `kind`'s schema when given) and write `ds` with zlib compression, atomically: a temporary
     file in the same directory is renamed over `path` only once complete, so a killed job never leaves a file that
-    looks complete. The file's mode follows the umask like any other output's."""
-    validate_dataset(ds, kind)
+    looks complete. The file's mode follows the umask like any other output's. A dataset that breaks the schema
+    (values included: a NaN force in a snapshot) raises `DatasetError` naming `path`, and nothing is written."""
+    problems = schema_problems(ds, kind)
+    if problems:
+        raise DatasetError(path, f"not written, not a valid {kind or 'forcenet'} file: " + "; ".join(problems))
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     encoding = {name: {"zlib": True, "complevel": 4} for name, var in ds.variables.items()
@@ -152,11 +236,13 @@ def open_dataset(path: str | os.PathLike) -> xr.Dataset:
         return ds.load()
 
 
-def read_dataset(path: str | os.PathLike, kind: str) -> xr.Dataset:
+def read_dataset(path: str | os.PathLike, kind: str, expect: Mapping[str, Any] | None = None) -> xr.Dataset:
     """Open a file the pipeline reads and check it against the schema of its `kind` (`schema.FILE_KINDS`).
 
     Raises `DatasetError` with one line naming the file and every problem: unreadable (missing, truncated, not
-    netCDF), a missing variable or coordinate, wrong dims or value type, missing units or provenance."""
+    netCDF), a missing variable or coordinate, wrong dims or value type, missing units or provenance, values the
+    kind forbids (`VALUE_CHECKS`: NaN or infinite positions, radii or forces …). With `expect`
+    (`forcenet.datasets.runs.run_expectation`), a file recorded for another run is refused as well."""
     try:
         ds = open_dataset(path)
     except Exception as error:  # netCDF4/HDF5 raise OSError, RuntimeError, ValueError or KeyError for bad files
@@ -165,4 +251,10 @@ def read_dataset(path: str | os.PathLike, kind: str) -> xr.Dataset:
     problems = schema_problems(ds, kind)
     if problems:
         raise DatasetError(path, f"not a valid {kind} file: " + "; ".join(problems))
+    if expect is not None:
+        from forcenet.datasets.runs import run_mismatch
+
+        problem = run_mismatch(ds, expect)
+        if problem:
+            raise DatasetError(path, f"not of this run: {problem}")
     return ds

@@ -9,7 +9,7 @@ scripts, tests and tutorial use to find a file. Imported when the workflow is pa
 ``{results}/`` holds (netCDF kinds are those of `forcenet.datasets.schema`)::
 
     config/resolved.yaml                     every system in reduced units with its ρ grid (rule resolved_config)
-    sim/{system}/{realization}/rho{ρ}.nc     DEM snapshot, kind "snapshot": positions, radii, contacts, forces
+    sim/{system}/{realization}/rho{ρ}.nc     snapshot (DEM or imported), kind "snapshot": positions, radii, contacts, forces
     sim/{system}/{realization}/run_cost.json what the compression run cost (CPU seconds, particles, snapshots)
     sim/{system}/{realization}/.partial/     a run in progress: its snapshots so far and checkpoint.npz
     analysis/{system}/{realization}/rho{ρ}.nc  analysis of one snapshot, kind "analysis"
@@ -157,14 +157,14 @@ def resolved_config(results: str) -> str:
 
 
 def log(results: Folder, step: str, name: str) -> str:
-    """The log of one job: `step` is the kind of job (simulate, analyze, aggregate, distances, figures, tables,
-    movies) and `name` what it made (``{system}/{realization}`` for simulate and analyze, the system, the figure,
+    """The log of one job: `step` is the kind of job (simulate, import, analyze, aggregate, distances, figures,
+    tables, movies) and `name` what it made (``{system}/{realization}`` for simulate, import and analyze, the system, the figure,
     table or movie name); ``log(results, "", "resolved_config")`` is the resolved config's."""
     return f"{results}/logs/{step + '/' if step else ''}{name}.log"
 
 
 def run_log(results: Folder, step: str, system: str, realization: str) -> str:
-    """The log of the job that simulates or analyses (`step`) one run."""
+    """The log of the job that simulates, imports or analyses (`step`) one run."""
     return log(results, step, f"{system}/{realization}")
 
 

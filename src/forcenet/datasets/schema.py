@@ -62,6 +62,31 @@ REQUIRED_GLOBAL_ATTRS = (
     "Conventions",
 )
 
+# --- the snapshot contract: what every snapshot has, whoever wrote it (our engine or an importer) ------------------
+#
+# Every snapshot has the variables of SNAPSHOT_VARIABLES except the dynamics of a DEM run (SNAPSHOT_DYNAMICS: our
+# engine writes them, an imported state need not have them), the global attributes REQUIRED_GLOBAL_ATTRS and
+# SNAPSHOT_GLOBAL_ATTRS, and an imported one also SNAPSHOT_SOURCE_ATTRS (its source files and their sha256).
+# `forcenet.datasets.io.read_dataset` / `write_netcdf` check the values as well (SNAPSHOT_FINITE_VARIABLES finite,
+# radii > 0, contact indices naming particles, `dimension` equal to the size of `spatial`, box_hi > box_lo).
+# Wall contacts may be empty (a state without walls: percolation is then never decided).
+
+#: the variables of a DEM run's dynamics: written by our engine, optional in the contract (an import has none)
+SNAPSHOT_DYNAMICS = ("velocity", "angular_velocity", "kinetic_energy", "pressure", "time", "step",
+                     "relaxation_steps")
+#: global attributes of every snapshot beyond REQUIRED_GLOBAL_ATTRS: the spatial dimension (2 or 3)
+SNAPSHOT_GLOBAL_ATTRS = ("dimension",)
+#: global attribute saying where a snapshot came from (absent in snapshots written before it existed: our engine)
+SOURCE_FORMAT_ATTR = "source_format"
+#: `source_format` of our engine's snapshots
+ENGINE_SOURCE_FORMAT = "forcenet-dem"
+#: provenance of an imported snapshot (source_format other than ENGINE_SOURCE_FORMAT): the source files (JSON list),
+#: their sha256 (JSON list, same order) and the timestep (LAMMPS) or state index (tables) the snapshot holds
+SNAPSHOT_SOURCE_ATTRS = ("source_files", "source_sha256", "source_timestep")
+#: variables that must hold finite values (issue 27: a NaN position or force is refused, never analysed)
+SNAPSHOT_FINITE_VARIABLES = ("position", "radius", "force_normal", "force_tangential", "wall_contact_force",
+                             "box_lo", "box_hi", "rho", "Z")
+
 INDEX_FILL = -1  # fill value for integer index variables (never used for valid data)
 
 # --- analysis of one snapshot: results/analysis/{system}/r{NN}/rho{ρ}.nc -------------------------------------
@@ -155,6 +180,10 @@ DISTANCES_VARIABLES: dict[str, VariableSpec] = {
     "rho_measured": VariableSpec(("realization", "rho"), DIMENSIONLESS, "packing fraction of the later snapshot"),
 }
 
+#: variables of an analysis file that must be finite (forces in <F>, ρ, Z); `death` is finite or -inf where
+#: `essential` is 1 (a class that never dies)
+ANALYSIS_FINITE_VARIABLES = ("mean_force", "total_persistence", "rho", "Z", "birth")
+
 #: every file kind the pipeline reads: its variables and the coordinates a reader selects on
 FILE_KINDS: dict[str, tuple[dict[str, VariableSpec], tuple[str, ...]]] = {
     "snapshot": (SNAPSHOT_VARIABLES, ("spatial",)),
@@ -164,3 +193,6 @@ FILE_KINDS: dict[str, tuple[dict[str, VariableSpec], tuple[str, ...]]] = {
     "diagrams": (DIAGRAMS_VARIABLES, ("force_kind",)),
     "distances": (DISTANCES_VARIABLES, ("realization", "rho", "force_kind", "homology_dim", "metric")),
 }
+
+#: variables of a file kind that may be absent (when present they must match their spec)
+OPTIONAL_VARIABLES: dict[str, tuple[str, ...]] = {"snapshot": SNAPSHOT_DYNAMICS}

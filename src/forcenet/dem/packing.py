@@ -9,8 +9,12 @@ Sizes (reduced units, length d_ave, mass m̄):
   normalised so the mean mass is exactly 1; moments of inertia m r²/2 (disk) and 2 m r²/5 (sphere).
 
 Lattice: spacing = largest possible diameter + `LATTICE_GAP`, so no two particles overlap; as many sites per
-axis as fit in the box (N = n_axis^d, the lattice centred in the box). Species are assigned to sites at
-random. Velocities: each component normal with standard deviation `initial_speed`, minus the mean (zero total
+axis as fit in the box (N = n_axis^d, the lattice centred in the box). With `SystemSpec.initial_state` of
+lattice ``"box"`` (P1 §3's start: ≈ 2000 disks on a square grid in a 50 × 50 d_ave box, ρ0 ≈ 0.645) the given
+number of sites per axis is spread evenly over the whole box (spacing box_length / n_axis, the outer sites half a
+spacing from the walls); neighbouring large particles may then overlap at t = 0 (2025 disks in 50 d_ave: 10 % of
+a large diameter), which the dynamics resolve in the relaxation that precedes the first compression
+(`protocol.run_compression`). Species are assigned to sites at random. Velocities: each component normal with standard deviation `initial_speed`, minus the mean (zero total
 momentum); angular velocities 0. Every random draw comes from one `numpy.random.Generator`, in a fixed order.
 
 Rough walls (P2): each wall is a square grid (a row in 2D) of touching wall particles of diameter
@@ -138,7 +142,24 @@ def smallest_diameter(system) -> float:
 
 def sites_per_axis(system) -> int:
     """Lattice sites along each axis of the initial box (N = sites_per_axis^d)."""
+    if system.initial_state is not None and system.initial_state.lattice == "box":
+        return int(system.initial_state.sites_per_axis)
     return int(math.floor(system.box_length / (largest_diameter(system) + LATTICE_GAP) + 1e-9))
+
+
+def lattice_spacing(system) -> float:
+    """Distance between neighbouring sites of the initial lattice [d_ave]: the largest diameter + `LATTICE_GAP`
+    (no overlaps), or, for `initial_state.lattice` ``"box"``, the box side over the sites per axis."""
+    if system.initial_state is not None and system.initial_state.lattice == "box":
+        return system.box_length / sites_per_axis(system)
+    return largest_diameter(system) + LATTICE_GAP
+
+
+def initial_overlap(system) -> float:
+    """Largest overlap of two neighbouring particles on the initial lattice, as a share of the largest diameter
+    [-] (0 for the default lattice)."""
+    largest = largest_diameter(system)
+    return max(0.0, largest - lattice_spacing(system)) / largest
 
 
 def draw_diameters(system, n: int, rng: np.random.Generator) -> np.ndarray:
@@ -189,7 +210,7 @@ def initial_packing(system, rng: np.random.Generator) -> InitialPacking:
     dim = system.dimension
     n_axis = sites_per_axis(system)
     n = n_axis ** dim
-    spacing = largest_diameter(system) + LATTICE_GAP
+    spacing = lattice_spacing(system)
     offset = 0.5 * (system.box_length - n_axis * spacing) + 0.5 * spacing
     axis_sites = offset + spacing * np.arange(n_axis)
     position = np.stack(np.meshgrid(*[axis_sites] * dim, indexing="ij"), axis=-1).reshape(-1, dim)

@@ -91,7 +91,10 @@ def wall_shift_for(sim: Simulation, rho: float) -> float:
 
 
 def _fingerprint(system: SystemSpec, seed: int) -> str:
-    text = json.dumps({"system": repr(system), "seed": int(seed), "format": CHECKPOINT_FORMAT}, sort_keys=True)
+    identity = {"system": repr(system), "seed": int(seed), "format": CHECKPOINT_FORMAT}
+    if system.initial_state is not None:  # not in the repr: runs without it keep their fingerprints
+        identity["initial_state"] = repr(system.initial_state)
+    text = json.dumps(identity, sort_keys=True)
     return hashlib.sha256(text.encode()).hexdigest()
 
 
@@ -245,7 +248,7 @@ def _relax(sim: Simulation, system: SystemSpec, index: int, progress: _Progress,
                 return done
         if done >= rule.max_steps:
             log.warning("%s: relaxation at ρ = %.3f hit the cap of %d steps (E_kin fluctuation still ≥ %g)",
-                        system.name, system.rho_grid[index], rule.max_steps, rule.tolerance)
+                        system.name, sim.packing_fraction, rule.max_steps, rule.tolerance)
             return done
 
 
@@ -332,6 +335,13 @@ def run_compression(system: SystemSpec, *, seed: int, snapshot_paths: Sequence[s
         rho = system.rho_grid[index]
         target = wall_shift_for(sim, rho)
         try:
+            if index == 0 and resumed is None and system.initial_state is not None \
+                    and system.initial_state.relax_first:  # P1 §3: relax from the start (resolves t = 0 overlaps)
+                log.info("%s: relaxing the initial state at ρ = %.4f before the first compression", system.name,
+                         sim.packing_fraction)
+                steps = _relax(sim, system, index, progress, log)
+                log.info("%s: initial state relaxed in %d steps (E_kin = %.3e)", system.name, steps,
+                         sim.kinetic_energy())
             if system.protocol == "quasistatic":
                 _compress_to(sim, target, index, progress, system.wall_speed, stop_walls=True)
                 relaxation_steps = _relax(sim, system, index, progress, log)

@@ -73,10 +73,12 @@ def network_movie(snapshots: Sequence[xr.Dataset], output: str | os.PathLike, *,
 
 
 def b0_surface_movie(measures: Mapping[str, xr.Dataset], system: str, output: str | os.PathLike, *,
-                     frames: int = SURFACE_FRAMES, fps: int = SURFACE_FPS) -> int:
+                     frames: int = SURFACE_FRAMES, fps: int = SURFACE_FPS, force_unit: str | None = None) -> int:
     """One turn around the realization-mean B0/N surface of `system` over (ρ, F_th), the data of P1 Fig. 2 (ρ up
-    to ρ_max). `measures` holds every P1 system (the F_max cut compares them). Returns the number of frames."""
-    table = p1.prepare_p1_fig02_betti0_surface(measures).table
+    to ρ_max). `measures` holds every P1 system (the F_max cut compares them, ⟨F⟩ in `force_unit`,
+    ``analysis.p1_force_unit``; default P1's dyn). Returns the number of frames."""
+    unit = {} if force_unit is None else {"force_unit": force_unit}
+    table = p1.prepare_p1_fig02_betti0_surface(measures, **unit).table
     rows = table[table[cols.SYSTEM] == system]
     if rows.empty:
         raise ValueError(f"no B0/N data for system {system!r}")

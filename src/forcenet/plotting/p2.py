@@ -25,6 +25,7 @@ from forcenet.plotting.figure_data import FigureData, concat, curve_rows
 from forcenet.plotting.style import (FALLBACK_COLORS, FORCE_KIND_WORDS, LABELS, apply_style, system_color,
                                      system_label)
 from forcenet.report import p2 as report
+from forcenet.report.p1 import system_dimension
 from forcenet.datasets import diagram_points
 from forcenet.report.realizations import realization_mean, realization_spread
 
@@ -157,7 +158,7 @@ def _mark_quoted_levels(ax, source: str, h: int, rho: np.ndarray, rho_j: float) 
 
 def _jamming(distances: xr.Dataset) -> tuple[int, float]:
     """(d, ρ_J) of a distances dataset: its spatial dimension and where the mean Z(ρ) reaches d + 1."""
-    dimension = int(distances.attrs.get("dimension", 2))
+    dimension = system_dimension(distances)
     return dimension, report.jamming_density(distances, dimension)
 
 

@@ -30,7 +30,7 @@ from typing import Any, Callable, Mapping, Sequence
 import numpy as np
 import pandas as pd
 
-__all__ = ["HOLDS", "FAILS", "NOT_EVALUATED", "MARGINAL", "VACUOUS", "MARGINAL_FRACTION", "MEASURED", "HYPOTHESIS",
+__all__ = ["HOLDS", "FAILS", "NOT_EVALUATED", "IMPORTED_NOT_EVALUATED", "MARGINAL", "VACUOUS", "MARGINAL_FRACTION", "MEASURED", "HYPOTHESIS",
            "BELOW_BEFORE_JUMP", "BELOW_TOLERANCE", "ClaimTolerances", "NotEvaluated", "Judgement", "relative_margin",
            "contrast_margin", "smallest_margin", "ratio_margin", "Claim", "claim_register", "Explanation",
            "JudgedClaim", "holds_share", "judge_claim", "rows_beside", "verdict_counts", "verdict_summary",
@@ -38,6 +38,10 @@ __all__ = ["HOLDS", "FAILS", "NOT_EVALUATED", "MARGINAL", "VACUOUS", "MARGINAL_F
            "write_validation_table", "PAPER_SIZE", "PAPER_SIZE_HEADER", "with_paper_size", "paper_size_placeholder"]
 
 HOLDS, FAILS, NOT_EVALUATED = "holds", "does not hold", "not evaluated"
+
+#: why a claim about the papers' compression protocol is not judged on imported states (`forcenet.importers`)
+IMPORTED_NOT_EVALUATED = ("imported states: the claim is about the paper's compression protocol (walls, speed, "
+                          "relaxation, sampling through jamming), which an import does not record")
 
 
 class NotEvaluated(Exception):

@@ -94,22 +94,15 @@ def system_order(names) -> list[str]:
 
 
 def system_dimension(ds: xr.Dataset, name: str = "") -> int:
-    """Spatial dimension from the global attrs (``dimension``), else the config attr, else the name."""
-    if "dimension" in ds.attrs:
-        return int(ds.attrs["dimension"])
-    spec = _config_system(ds, name)
-    if "dimension" in spec:
-        return int(spec["dimension"])
-    return 3 if name.lower().startswith("3d") else 2
+    """Spatial dimension of a system's file: its global attribute ``dimension`` (every stacked file records it;
+    nothing is guessed from the system's name)."""
+    return int(_recorded(ds, "dimension", name))
 
 
 def system_force_law(ds: xr.Dataset, name: str = "") -> str:
-    """``"linear"``, ``"hertz"`` or ``"unknown"``: global attr ``force_law``, else the config attr, else the name."""
-    law = ds.attrs.get("force_law") or _config_system(ds, name).get("force_law")
-    if law:
-        return str(law).lower()
-    lower = name.lower()
-    return "linear" if "linear" in lower else "hertz" if "hertz" in lower else "unknown"
+    """The force law a system's file records (global attribute ``force_law``: ``"linear"``, ``"hertz"``, or
+    ``"imported"`` for states imported from another code or an experiment)."""
+    return str(_recorded(ds, "force_law", name)).lower()
 
 
 def system_friction(ds: xr.Dataset, name: str = "") -> float:
@@ -148,6 +141,14 @@ def _config_system(ds: xr.Dataset, name: str) -> dict:
         return dict(config.get("systems", {}).get(name or ds.attrs.get("system", ""), {}))
     except (TypeError, ValueError, AttributeError):
         return {}
+
+
+def _recorded(ds: xr.Dataset, attr: str, name: str):
+    """A global attribute the file must have (ValueError naming the system and the attribute otherwise)."""
+    if attr not in ds.attrs:
+        raise ValueError(f"{name or ds.attrs.get('system', 'a system')}: global attribute '{attr}' missing from its "
+                         "file (written by forcenet.pipeline.aggregate)")
+    return ds.attrs[attr]
 
 
 def rho_values(ds: xr.Dataset) -> np.ndarray:

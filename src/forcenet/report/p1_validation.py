@@ -18,7 +18,7 @@ import pandas as pd
 import xarray as xr
 
 from forcenet.report import p1_claims, p1_claims_topology
-from forcenet.report.claims import (BELOW_TOLERANCE, NOT_EVALUATED, VERDICT_COLUMNS, Claim, ClaimTolerances,
+from forcenet.report.claims import (BELOW_TOLERANCE, IMPORTED_NOT_EVALUATED, NOT_EVALUATED, VERDICT_COLUMNS, Claim, ClaimTolerances,
                                     JudgedClaim, Judgement, NotEvaluated, TableLayout, TableSection, claims_frame,
                                     judge_claim, rows_beside, validation_markdown, verdict_summary, with_paper_size,
                                     write_validation_table)
@@ -29,6 +29,7 @@ from forcenet.report.p1 import (DEFAULT_P1_FORCE_UNIT, P1_FORCE_UNITS, P1_RHO_ST
 from forcenet.report.p1_diagnostics import SHAPE_READINGS, with_shape_reading
 from forcenet.report.p1_judging import ClaimContext, SystemData
 from forcenet.report.realizations import bootstrap_draws, resample_realizations
+from forcenet.systems import IMPORTED_FORCE_LAW
 
 #: every claim of P1 §3–6, in the order the table lists them within a section
 CLAIMS: list[Claim] = [*p1_claims.CLAIMS, *p1_claims_topology.CLAIMS]
@@ -195,6 +196,8 @@ def _claim_rows(claim_: Claim, context: ClaimContext, names: set[str], resampled
             system = within.systems.get(name)
             if system is None:
                 raise NotEvaluated("system not in the results")
+            if claim_.needs_rho_j and system.force_law == IMPORTED_FORCE_LAW:
+                raise NotEvaluated(IMPORTED_NOT_EVALUATED)  # ρ_J and the regimes around it: P1's compression
             if claim_.needs_rho_j and not np.isfinite(system.rho_j):
                 raise NotEvaluated("rho_J could not be located")
             return claim_.judge(system, within.tolerances)

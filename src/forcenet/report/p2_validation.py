@@ -12,14 +12,16 @@ from typing import Any, Mapping
 import pandas as pd
 import xarray as xr
 
-from forcenet.report.claims import (HOLDS, VERDICT_COLUMNS, ClaimTolerances, Explanation, Judgement, TableLayout,
+from forcenet.report.claims import (HOLDS, IMPORTED_NOT_EVALUATED, NotEvaluated, VERDICT_COLUMNS, ClaimTolerances, Explanation, Judgement, TableLayout,
                                     TableSection, claims_frame, judge_claim, rows_beside, validation_markdown,
                                     verdict_summary, with_paper_size, write_validation_table)
+from forcenet.report.p1 import system_dimension
 from forcenet.report.p2 import FRICTIONAL, FRICTIONLESS, format_number
 from forcenet.report.p2_claims import CLAIMS
 from forcenet.report.p2_explanations import explain
 from forcenet.report.p2_judging import Context, Curves
 from forcenet.report.realizations import bootstrap_draws, resample_realizations
+from forcenet.systems import IMPORTED_FORCE_LAW
 
 #: the table's columns (CSV names → `JudgedClaim` fields); the Markdown heads claim_id "id" and reference "P2"
 P2_LAYOUT = TableLayout(columns={"claim_id": "id", "section": "section", "system": "system", "claim": "statement",
@@ -81,15 +83,21 @@ def p2_validation(distances: Mapping[str, xr.Dataset], tables: Mapping[str, pd.D
               for name, reading in (beside or {}).items()]
     systems = {"frictional": frictional, "frictionless": frictionless, "both": f"{frictional} vs {frictionless}",
                "tables": f"{frictional} (one realization)"}
+    # P2's claims are about its compression (wall speed, sampling step, the regimes around ρ_J): not judged on
+    # imported states, whose protocol is not recorded
+    imported = sorted(name for name, ds in distances.items() if name in (frictional, frictionless)
+                      and ds.attrs.get("force_law") == IMPORTED_FORCE_LAW)
     judged = []
     for claim in CLAIMS:
         def judge(within: Context, claim=claim) -> Judgement:
-            """The claim judged on the data of `within`."""
+            """The claim judged on the data of `within` (not on imported states: their protocol is not recorded)."""
+            if imported:
+                raise NotEvaluated(f"{', '.join(imported)}: {IMPORTED_NOT_EVALUATED}")
             return claim.judge(within)
 
         def explanation(verdict: str, claim=claim) -> Explanation | None:
-            """Why the claim does not hold (nothing where it does)."""
-            return explain(claim.id, ctx) if verdict != HOLDS else None
+            """Why the claim does not hold (nothing where it does, or where it is not judged on imported states)."""
+            return explain(claim.id, ctx) if verdict != HOLDS and not imported else None
 
         on_resamples = [] if claim.scope == "tables" else [lambda c=c, judge=judge: judge(c) for c in resampled]
         row = judge_claim(claim, systems[claim.scope], claim.paper_value(), claim.criterion_text(tol),
@@ -112,8 +120,8 @@ def p2_validation(distances: Mapping[str, xr.Dataset], tables: Mapping[str, pd.D
 
 
 def _dimension(ds: xr.Dataset) -> int:
-    """The spatial dimension of a distances dataset (its ``dimension`` attribute; 2 when absent, as P2)."""
-    return int(ds.attrs.get("dimension", 2))
+    """The spatial dimension of a distances dataset (its ``dimension`` attribute, which every distances.nc records)."""
+    return system_dimension(ds)
 
 
 def _markdown_head(table: pd.DataFrame) -> list[str]:

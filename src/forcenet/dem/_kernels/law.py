@@ -77,7 +77,7 @@ def contact_2d(law, nx, ny, overlap, v_normal, slip_x, slip_y, m_eff, scale, xi_
     gamma_t_m = law[LAW_GAMMA_T] * m_eff
     f_tx = -x_beta * (law[LAW_K_T] * xi_x + gamma_t_m * slip_x)
     f_ty = -x_beta * (law[LAW_K_T] * xi_y + gamma_t_m * slip_y)
-    # P1 Eq. 3: |F_t| ≤ μ|F_n|; the spring is rescaled by the same factor when the cap applies
+    # P1 Eq. 3: |F_t| ≤ μ|F_n|; the spring is rescaled by the same factor when the cap applies (P2 Eq. A5)
     f_t_sq = f_tx * f_tx + f_ty * f_ty
     f_t_max = law[LAW_MU] * f_n
     if f_t_sq > f_t_max * f_t_max:

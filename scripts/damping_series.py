@@ -1,0 +1,81 @@
+#!/usr/bin/env python3
+"""Tabulate the Hertz damping series (docs/validation/damping.md): one row per series run folder.
+
+    .venv/bin/python scripts/damping_series.py results/damping/2d_hertz_g* results/damping/3d_hertz_g*_n512 \
+        [--linear results/validation] [--markdown docs/validation/damping_runs.md]
+
+Each folder is a `results_dir` made with `config/validation.yaml` and one overlay of `config/damping/` (system
+taken from the folder name, up to `_g`), or `FOLDER:SYSTEM` for any other run folder (e.g. P1's start,
+`results/p1_start:2d_linear`, docs/validation/p1_start.md). `--linear` names a results folder holding the linear system's
+`2d_linear/network_measures.nc` (P1's paper-size protocol), whose B0/N ridge is printed beside the Hertz rows.
+What each column means: `forcenet.report.damping_series`.
+"""
+from __future__ import annotations
+
+import argparse
+import math
+import sys
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "src"))
+
+import pandas as pd  # noqa: E402
+
+from forcenet.report.claims import markdown_table  # noqa: E402
+from forcenet.report.damping_series import SeriesRun, network_readings, series_row  # noqa: E402
+
+COLUMNS = [
+    ("system", "system"), ("N", "N"), ("gamma_n", "γ_n"), ("e_at_v0", "e (mean pair, v0)"),
+    ("e_at_median_speed", "e (median approach speed near ρ_J)"), ("median_approach_speed", "median approach speed"),
+    ("top_rho", "last ρ"), ("capped_relaxations", "capped relaxations"), ("max_damping_dt", "max λΔt"),
+    ("passes_rule", "passes the rule"), ("rho_J", "ρ_J"), ("rho_J_bulk", "ρ_J bulk"),
+    ("connected_below_rho_J", "particles ≥ 2 contacts, last 2 states before the jump"),
+    ("rho_below_rho_J", "their ρ"),
+    ("b0_small_near_jamming", "B0/N F_th<0.5 near ρ_J"), ("b0_small_beyond", "same curve beyond ρ_J+0.03"),
+    ("weak_bin_near_jamming", "weak N0/N near ρ_J"), ("strong_bin_near_jamming", "strong N0/N near ρ_J"),
+    ("cluster_size_near_jamming", "⟨S⟩/N F_th=0 near ρ_J"), ("cpu_hours", "CPU-h"),
+]
+
+
+def _format(value) -> str:
+    if isinstance(value, bool):
+        return "yes" if value else "no"
+    if isinstance(value, float):
+        if not math.isfinite(value):
+            return "–"
+        return f"{value:.4g}"
+    if isinstance(value, list):
+        return ", ".join(str(v) for v in value) or "–"
+    return str(value)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("folders", nargs="+", help="series run folders (FOLDER or FOLDER:SYSTEM)")
+    parser.add_argument("--linear", type=Path, help="results folder with 2d_linear/network_measures.nc")
+    parser.add_argument("--markdown", type=Path, help="also write the table to this file")
+    args = parser.parse_args()
+    rows = []
+    for argument in args.folders:
+        folder, _, system = str(argument).partition(":")
+        rows.append(series_row(SeriesRun(Path(folder), system or Path(folder).name.split("_g")[0])))
+    if args.linear is not None:
+        from forcenet.report.p1 import jamming_point
+        import xarray as xr
+        from forcenet.datasets.paths import network_measures
+
+        with xr.open_dataset(network_measures(str(args.linear), "2d_linear")) as ds:
+            rho_j = jamming_point(ds)
+        row = {"system": "2d_linear (reference)", "rho_J": rho_j}
+        row.update(network_readings(SeriesRun(args.linear, "2d_linear"), rho_j))
+        rows.append(row)
+    rows.sort(key=lambda r: (r["system"], r.get("gamma_n", math.inf)))
+    frame = pd.DataFrame([{key: _format(row.get(key, math.nan)) for key, _ in COLUMNS} for row in rows])
+    text = "\n".join(markdown_table(frame, [key for key, _ in COLUMNS], dict(COLUMNS)))
+    print(text)
+    if args.markdown:
+        args.markdown.write_text(text + "\n")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,26 @@
+"""Importers: states from other codes and from experiments → contract snapshots (`forcenet.datasets.snapshot`).
+
+A config system with a ``source:`` entry (instead of the DEM settings) names a format and its files; its snapshots
+are written by `import_run` (rule ``import_{system}``) and then analysed, aggregated and drawn like any other. Two
+formats (`FORMATS`):
+
+- ``table`` (`forcenet.importers.table`): a plain CSV pair per state, particles (id, x, y[, z], radius) and contacts
+  (i, j, normal and tangential force as vectors or magnitudes), for experiments and codes without a dump reader;
+- ``lammps`` (`forcenet.importers.lammps`): LAMMPS text dumps, a ``dump custom`` of atoms and a ``dump local`` of
+  pair forces, one or many timesteps.
+
+A malformed source stops with `SourceError`: one line naming the file and the line or column, and nothing is
+written. This package reads with the standard library and numpy only (the workflow computes an imported system's
+ρ grid from its sources when it is parsed, `source_states`).
+"""
+from __future__ import annotations
+
+from forcenet.importers.common import (SourceError, SourceState, file_sha256, run_files, source_rho_grid,
+                                       source_states)
+from forcenet.importers.run import import_run
+
+#: the formats a config's ``source.format`` may name
+FORMATS = ("table", "lammps")
+
+__all__ = ["FORMATS", "SourceError", "SourceState", "file_sha256", "import_run", "run_files", "source_rho_grid",
+           "source_states"]

@@ -1,0 +1,135 @@
+"""What every importer shares: the state it reads (`SourceState`), ρ from the box, the error it raises, file hashes,
+and the dispatch from a config's ``source:`` entry to the reader of its format (`source_states`)."""
+from __future__ import annotations
+
+import hashlib
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Mapping
+
+import numpy as np
+
+from forcenet.errors import ForcenetError
+
+#: wall ids of the contract (`forcenet.datasets.schema`: wall_contact_wall), by name as a contacts table writes them
+WALL_NAMES = ("x_lo", "x_hi", "y_lo", "y_hi", "z_lo", "z_hi")
+
+
+class SourceError(ForcenetError, ValueError):
+    """A source file that cannot be imported; the one-line message names the file and the line or column."""
+
+    def __init__(self, path: str | Path, where: str, problem: str):
+        super().__init__(f"{path}{', ' + where if where else ''}: {problem}")
+        self.path = str(path)
+
+
+@dataclass
+class SourceState:
+    """One state as read from a source, in the source's units (forcenet's analysis normalises every network by its
+    own mean force, so only the length unit matters: ρ and the drawings).
+
+    position (N, d), radius (N,); contact_i < contact_j (C,) indices into the particles; force_normal,
+    force_tangential (C, d): forces on particle i from j; wall_particle, wall_id (W,), wall_force (W, d); box_lo,
+    box_hi (d,); files: the source files this state was read from; timestep: the LAMMPS timestep or the state's
+    index in its run's table list."""
+
+    position: np.ndarray
+    radius: np.ndarray
+    contact_i: np.ndarray
+    contact_j: np.ndarray
+    force_normal: np.ndarray
+    force_tangential: np.ndarray
+    box_lo: np.ndarray
+    box_hi: np.ndarray
+    files: tuple[str, ...]
+    timestep: int
+    wall_particle: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
+    wall_id: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
+    wall_force: np.ndarray | None = None
+
+    @property
+    def dimension(self) -> int:
+        return int(self.position.shape[1])
+
+    @property
+    def rho(self) -> float:
+        """Packing fraction: the particles' area (2D disks) or volume (3D spheres) over the box's."""
+        return packing_fraction(self.radius, self.box_lo, self.box_hi)
+
+    def snapshot_arrays(self) -> dict[str, Any]:
+        """The keyword arrays of `forcenet.datasets.write_snapshot` (no dynamics: an imported state has none)."""
+        d = self.dimension
+        wall_force = np.zeros((0, d)) if self.wall_force is None else self.wall_force
+        return dict(position=self.position, radius=self.radius, contact_i=self.contact_i, contact_j=self.contact_j,
+                    force_normal=self.force_normal, force_tangential=self.force_tangential,
+                    wall_contact_particle=self.wall_particle, wall_contact_wall=self.wall_id,
+                    wall_contact_force=wall_force, box_lo=self.box_lo, box_hi=self.box_hi, rho=self.rho,
+                    Z=2.0 * len(self.contact_i) / len(self.radius))
+
+
+def packing_fraction(radius: np.ndarray, box_lo: np.ndarray, box_hi: np.ndarray) -> float:
+    """Σ π r² / box area (2D) or Σ 4/3 π r³ / box volume (3D)."""
+    d = len(box_lo)
+    volume = math.pi * np.sum(radius ** 2) if d == 2 else 4.0 / 3.0 * math.pi * np.sum(radius ** 3)
+    return float(volume / np.prod(np.asarray(box_hi, float) - np.asarray(box_lo, float)))
+
+
+def file_sha256(path: str | Path) -> str:
+    digest = hashlib.sha256()
+    with open(path, "rb") as handle:
+        for block in iter(lambda: handle.read(1 << 20), b""):
+            digest.update(block)
+    return digest.hexdigest()
+
+
+def normal_unit_vectors(position: np.ndarray, i: np.ndarray, j: np.ndarray) -> np.ndarray:
+    """Unit vectors from particle j to particle i (the direction of a repulsive normal force on i)."""
+    delta = position[i] - position[j]
+    return delta / np.linalg.norm(delta, axis=1)[:, None]
+
+
+def perpendicular_unit_vectors(n: np.ndarray) -> np.ndarray:
+    """A unit vector perpendicular to each row of `n`: in 2D n rotated by +90°; in 3D n × e, e the axis on which n
+    has its smallest component."""
+    if n.shape[1] == 2:
+        return np.stack([-n[:, 1], n[:, 0]], axis=1)
+    axis = np.zeros_like(n)
+    axis[np.arange(len(n)), np.argmin(np.abs(n), axis=1)] = 1.0
+    t = np.cross(n, axis)
+    return t / np.linalg.norm(t, axis=1)[:, None]
+
+
+def order_pairs(i: np.ndarray, j: np.ndarray, fn: np.ndarray, ft: np.ndarray):
+    """Contacts with i < j: a pair given as (j, i) has its forces (on the first particle) reversed."""
+    swap = i > j
+    i, j = np.where(swap, j, i), np.where(swap, i, j)
+    sign = np.where(swap, -1.0, 1.0)[:, None]
+    return i, j, fn * sign, ft * sign
+
+
+def source_states(entry: Mapping[str, Any], realization: int, *, where: str = "source") -> list[SourceState]:
+    """Every state of one run (`realization`) of a config system's ``source:`` entry, read by its format's reader,
+    in the order the source gives them."""
+    from forcenet.importers import lammps, table
+
+    source, dimension = entry["source"], int(entry["dimension"])
+    run = source["runs"][realization]
+    if source["format"] == "table":
+        return table.read_run(run, dimension, source)
+    if source["format"] == "lammps":
+        return lammps.read_run(run, dimension, source)
+    raise SourceError(where, "", f"unknown format {source['format']!r}")
+
+
+def source_rho_grid(entry: Mapping[str, Any], realization: int = 0) -> tuple[float, ...]:
+    """The packing fractions of a run's states (computed from each state's particles and box)."""
+    return tuple(state.rho for state in source_states(entry, realization))
+
+
+def run_files(entry: Mapping[str, Any], realization: int) -> list[str]:
+    """The source files of one run of a ``source:`` entry (the inputs of its import job)."""
+    run = entry["source"]["runs"][realization]
+    if entry["source"]["format"] == "lammps":
+        return [run["atoms"], run["pairs"]]
+    return [path for state in run for path in (state["particles"], state["contacts"])]

@@ -1,0 +1,255 @@
+"""LAMMPS text dumps: a ``dump custom`` of the atoms with a ``dump local`` of the pair forces, 2D or 3D, one or
+many timesteps (README "Your own data"; the shipped example and how it was made: data/examples/lammps_2d/).
+
+Atoms dump (``dump custom``): columns ``id``, ``x``, ``y``, ``z`` (a 2D dump may leave z out or hold it constant),
+``radius`` (``type`` and any others are ignored); the box of each timestep is the dump's BOX BOUNDS (orthogonal
+boxes only) unless the config gives ``source.box``; ρ is the particles' area (2D) or volume (3D) over the box's.
+Optional wall forces: ``source.wall_columns`` names the atom columns holding the force of the walls on each atom
+(e.g. ``[f_walls[2], f_walls[3], f_walls[4]]`` of ``fix wall/gran/region … contacts``); an atom with a non-zero wall
+force gets one wall contact, at the box face nearest to it (fix wall/gran/region's per-atom output holds one contact
+per atom: a particle in a corner, touching two walls, is imported with one of them).
+
+Pairs dump (``dump local``): one row per pair (``compute property/local patom1 patom2`` and ``compute pair/local
+force p1 p2 p3`` of a ``gran/*`` pair style); ``source.pair_columns`` names the columns: ``i``, ``j`` (atom ids),
+``normal`` (one column: the normal force's magnitude, repulsive > 0, directed from j to i, as ``compute pair/local
+force``; or 2–3 columns: the vector on i) and ``tangential`` (2–3 columns: the vector on i, as pair gran's
+p1 p2 p3; or one column: the magnitude, stored perpendicular to the normal). Rows whose forces are all zero are
+neighbours not in contact and are left out. The atoms and pairs dumps must hold the same timesteps in the same
+order; ``source.timesteps`` picks some of them (default: all).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Iterator, Mapping, Sequence
+
+import numpy as np
+
+from forcenet.importers.common import (SourceError, SourceState, normal_unit_vectors, order_pairs,
+                                       perpendicular_unit_vectors)
+
+#: the pair columns of the shipped example (bench/lammps/make_import_example.py), used where the config names none
+DEFAULT_PAIR_COLUMNS = {"i": "c_pid[1]", "j": "c_pid[2]", "normal": ["c_pf[1]"],
+                        "tangential": ["c_pf[2]", "c_pf[3]", "c_pf[4]"]}
+
+
+@dataclass
+class Frame:
+    """One timestep of a dump: its timestep, box bounds (3, 2), column names, rows (n, columns) and the line number
+    of its first row."""
+
+    timestep: int
+    line: int
+    box: np.ndarray
+    columns: list[str]
+    rows: np.ndarray
+    first_row_line: int
+
+
+def read_frames(path: str | Path, kind: str) -> Iterator[Frame]:
+    """The frames of a LAMMPS text dump; `kind` "ATOMS" (dump custom) or "ENTRIES" (dump local)."""
+    count_item = "NUMBER OF ATOMS" if kind == "ATOMS" else "NUMBER OF ENTRIES"
+    try:
+        lines = Path(path).read_text(encoding="utf-8").splitlines()
+    except (OSError, UnicodeDecodeError) as error:
+        raise SourceError(path, "", f"cannot be read ({getattr(error, 'strerror', None) or error})") from None
+    k = 0
+
+    def expect(item: str) -> str:
+        nonlocal k
+        if k >= len(lines) or not lines[k].startswith(f"ITEM: {item}"):
+            found = lines[k] if k < len(lines) else "the end of the file"
+            raise SourceError(path, f"line {k + 1}", f"expected 'ITEM: {item}', found {found!r} (a LAMMPS "
+                                                     f"{'dump custom' if kind == 'ATOMS' else 'dump local'} file?)")
+        header = lines[k][len(f"ITEM: {item}"):].strip()
+        k += 1
+        return header
+
+    def integer() -> int:
+        nonlocal k
+        try:
+            value = int(lines[k].split()[0])
+        except (IndexError, ValueError):
+            raise SourceError(path, f"line {k + 1}", f"expected an integer, found {lines[k]!r}") from None
+        k += 1
+        return value
+
+    if not lines:
+        raise SourceError(path, "", "empty")
+    while k < len(lines):
+        if not lines[k].strip():
+            k += 1
+            continue
+        start = k + 1
+        expect("TIMESTEP")
+        timestep = integer()
+        expect(count_item)
+        count = integer()
+        bounds = expect("BOX BOUNDS")
+        if any(word in bounds.split() for word in ("xy", "xz", "yz")):
+            raise SourceError(path, f"line {k}", "a triclinic box: only orthogonal boxes can be imported")
+        try:
+            box = np.array([[float(v) for v in lines[k + a].split()[:2]] for a in range(3)])
+        except (IndexError, ValueError):
+            raise SourceError(path, f"line {k + 1}", "expected three lines of box bounds 'lo hi'") from None
+        k += 3
+        columns = expect(kind).split()
+        first = k + 1
+        if k + count > len(lines):
+            raise SourceError(path, f"line {len(lines)}", f"timestep {timestep} (line {start}) announces {count} rows, "
+                                                          f"the file ends after {len(lines) - k}")
+        rows = np.empty((count, len(columns)))
+        for r in range(count):
+            cells = lines[k + r].split()
+            if len(cells) != len(columns):
+                raise SourceError(path, f"line {k + r + 1}", f"{len(cells)} values for the {len(columns)} columns "
+                                                             f"{' '.join(columns)}")
+            try:
+                rows[r] = [float(c) for c in cells]
+            except ValueError:
+                raise SourceError(path, f"line {k + r + 1}", f"not a number in {lines[k + r]!r}") from None
+        k += count
+        yield Frame(timestep, start, box, columns, rows, first)
+
+
+def _column(path, frame: Frame, name: str, what: str) -> np.ndarray:
+    if name not in frame.columns:
+        raise SourceError(path, f"column '{name}'", f"missing ({what}; the columns at line {frame.first_row_line - 1} "
+                                                    f"are {' '.join(frame.columns)})")
+    return frame.rows[:, frame.columns.index(name)]
+
+
+def _finite(path, frame: Frame, values: np.ndarray, name: str) -> None:
+    bad = ~np.isfinite(values)
+    if bad.any():
+        raise SourceError(path, f"line {frame.first_row_line + int(np.argmax(bad))}, column '{name}'",
+                          "NaN or infinite value")
+
+
+def atom_state(path, frame: Frame, dimension: int, wall_columns: Sequence[str] | None = None):
+    """(ids, position (N, d), radius, box_lo, box_hi, wall force (N, d) or None) of one atoms frame."""
+    axes = ("x", "y", "z")[:dimension]
+    ids = _column(path, frame, "id", "the atom ids")
+    if dimension == 3 and "z" not in frame.columns:
+        raise SourceError(path, "column 'z'", "missing: the system is declared 3D (dimension: 3) but the dump has no z")
+    position = np.stack([_column(path, frame, a, "positions, unscaled") for a in axes], axis=1)
+    for a, axis in enumerate(axes):
+        _finite(path, frame, position[:, a], axis)
+    if "z" in frame.columns and len(frame.rows) > 1:
+        z = _column(path, frame, "z", "")
+        if dimension == 3 and np.ptp(z) == 0:
+            raise SourceError(path, f"column 'z' (timestep {frame.timestep}, line {frame.line})",
+                              f"every atom at z = {z[0]:g}: a 2D state, but the system is declared 3D (dimension: 3)")
+        if dimension == 2 and np.ptp(z) > 0:
+            raise SourceError(path, f"column 'z' (timestep {frame.timestep}, line {frame.line})",
+                              "the atoms are spread in z: a 3D state, but the system is declared 2D (dimension: 2)")
+    radius = _column(path, frame, "radius", "the atom radii")
+    _finite(path, frame, radius, "radius")
+    if np.any(radius <= 0):
+        raise SourceError(path, f"line {frame.first_row_line + int(np.argmax(radius <= 0))}, column 'radius'",
+                          f"radius {radius[np.argmax(radius <= 0)]:g} is not positive")
+    if len(np.unique(ids)) != len(ids):
+        raise SourceError(path, f"column 'id' (timestep {frame.timestep}, line {frame.line})", "an atom id repeats")
+    wall_force = None
+    if wall_columns:
+        wall_force = np.stack([_column(path, frame, c, "source.wall_columns") for c in wall_columns], axis=1)
+        for c, name in enumerate(wall_columns):
+            _finite(path, frame, wall_force[:, c], name)
+        wall_force = wall_force[:, :dimension]
+    order = np.argsort(ids)  # particles in id order, as LAMMPS numbers them
+    return (ids[order].astype(np.int64), position[order], radius[order], frame.box[:dimension, 0],
+            frame.box[:dimension, 1], None if wall_force is None else wall_force[order])
+
+
+def pair_forces(path, frame: Frame, ids: np.ndarray, position: np.ndarray, columns: Mapping[str, Any],
+                atoms_path) -> tuple[np.ndarray, ...]:
+    """(i, j, F_n (C, d), F_t (C, d)) of one pairs frame, i < j indices into the atoms of the same timestep."""
+    dimension = position.shape[1]
+    names = {key: ([columns[key]] if isinstance(columns[key], str) else list(columns[key]))
+             for key in ("i", "j", "normal", "tangential")}
+    values = {key: np.stack([_column(path, frame, c, f"source.pair_columns.{key}") for c in cols], axis=1)
+              for key, cols in names.items()}
+    for key in ("normal", "tangential"):
+        for c, name in enumerate(names[key]):
+            _finite(path, frame, values[key][:, c], name)
+        if values[key].shape[1] not in (1, 2, 3) or (values[key].shape[1] == 2 and dimension == 3):
+            raise SourceError(path, f"source.pair_columns.{key}", "needs 1 column (magnitude) or the vector's "
+                                                                 f"{dimension} or 3 components")
+    touching = np.any(values["normal"] != 0, axis=1) | np.any(values["tangential"] != 0, axis=1)
+    slot = {int(atom): k for k, atom in enumerate(ids)}
+    index = {}
+    for key in ("i", "j"):
+        atoms = values[key][:, 0].astype(np.int64)
+        missing = [r for r in np.flatnonzero(touching) if int(atoms[r]) not in slot]
+        if missing:
+            r = missing[0]
+            raise SourceError(path, f"line {frame.first_row_line + r}, column '{names[key][0]}'",
+                              f"atom id {atoms[r]} is not in {atoms_path} at timestep {frame.timestep}")
+        index[key] = np.array([slot.get(int(a), -1) for a in atoms], dtype=np.int64)
+    rows = np.flatnonzero(touching)
+    i, j = index["i"][rows], index["j"][rows]
+    same = i == j
+    if same.any():
+        raise SourceError(path, f"line {frame.first_row_line + rows[np.argmax(same)]}", "an atom paired with itself")
+    n = normal_unit_vectors(position, i, j)
+    fn = values["normal"][rows]
+    fn = fn[:, :1] * n if fn.shape[1] == 1 else fn[:, :dimension]
+    ft = values["tangential"][rows]
+    ft = ft[:, :1] * perpendicular_unit_vectors(n) if ft.shape[1] == 1 else ft[:, :dimension]
+    i, j, fn, ft = order_pairs(i, j, fn, ft)
+    keys = i * len(ids) + j
+    unique, first = np.unique(keys, return_index=True)
+    if len(unique) != len(keys):
+        repeated = np.setdiff1d(np.arange(len(keys)), first)[0]
+        raise SourceError(path, f"line {frame.first_row_line + rows[repeated]}",
+                          f"the pair of atoms {ids[i[repeated]]}, {ids[j[repeated]]} appears twice at timestep "
+                          f"{frame.timestep}")
+    order = np.lexsort((j, i))
+    return i[order], j[order], fn[order], ft[order]
+
+
+def wall_contacts(position, radius, box_lo, box_hi, wall_force):
+    """One wall contact per atom with a non-zero wall force, at the box face nearest to it."""
+    if wall_force is None:
+        return np.zeros(0, np.int64), np.zeros(0, np.int64), None
+    atoms = np.flatnonzero(np.any(wall_force != 0, axis=1))
+    gaps = np.concatenate([position[atoms] - box_lo, box_hi - position[atoms]], axis=1)  # (W, 2d): lo faces, hi faces
+    face = np.argmin(gaps, axis=1)
+    d = position.shape[1]
+    wall = np.where(face < d, 2 * face, 2 * (face - d) + 1)
+    return atoms, wall.astype(np.int64), wall_force[atoms]
+
+
+def read_run(run: Mapping[str, Any], dimension: int, source: Mapping[str, Any]) -> list[SourceState]:
+    """The states of one run: ``{atoms: dump custom, pairs: dump local}`` (module docstring)."""
+    atoms_path, pairs_path = run["atoms"], run["pairs"]
+    columns = {**DEFAULT_PAIR_COLUMNS, **source.get("pair_columns", {})}
+    wanted = source.get("timesteps")
+    atom_frames, pair_frames = list(read_frames(atoms_path, "ATOMS")), list(read_frames(pairs_path, "ENTRIES"))
+    for a, p in zip(atom_frames, pair_frames):
+        if a.timestep != p.timestep:
+            raise SourceError(pairs_path, f"line {p.line}", f"timestep {p.timestep} where {atoms_path} has timestep "
+                                                            f"{a.timestep} (line {a.line}): the dumps do not match")
+    if len(atom_frames) != len(pair_frames):
+        longer, shorter = ((atoms_path, pairs_path) if len(atom_frames) > len(pair_frames) else
+                           (pairs_path, atoms_path))
+        extra = (atom_frames if longer == atoms_path else pair_frames)[min(len(atom_frames), len(pair_frames))]
+        raise SourceError(longer, f"line {extra.line}", f"timestep {extra.timestep} has no match in {shorter}")
+    if wanted is not None:
+        have = [f.timestep for f in atom_frames]
+        for step in wanted:
+            if step not in have:
+                raise SourceError(atoms_path, "source.timesteps", f"timestep {step} is not in the dump ({have})")
+    states = []
+    for a, p in zip(atom_frames, pair_frames):
+        if wanted is not None and a.timestep not in wanted:
+            continue
+        ids, position, radius, lo, hi, wall_force = atom_state(atoms_path, a, dimension, source.get("wall_columns"))
+        if "box" in source:
+            lo, hi = np.asarray(source["box"]["lo"], float), np.asarray(source["box"]["hi"], float)
+        i, j, fn, ft = pair_forces(pairs_path, p, ids, position, columns, atoms_path)
+        wall_atoms, wall_id, wall_f = wall_contacts(position, radius, lo, hi, wall_force)
+        states.append(SourceState(position=position, radius=radius, contact_i=i, contact_j=j, force_normal=fn,
+                                  force_tangential=ft, box_lo=lo, box_hi=hi, files=(str(atoms_path), str(pairs_path)),
+                                  timestep=a.timestep, wall_particle=wall_atoms, wall_id=wall_id, wall_force=wall_f))
+    return states

@@ -1,0 +1,47 @@
+"""One imported run → its contract snapshots (rule ``import_{system}``, `forcenet.pipeline.import_states`)."""
+from __future__ import annotations
+
+import json
+from typing import Any, Mapping, Sequence
+
+from forcenet.importers.common import SourceError, file_sha256, source_states
+
+
+def import_run(*, config: Mapping[str, Any], system: str, realization: int, outputs: Sequence[str],
+               log=None) -> list[str]:
+    """Read every state of run `realization` of `system`'s ``source:`` and write one snapshot per state to
+    `outputs` (in the source's order, which is increasing ρ). Every state is read and checked against the snapshot
+    contract before the first file is written: a malformed source writes nothing."""
+    from forcenet.datasets import provenance_attrs
+    from forcenet.datasets.io import DatasetError, schema_problems, write_netcdf
+    from forcenet.datasets.schema import SOURCE_FORMAT_ATTR
+    from forcenet.datasets.snapshot import snapshot_dataset
+
+    entry = config["systems"][system]
+    states = source_states(entry, realization, where=f"systems.{system}.source")
+    if len(states) != len(outputs):
+        raise SourceError(f"systems.{system}.source.runs[{realization}]", "",
+                          f"{len(states)} states, but run 0 has {len(outputs)}: every run of a system needs the same "
+                          "number of states")
+    hashes: dict[str, str] = {}
+    datasets = []
+    for state, output in zip(states, outputs):
+        attrs = provenance_attrs(system=system, realization=realization, seed=-1, config=config,
+                                 title=f"forcenet snapshot imported from {entry['source']['format']}, {system}")
+        attrs.update({SOURCE_FORMAT_ATTR: entry["source"]["format"],
+                      "source_files": json.dumps(list(state.files)),
+                      "source_sha256": json.dumps([hashes.setdefault(f, file_sha256(f)) for f in state.files]),
+                      "source_timestep": int(state.timestep)})
+        ds = snapshot_dataset(attrs=attrs, **state.snapshot_arrays())
+        problems = schema_problems(ds, "snapshot")
+        if problems:
+            raise DatasetError(state.files[0], f"timestep {state.timestep} breaks the snapshot contract: "
+                                               + "; ".join(problems))
+        datasets.append(ds)
+    for ds, output in zip(datasets, outputs):
+        write_netcdf(ds, output, kind="snapshot")
+        if log is not None:
+            log.info("%s: imported timestep %s of %s, rho %.4f, %d particles, %d contacts", output,
+                     ds.attrs["source_timestep"], ", ".join(json.loads(ds.attrs["source_files"])), float(ds.rho),
+                     ds.sizes["particle"], ds.sizes["contact"])
+    return list(outputs)

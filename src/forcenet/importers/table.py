@@ -1,0 +1,203 @@
+"""The plain table format: one pair of CSV files per state (docs: README "Your own data", docs/tutorial.py).
+
+``particles`` CSV, one row per particle, header ``id,x,y,radius`` (2D) or ``id,x,y,z,radius`` (3D), columns in any
+order, extra columns ignored: a unique integer id, the centre and the radius, in any one length unit (ρ and the
+drawings use it; forces are analysed in units of each network's mean, so their unit does not matter).
+
+``contacts`` CSV, one row per contact, header ``i,j`` and the forces, with the convention ``source.forces`` states:
+
+- ``magnitudes``: columns ``fn,ft`` — the normal force's magnitude (≥ 0, repulsive) and the tangential force's
+  (≥ 0). The normal force on i points from j to i; the tangential one, whose direction a magnitude does not give,
+  is stored perpendicular to it (2D: the normal turned by +90°), which keeps |F_n|, |F_t| and |F_n + F_t| — all the
+  analysis uses;
+- ``vectors``: columns ``fn_x,fn_y[,fn_z],ft_x,ft_y[,ft_z]`` — the normal and tangential force on particle i from
+  particle j.
+
+``i`` and ``j`` are particle ids; ``j`` may instead name a wall (``x_lo``, ``x_hi``, ``y_lo``, ``y_hi``, ``z_lo``,
+``z_hi``) for a particle–wall contact (then the forces are the wall's on particle i; a magnitude's normal points
+into the box). A pair given as (j, i) is stored as (i, j) with its forces reversed. Rows starting with ``#`` are
+comments. Box: the state's ``box: {lo: [...], hi: [...]}`` in the config, else ``source.box``, else the particles'
+bounding box (min x − r to max x + r on each axis).
+"""
+from __future__ import annotations
+
+import csv
+import math
+from pathlib import Path
+from typing import Any, Mapping, Sequence
+
+import numpy as np
+
+from forcenet.importers.common import (WALL_NAMES, SourceError, SourceState, normal_unit_vectors, order_pairs,
+                                       perpendicular_unit_vectors)
+
+AXES = ("x", "y", "z")
+#: the two conventions of the contacts' forces (`source.forces`)
+FORCE_CONVENTIONS = ("magnitudes", "vectors")
+
+
+def read_run(run: Sequence[Mapping[str, Any]], dimension: int, source: Mapping[str, Any]) -> list[SourceState]:
+    """The states of one run: a list of {particles, contacts[, box]} (paths relative to where snakemake runs)."""
+    return [read_state(state["particles"], state["contacts"], dimension, source.get("forces", "vectors"),
+                       box=state.get("box", source.get("box")), index=k) for k, state in enumerate(run)]
+
+
+def _rows(path: str | Path) -> tuple[list[str], list[tuple[int, list[str]]]]:
+    """(header, [(line number, cells)]) of a CSV file, comment and blank lines skipped."""
+    try:
+        text = Path(path).read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as error:
+        raise SourceError(path, "", f"cannot be read ({getattr(error, 'strerror', None) or error})") from None
+    rows = [(number, cells) for number, cells in enumerate(csv.reader(text.splitlines()), start=1)
+            if cells and any(c.strip() for c in cells) and not cells[0].lstrip().startswith("#")]
+    if not rows:
+        raise SourceError(path, "", "empty: no header line")
+    (_, header), body = rows[0], rows[1:]
+    return [c.strip() for c in header], body
+
+
+def _columns(path, header: list[str], required: Sequence[str], forbidden: Mapping[str, str] = {}) -> dict[str, int]:
+    for name, why in forbidden.items():
+        if name in header:
+            raise SourceError(path, f"column '{name}'", why)
+    missing = [name for name in required if name not in header]
+    if missing:
+        raise SourceError(path, f"column '{missing[0]}'", f"missing (header: {','.join(header)}; needs "
+                                                          f"{','.join(required)})")
+    return {name: header.index(name) for name in required}
+
+
+def _cell(path, number: int, cells: list[str], columns: dict[str, int], name: str) -> str:
+    k = columns[name]
+    if k >= len(cells) or not cells[k].strip():
+        raise SourceError(path, f"line {number}, column '{name}'", "empty")
+    return cells[k].strip()
+
+
+def _number(path, number: int, cells, columns, name: str) -> float:
+    text = _cell(path, number, cells, columns, name)
+    try:
+        value = float(text)
+    except ValueError:
+        raise SourceError(path, f"line {number}, column '{name}'", f"{text!r} is not a number") from None
+    if not math.isfinite(value):
+        raise SourceError(path, f"line {number}, column '{name}'", f"{text} is not finite")
+    return value
+
+
+def _integer(path, number: int, cells, columns, name: str) -> int:
+    text = _cell(path, number, cells, columns, name)
+    try:
+        return int(text)
+    except ValueError:
+        raise SourceError(path, f"line {number}, column '{name}'", f"{text!r} is not an integer id") from None
+
+
+def read_particles(path: str | Path, dimension: int) -> tuple[dict[int, int], np.ndarray, np.ndarray]:
+    """({id: index}, position (N, d), radius (N,)) of a particles CSV."""
+    header, body = _rows(path)
+    axes = AXES[:dimension]
+    forbidden = {"z": "present, but the system is declared 2D (dimension: 2)"} if dimension == 2 else {}
+    if dimension == 3 and "z" not in header:
+        raise SourceError(path, "column 'z'", "missing: the system is declared 3D (dimension: 3) but the file has "
+                                              f"no z (header: {','.join(header)})")
+    columns = _columns(path, header, ("id", *axes, "radius"), forbidden)
+    if not body:
+        raise SourceError(path, "", "no particles")
+    index: dict[int, int] = {}
+    lines: dict[int, int] = {}
+    position = np.empty((len(body), dimension))
+    radius = np.empty(len(body))
+    for k, (number, cells) in enumerate(body):
+        pid = _integer(path, number, cells, columns, "id")
+        if pid in index:
+            raise SourceError(path, f"line {number}, column 'id'", f"id {pid} appears twice (first on line "
+                                                                   f"{lines[pid]})")
+        index[pid], lines[pid] = k, number
+        position[k] = [_number(path, number, cells, columns, axis) for axis in axes]
+        radius[k] = _number(path, number, cells, columns, "radius")
+        if radius[k] <= 0:
+            raise SourceError(path, f"line {number}, column 'radius'", f"radius {radius[k]:g} is not positive")
+    return index, position, radius
+
+
+def read_state(particles: str | Path, contacts: str | Path, dimension: int, forces: str = "vectors", *,
+               box: Mapping[str, Sequence[float]] | None = None, index: int = 0) -> SourceState:
+    """One state from its particles and contacts CSV files (module docstring)."""
+    if forces not in FORCE_CONVENTIONS:
+        raise SourceError(contacts, "", f"unknown force convention {forces!r}: one of {FORCE_CONVENTIONS}")
+    ids, position, radius = read_particles(particles, dimension)
+    header, body = _rows(contacts)
+    axes = AXES[:dimension]
+    force_columns = (("fn", "ft") if forces == "magnitudes" else
+                     tuple(f"fn_{a}" for a in axes) + tuple(f"ft_{a}" for a in axes))
+    forbidden = {"fn_z": "present, but the system is declared 2D (dimension: 2)"} if dimension == 2 else {}
+    columns = _columns(contacts, header, ("i", "j", *force_columns), forbidden)
+    pairs, walls, seen = [], [], {}
+    for number, cells in body:
+        first = _integer(contacts, number, cells, columns, "i")
+        if first not in ids:
+            raise SourceError(contacts, f"line {number}, column 'i'", f"no particle with id {first} in {particles}")
+        other = _cell(contacts, number, cells, columns, "j")
+        values = np.array([_number(contacts, number, cells, columns, name) for name in force_columns])
+        if forces == "magnitudes" and np.any(values < 0):
+            name = force_columns[int(np.argmax(values < 0))]
+            raise SourceError(contacts, f"line {number}, column '{name}'",
+                              f"a force magnitude must be ≥ 0, got {values[np.argmax(values < 0)]:g}")
+        if other in WALL_NAMES:
+            wall = WALL_NAMES.index(other)
+            if wall >= 2 * dimension:
+                raise SourceError(contacts, f"line {number}, column 'j'", f"wall {other} in a 2D system")
+            walls.append((ids[first], wall, values))
+            continue
+        try:
+            second = int(other)
+        except ValueError:
+            raise SourceError(contacts, f"line {number}, column 'j'", f"{other!r} is neither a particle id nor a wall "
+                                                                      f"({', '.join(WALL_NAMES[:2 * dimension])})"
+                              ) from None
+        if second not in ids:
+            raise SourceError(contacts, f"line {number}, column 'j'", f"no particle with id {second} in {particles}")
+        if second == first:
+            raise SourceError(contacts, f"line {number}, column 'j'", f"particle {first} in contact with itself")
+        key = tuple(sorted((first, second)))
+        if key in seen:
+            raise SourceError(contacts, f"line {number}", f"contact {key[0]}-{key[1]} appears twice (first on line "
+                                                          f"{seen[key]})")
+        seen[key] = number
+        pairs.append((ids[first], ids[second], values))
+    i = np.array([p[0] for p in pairs], dtype=np.int64)
+    j = np.array([p[1] for p in pairs], dtype=np.int64)
+    values = np.array([p[2] for p in pairs]).reshape(len(pairs), len(force_columns))
+    if forces == "magnitudes":
+        n = normal_unit_vectors(position, i, j) if len(pairs) else np.zeros((0, dimension))
+        fn, ft = values[:, :1] * n, values[:, 1:2] * perpendicular_unit_vectors(n)
+    else:
+        fn, ft = values[:, :dimension], values[:, dimension:]
+    i, j, fn, ft = order_pairs(i, j, fn, ft)
+    order = np.lexsort((j, i))
+    lo, hi = _box(box, position, radius, particles)
+    wall_particle = np.array([w[0] for w in walls], dtype=np.int64)
+    wall_id = np.array([w[1] for w in walls], dtype=np.int64)
+    wall_values = np.array([w[2] for w in walls]).reshape(len(walls), len(force_columns))
+    if forces == "magnitudes":
+        n = np.zeros((len(walls), dimension))
+        n[np.arange(len(walls)), wall_id // 2] = np.where(wall_id % 2 == 0, 1.0, -1.0)
+        wall_force = wall_values[:, :1] * n + wall_values[:, 1:2] * perpendicular_unit_vectors(n)
+    else:
+        wall_force = wall_values[:, :dimension] + wall_values[:, dimension:]
+    return SourceState(position=position, radius=radius, contact_i=i[order], contact_j=j[order],
+                       force_normal=fn[order], force_tangential=ft[order], box_lo=lo, box_hi=hi,
+                       files=(str(particles), str(contacts)), timestep=index, wall_particle=wall_particle,
+                       wall_id=wall_id, wall_force=wall_force)
+
+
+def _box(box, position, radius, where) -> tuple[np.ndarray, np.ndarray]:
+    """The state's box: as given, else the particles' bounding box."""
+    if box is None:
+        return (position - radius[:, None]).min(axis=0), (position + radius[:, None]).max(axis=0)
+    lo, hi = np.asarray(box["lo"], dtype=float), np.asarray(box["hi"], dtype=float)
+    if lo.shape != (position.shape[1],) or hi.shape != lo.shape or np.any(hi <= lo):
+        raise SourceError(where, "box", f"box {{lo: {lo.tolist()}, hi: {hi.tolist()}}} must give {position.shape[1]} "
+                                        "values each, hi above lo")
+    return lo, hi

@@ -1,0 +1,201 @@
+"""The Hertz damping series (docs/validation/damping.md): one paper-protocol run per normal damping γ_n, and what
+each gives for the rule of docs/decisions.md ("The Hertz damping rule") and for P1's Hertz claims.
+
+A series run is a results folder made by `config/validation.yaml` with an overlay of `config/damping/` (one
+system, one realization, `damping_model: explicit`). `series_row` reads its snapshots (`sim/`), its stacked
+analysis (`network_measures.nc`) and its run cost, and returns one row:
+
+* the rule's test: whether the run completed its ρ grid, how many relaxations hit `relaxation.max_steps` (a
+  runaway: P1's E_kin criterion never met), the largest λΔt over the snapshots against 0.8 × the Gear bound;
+* the restitution of two mean particles colliding head-on (m_eff = m̄/2, `dem.calibration`) at P1's v0 and at
+  the median approach speed of near-contact pairs in the relaxed snapshots around jamming (pairs closer than
+  `NEAR_CONTACT_GAP` and approaching; the snapshots hold the velocities at the end of each relaxation, so this
+  is the speed at which particles still meet when the relaxation criterion is met);
+* ρ_J of the box and of the bulk (the inner box 1 d_ave from the walls), from the logistic fit of Z(ρ);
+* the particles with ≥ 2 contacts (P1's non-rattlers) in the last two grid states before the jump: below ρ_J
+  and with Z < `UNJAMMED_Z` (clusters below jamming, P1 §3; the inflection of Z(ρ) can fall just above a
+  state that is already half jammed);
+* near ρ_J (|ρ − ρ_J| ≤ `NEAR_JAMMING`): the largest B0/N at F_th < 0.5 ⟨F⟩ and, for the same curve, its
+  mean beyond ρ_J + 0.03 (P1 §5.1's ridge is a within-curve peak); the largest weak- and strong-bin N0/N
+  (P1 §5.3); the largest ⟨S⟩/N at the smallest F_th (P1 §6);
+* the CPU-hours of the run.
+"""
+from __future__ import annotations
+
+import json
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import xarray as xr
+
+from forcenet.datasets import read_snapshot
+from forcenet.datasets.paths import network_measures, realization_name, rho_file, run_cost, run_dir
+from forcenet.dem import calibration, stability
+from forcenet.measures.jamming import jamming_point as inflection
+
+#: a pair counts as near contact when its surface gap is below this [d_ave]
+NEAR_CONTACT_GAP = 0.1
+#: states within this distance in ρ of ρ_J count as "near jamming" [-]
+NEAR_JAMMING = 0.02
+#: the ridge's "beyond jamming" reference starts this far above ρ_J [-]
+BEYOND_JAMMING = 0.03
+#: B0/N ridge thresholds: F_th below this [⟨F⟩] (P1 §5.1: "small F_th")
+SMALL_THRESHOLD = 0.5
+#: a state before the jump has fewer contacts per particle than this (every run jumps from Z < 0.4) [-]
+UNJAMMED_Z = 1.0
+#: the rule's margin on λΔt: at most this share of the Gear corrector's bound (docs/decisions.md)
+DAMPING_MARGIN = 0.8
+
+
+def approach_speeds(position: np.ndarray, velocity: np.ndarray, radius: np.ndarray,
+                    gap: float = NEAR_CONTACT_GAP) -> np.ndarray:
+    """Normal approach speeds [d_ave/τ_c] of the pairs whose surfaces are closer than `gap` [d_ave] and that move
+    towards each other: −(v_j − v_i)·n_ij for n_ij the unit vector from i to j, kept where positive.
+
+    position, velocity (N, d); radius (N,). Brute force over pairs in blocks (N of a few thousand)."""
+    speeds = []
+    n = len(radius)
+    for start in range(0, n, 256):
+        rows = slice(start, min(n, start + 256))
+        offset = position[None, :, :] - position[rows, None, :]              # (b, N, d): j − i
+        distance = np.linalg.norm(offset, axis=-1)
+        index_i = np.arange(rows.start, rows.stop)[:, None]
+        near = (distance - radius[rows, None] - radius[None, :] < gap) & (np.arange(n)[None, :] > index_i)
+        bi, j = np.nonzero(near)
+        normal = offset[bi, j] / distance[bi, j, None]
+        closing = -np.einsum("kd,kd->k", velocity[j] - velocity[bi + rows.start], normal)
+        speeds.append(closing[closing > 0])
+    return np.concatenate(speeds) if speeds else np.empty(0)
+
+
+@dataclass
+class SeriesRun:
+    """Where a series run lives: its results folder, system and realization."""
+
+    results: Path
+    system: str
+    realization: int = 0
+
+    @property
+    def sim(self) -> Path:
+        return Path(run_dir(str(self.results), self.system, realization_name(self.realization)))
+
+
+def _snapshot_states(run: SeriesRun) -> list[dict]:
+    from forcenet.survey import snapshot_row
+
+    states = []
+    for path in sorted(run.sim.glob(rho_file("*"))):
+        with read_snapshot(path) as snap:
+            row = snapshot_row(snap)
+            row["path"] = path
+            row["grid_rho"] = float(path.stem.removeprefix("rho"))
+            row["config"] = json.loads(snap.attrs["config"])
+            row["normal_damping"] = float(snap.attrs["dem_normal_damping"])
+            states.append(row)
+    return sorted(states, key=lambda row: row["grid_rho"])
+
+
+def _fit(rho, z) -> float:
+    try:
+        return float(inflection(np.asarray(rho), np.asarray(z)[None, :]))
+    except (ValueError, ArithmeticError):
+        return math.nan
+
+
+def series_row(run: SeriesRun) -> dict:
+    """One row of the series table (module docstring) for a finished or stopped series run."""
+    from forcenet.systems import system_from_config
+
+    states = _snapshot_states(run)
+    if not states:
+        return {"system": run.system, "results": str(run.results), "status": "no snapshot"}
+    config = states[0]["config"]
+    spec = system_from_config(run.system, config)
+    gamma = states[0]["normal_damping"]
+    grid = np.array(spec.rho_grid)
+    done = np.array([s["grid_rho"] for s in states])
+    completed = len(done) == len(grid)
+    capped = sum(s["relaxation_steps"] >= spec.relaxation.max_steps for s in states) if spec.relaxation else 0
+    damping_dt = max(s["damping_dt"] for s in states)
+    rho = np.array([s["rho"] for s in states])
+    z = np.array([s["Z"] for s in states])
+    rho_j = _fit(rho, z)
+    rho_j_bulk = _fit([s["rho_bulk"] for s in states], z)
+    below = [s for s in states if s["rho"] < rho_j and s["Z"] < UNJAMMED_Z] if math.isfinite(rho_j) else []
+    n = len(read_positions(states[0]["path"])[2])
+    near = [s for s in states if math.isfinite(rho_j) and abs(s["rho"] - rho_j) <= NEAR_JAMMING + 1e-9]
+    speeds = np.concatenate([approach_speeds(*read_positions(s["path"])) for s in near]) if near else np.empty(0)
+    median_speed = float(np.median(speeds)) if speeds.size else math.nan
+
+    def restitution(speed: float) -> float:
+        if not math.isfinite(speed) or speed <= 0:
+            return math.nan
+        return calibration.collision_restitution(spec.normal_stiffness, spec.beta, gamma,
+                                                 calibration.MEAN_PAIR_EFFECTIVE_MASS, speed)
+
+    row = {
+        "system": run.system, "N": n, "gamma_n": gamma, "results": str(run.results),
+        "e_at_v0": restitution(spec.wall_speed), "median_approach_speed": median_speed,
+        "e_at_median_speed": restitution(median_speed),
+        "completed": bool(completed), "top_rho": float(done[-1]), "capped_relaxations": int(capped),
+        "max_damping_dt": damping_dt,
+        "passes_rule": bool(completed and capped == 0
+                            and damping_dt <= DAMPING_MARGIN * stability.GEAR_DAMPING_BOUND),
+        "rho_J": rho_j, "rho_J_bulk": rho_j_bulk,
+        "connected_below_rho_J": [int(s["connected"]) for s in below[-2:]],
+        "rho_below_rho_J": [round(s["grid_rho"], 3) for s in below[-2:]],
+        "cpu_hours": _cpu_hours(run),
+    }
+    row.update(network_readings(run, rho_j))
+    return row
+
+
+def read_positions(path: Path) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """position, velocity (N, d) and radius (N,) of a snapshot."""
+    with read_snapshot(path) as snap:
+        return snap.position.values, snap.velocity.values, snap.radius.values
+
+
+def _cpu_hours(run: SeriesRun) -> float:
+    path = Path(run_cost(str(run.results), run.system, realization_name(run.realization)))
+    if not path.exists():
+        return math.nan
+    return float(json.loads(path.read_text())["cpu_seconds"]) / 3600.0
+
+
+def network_readings(run: SeriesRun, rho_j: float) -> dict:
+    """The P1 network readings of the module docstring from the run's `network_measures.nc` (total force;
+    NaN where the file or the states near ρ_J are missing)."""
+    path = Path(network_measures(str(run.results), run.system))
+    empty = dict(b0_small_near_jamming=math.nan, b0_small_beyond=math.nan, weak_bin_near_jamming=math.nan,
+                 strong_bin_near_jamming=math.nan, cluster_size_near_jamming=math.nan)
+    if not path.exists() or not math.isfinite(rho_j):
+        return empty
+    with xr.open_dataset(path) as ds:
+        ds = ds.sel(force_kind="total").isel(realization=run.realization).load()
+    n = ds.n_particles
+    rho = ds.rho_measured.values
+    near = np.abs(rho - rho_j) <= NEAR_JAMMING + 1e-9
+    beyond = rho >= rho_j + BEYOND_JAMMING
+    small = ds.threshold.values < SMALL_THRESHOLD
+    b0 = (ds.betti.sel(homology_dim=0) / n).values  # (rho, threshold)
+    bins = ds.persistence_bin_count / n
+    size = (ds.cluster_mean_size / n).isel(threshold=0).values
+
+    def largest(values):
+        return float(np.nanmax(values)) if np.size(values) else math.nan
+
+    return dict(
+        b0_small_near_jamming=largest(b0[near][:, small]),
+        b0_small_beyond=float(np.nanmean(np.nanmax(b0[beyond][:, small], axis=1))) if beyond.any() else math.nan,
+        weak_bin_near_jamming=largest(bins.sel(persistence_bin="weak").values[near]),
+        strong_bin_near_jamming=largest(bins.sel(persistence_bin="strong").values[near]),
+        cluster_size_near_jamming=largest(size[near]),
+    )
+
+
+__all__ = ["SeriesRun", "series_row", "approach_speeds", "network_readings", "NEAR_CONTACT_GAP", "NEAR_JAMMING",
+           "DAMPING_MARGIN"]

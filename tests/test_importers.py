@@ -1,0 +1,308 @@
+"""Importers (`forcenet.importers`): the shipped LAMMPS example gives the network our engine evaluates on the same
+states, the hand-made contact table gives hand-counted Betti numbers and clusters, and malformed input stops with
+one line naming the file and the line or column, writing nothing (issue 26 items 2 and 4)."""
+from __future__ import annotations
+
+import json
+import shutil
+from pathlib import Path
+
+import numpy as np
+import pytest
+import yaml
+
+from forcenet import pipeline
+from forcenet.datasets import read_dataset, read_snapshot
+from forcenet.datasets.runs import run_expectation
+from forcenet.importers import SourceError, import_run, source_states
+from forcenet.importers import lammps, table
+from forcenet.systems import ConfigError, ImportedSystem, system_from_config
+
+REPO = Path(__file__).resolve().parents[1]
+EXAMPLE = yaml.safe_load((REPO / "config" / "example_import.yaml").read_text())
+LAMMPS_DIR = REPO / "data" / "examples" / "lammps_2d"
+TABLE_DIR = REPO / "data" / "examples" / "table_2d"
+#: the dumps print 10 significant digits (bench/lammps/make_import_example.py): forces agree to that precision
+PRINTED = 1e-8
+
+
+@pytest.fixture(autouse=True)
+def at_repository_root(monkeypatch):
+    monkeypatch.chdir(REPO)  # the example config's paths are relative to the repository root
+
+
+# --- the LAMMPS examples against our engine on the same states --------------------------------------------------
+def lammps_entry(folder: str, dimension: int) -> dict:
+    """A `source:` entry for a shipped LAMMPS example (columns as config/example_import.yaml's lammps_2d)."""
+    source = {**EXAMPLE["systems"]["lammps_2d"]["source"],
+              "runs": [{"atoms": f"data/examples/{folder}/atoms.dump", "pairs": f"data/examples/{folder}/pairs.dump"}]}
+    return {"dimension": dimension, "source": source}
+
+
+def engine_contacts(folder: str, k: int):
+    """State k of the example's states.npz evaluated by our engine, as its snapshots record contacts
+    (`Simulation.contact_forces`) after the one spring increment LAMMPS made (bench/lammps_same_state.py's `damping`
+    probe: the linear law in 2D, Hertz with every term × √R_eff in 3D)."""
+    from forcenet.dem.engine import ContactLaw, Simulation
+
+    z = np.load(REPO / "data" / "examples" / folder / "states.npz")
+    law = ContactLaw(**{key: float(z[key]) for key in ("normal_stiffness", "tangential_stiffness", "normal_damping",
+                                                       "tangential_damping", "friction", "beta")},
+                     radius_scaled=bool(z["radius_scaled"]))
+    sim = Simulation(position=z[f"positions{k}"], radius=z[f"radii{k}"], mass=z[f"masses{k}"], law=law,
+                     time_step=float(z["dt"]), box_lo=z[f"box_lo{k}"], box_hi=z[f"box_hi{k}"],
+                     velocity=z[f"velocities{k}"], walls="flat")
+    sim.record(spring_dt=sim.time_step, spring=sim.spring, wall_spring=sim.wall_spring)
+    return sim.contact_forces(), z, sim
+
+
+@pytest.mark.parametrize("folder, dimension", [("lammps_2d", 2), ("lammps_3d", 3)])
+def test_the_lammps_examples_give_the_network_our_engine_evaluates_on_the_same_states(folder, dimension):
+    states = source_states(lammps_entry(folder, dimension), 0)
+    z = np.load(REPO / "data" / "examples" / folder / "states.npz")
+    assert [s.timestep for s in states] == list(z["timesteps"]) == [1000, 2000, 3000]
+    for k, state in enumerate(states):
+        ours, z, sim = engine_contacts(folder, k)
+        assert state.dimension == dimension and len(state.radius) > 300
+        # a contact is a pair with a force (forcenet.network); LAMMPS lists neighbours without one as zero rows
+        carries = (np.abs(ours.force_normal).sum(1) + np.abs(ours.force_tangential).sum(1)) > 0
+        np.testing.assert_array_equal(state.contact_i, ours.contact_i[carries])
+        np.testing.assert_array_equal(state.contact_j, ours.contact_j[carries])
+        scale = np.abs(ours.force_normal).max()
+        np.testing.assert_allclose(state.force_normal, ours.force_normal[carries], rtol=0, atol=PRINTED * scale)
+        np.testing.assert_allclose(state.force_tangential, ours.force_tangential[carries], rtol=0,
+                                   atol=PRINTED * scale)
+        np.testing.assert_allclose(state.position, z[f"positions{k}"], rtol=PRINTED)
+        assert state.rho == pytest.approx(sim.packing_fraction, rel=PRINTED)  # ρ from the dump's box
+        # wall forces: fix wall/gran/region's per-atom output holds one wall contact per atom; ours lists each wall
+        # a particle touches (a corner disk touches two), so the particles with one wall contact are compared
+        pushing = np.abs(ours.wall_contact_force).sum(1) > 0  # a wall contact with a force, as for pairs
+        particle, force, wall_id = (ours.wall_contact_particle[pushing], ours.wall_contact_force[pushing],
+                                    ours.wall_contact_wall[pushing])
+        walls_of = np.bincount(particle, minlength=len(state.radius))
+        assert set(state.wall_particle.tolist()) == set(np.flatnonzero(walls_of).tolist())
+        single = np.flatnonzero(walls_of[particle] == 1)
+        assert len(single) > 30
+        imported = dict(zip(state.wall_particle.tolist(), state.wall_force))
+        np.testing.assert_allclose([imported[p] for p in particle[single]], force[single], rtol=0,
+                                   atol=PRINTED * scale)
+        np.testing.assert_array_equal([dict(zip(state.wall_particle.tolist(), state.wall_id))[p]
+                                       for p in particle[single]], wall_id[single])
+    # the comparison has teeth: the tangential forces are far above the precision it is made to
+    assert len(states[0].contact_i) > 300 and np.abs(ours.force_tangential).max() > 1e4 * PRINTED * scale
+
+
+def test_imported_and_engine_snapshots_pass_the_same_contract_and_record_their_source(tmp_path):
+    outputs = [str(tmp_path / f"rho{label}.nc") for label in ("0.820", "0.840", "0.860")]
+    import_run(config=EXAMPLE, system="lammps_2d", realization=0, outputs=outputs)
+    ds = read_snapshot(outputs[1], expect=run_expectation(EXAMPLE, "lammps_2d"))
+    assert ds.attrs["source_format"] == "lammps" and ds.attrs["source_timestep"] == 2000
+    assert json.loads(ds.attrs["source_files"]) == ["data/examples/lammps_2d/atoms.dump",
+                                                    "data/examples/lammps_2d/pairs.dump"]
+    from forcenet.importers import file_sha256
+    assert json.loads(ds.attrs["source_sha256"])[0] == file_sha256(LAMMPS_DIR / "atoms.dump")
+    assert ds.attrs["seed"] == -1 and "velocity" not in ds and float(ds.rho) == pytest.approx(0.84, abs=1e-6)
+    spec = system_from_config("lammps_2d", EXAMPLE)
+    assert isinstance(spec, ImportedSystem) and spec.rho_labels == ["0.820", "0.840", "0.860"]
+    assert spec.particles == 324 and spec.dimension == 2
+
+
+# --- the hand-made table: hand-countable clusters and Betti numbers --------------------------------------------
+def analysed_table(tmp_path, rule):
+    """The first state of the table example, imported and analysed with rattler rule `rule`."""
+    outputs = [str(tmp_path / f"rho{label}.nc") for label in system_from_config("table_2d", EXAMPLE).rho_labels]
+    import_run(config=EXAMPLE, system="table_2d", realization=0, outputs=outputs)
+    analysis = {**pipeline.snapshot_analysis_params(EXAMPLE, "table_2d"), "remove_rattlers": rule}
+    out = str(tmp_path / "analysis.nc")
+    pipeline.analyze_run(snapshots=outputs[:1], outputs=[out], analysis=analysis)
+    return read_dataset(out, "analysis").sel(force_kind="total")
+
+
+def test_the_hand_made_table_gives_the_hand_counted_clusters_and_betti_numbers(tmp_path):
+    """A square of four disks (edges 2), a separate pair (0.5), a lone disk; ⟨F⟩ = (4·2 + 0.5)/5 = 1.7, so the
+    square's edges are 1.176 ⟨F⟩ and the pair's 0.294 ⟨F⟩."""
+    kept = analysed_table(tmp_path / "none", "none")  # P2's rule: every particle kept
+    assert float(kept["mean_force"]) == pytest.approx(1.7)
+    clusters = kept["cluster_count"]
+    assert int(clusters.sel(threshold=0.0)) == 3       # square, pair and the lone disk (a cluster at F_th ≤ 0)
+    assert int(clusters.sel(threshold=0.05)) == 2      # the square and the pair
+    assert int(kept["betti"].sel(homology_dim=0, threshold=0.0)) == 3
+    assert int(clusters.sel(threshold=0.5)) == 1       # the pair (0.294) is gone
+    assert int(clusters.sel(threshold=1.2)) == 0       # above the square's 1.176
+    assert int(kept["betti"].sel(homology_dim=1, threshold=0.0)) == 1  # the square's loop
+    assert int(kept["betti"].sel(homology_dim=1, threshold=1.2)) == 0
+    assert int(kept["betti"].sel(homology_dim=0, threshold=0.5)) == 1
+    assert int(kept["percolates"].sel(threshold=0.0)) == 0  # only the x_lo wall is touched
+    once = analysed_table(tmp_path / "once", "once")  # P1's rule: the pair's disks (one contact) and the lone one go
+    assert int(once["cluster_count"].sel(threshold=0.0)) == 1
+    assert int(once["betti"].sel(homology_dim=0, threshold=0.0)) == 1
+    assert int(once["betti"].sel(homology_dim=1, threshold=0.0)) == 1
+    assert int(once["n_particles"]) == 7 and float(once["Z"]) == pytest.approx(10 / 7)
+
+
+# --- malformed input: one line naming the file and the line or column, nothing written ---------------------------
+PARTICLES = "id,x,y,radius\n1,1.0,1.0,0.5\n2,2.0,1.0,0.5\n3,2.0,2.0,0.5\n"
+CONTACTS = "i,j,fn,ft\n1,2,1.0,0.1\n2,3,0.5,0.0\n"
+TABLE_CASES = {
+    # case: (particles text, contacts text, dimension, file, where and what the message says)
+    "missing column": (PARTICLES.replace("radius", "r"), CONTACTS, 2, "p.csv", "column 'radius': missing"),
+    "NaN position": (PARTICLES.replace("2.0,1.0", "nan,1.0"), CONTACTS, 2, "p.csv",
+                     "line 3, column 'x': nan is not finite"),
+    "negative radius": (PARTICLES.replace("2.0,2.0,0.5", "2.0,2.0,-0.5"), CONTACTS, 2, "p.csv",
+                        "line 4, column 'radius': radius -0.5 is not positive"),
+    "NaN force": (PARTICLES, CONTACTS.replace("0.5,0.0", "NaN,0.0"), 2, "c.csv",
+                  "line 3, column 'fn': NaN is not finite"),
+    "no such particle": (PARTICLES, CONTACTS.replace("2,3,", "2,9,"), 2, "c.csv",
+                         "line 3, column 'j': no particle with id 9 in"),
+    "2D file declared 3D": (PARTICLES, CONTACTS, 3, "p.csv", "column 'z': missing: the system is declared 3D"),
+    "missing force column": (PARTICLES, CONTACTS.replace("ft", "f_t"), 2, "c.csv", "column 'ft': missing"),
+}
+
+
+@pytest.mark.parametrize("case", sorted(TABLE_CASES))
+def test_a_malformed_table_stops_with_one_line_and_writes_nothing(tmp_path, case):
+    particles, contacts, dimension, bad, expected = TABLE_CASES[case]
+    (tmp_path / "p.csv").write_text(particles)
+    (tmp_path / "c.csv").write_text(contacts)
+    state = {"particles": str(tmp_path / "p.csv"), "contacts": str(tmp_path / "c.csv")}
+    config = {"realizations": 1, "systems": {"t": {"dimension": dimension, "source": {
+        "format": "table", "forces": "magnitudes", "runs": [[state]]}}}}
+    out = tmp_path / "out" / "rho0.500.nc"
+    with pytest.raises(SourceError) as caught:
+        import_run(config=config, system="t", realization=0, outputs=[str(out)])
+    message = str(caught.value)
+    assert message.startswith(f"{tmp_path / bad}, ") and expected in message and "\n" not in message, message
+    assert not out.parent.exists()
+    with pytest.raises(SourceError, match=expected.split(":")[0]):
+        system_from_config("t", config)  # the workflow parses the same sources: refused before any job
+
+
+def test_a_good_table_with_vectors_reads(tmp_path):
+    (tmp_path / "p.csv").write_text(PARTICLES)
+    (tmp_path / "c.csv").write_text("i,j,fn_x,fn_y,ft_x,ft_y\n2,1,1.0,0.0,0.0,0.25\n")
+    state = table.read_state(tmp_path / "p.csv", tmp_path / "c.csv", 2, "vectors")
+    # given as (2, 1): stored as (0, 1) with the forces on particle 1 (index 0), reversed
+    assert (state.contact_i.tolist(), state.contact_j.tolist()) == ([0], [1])
+    np.testing.assert_array_equal(state.force_normal, [[-1.0, 0.0]])
+    np.testing.assert_array_equal(state.force_tangential, [[0.0, -0.25]])
+    np.testing.assert_allclose(state.box_lo, [0.5, 0.5])  # the particles' bounding box
+    np.testing.assert_allclose(state.rho, 3 * np.pi * 0.25 / 4.0)
+
+
+def copy_dumps(tmp_path) -> tuple[Path, Path]:
+    atoms, pairs = tmp_path / "atoms.dump", tmp_path / "pairs.dump"
+    shutil.copy(LAMMPS_DIR / "atoms.dump", atoms)
+    shutil.copy(LAMMPS_DIR / "pairs.dump", pairs)
+    return atoms, pairs
+
+
+def edit_line(path: Path, number: int, change) -> None:
+    lines = path.read_text().splitlines()
+    lines[number - 1] = change(lines[number - 1])
+    path.write_text("\n".join(lines) + "\n")
+
+
+def lammps_import(tmp_path, atoms, pairs, dimension=2):
+    entry = {"dimension": dimension, "source": {**EXAMPLE["systems"]["lammps_2d"]["source"],
+                                                "runs": [{"atoms": str(atoms), "pairs": str(pairs)}]}}
+    out = tmp_path / "out"
+    with pytest.raises(SourceError) as caught:
+        import_run(config={"systems": {"l": entry}}, system="l", realization=0,
+                   outputs=[str(out / f"rho0.{k}.nc") for k in range(3)])
+    assert not out.exists()
+    assert "\n" not in str(caught.value)
+    return str(caught.value)
+
+
+def test_lammps_dumps_whose_timesteps_differ_are_refused(tmp_path):
+    atoms, pairs = copy_dumps(tmp_path)
+    second = [k + 1 for k, line in enumerate(pairs.read_text().splitlines()) if line == "ITEM: TIMESTEP"][1]
+    edit_line(pairs, second + 1, lambda line: "2500")
+    message = lammps_import(tmp_path, atoms, pairs)
+    assert message.startswith(f"{pairs}, line {second}: timestep 2500 where {atoms} has timestep 2000"), message
+    atoms, pairs = copy_dumps(tmp_path)
+    text = atoms.read_text()
+    atoms.write_text(text[:text.rindex("ITEM: TIMESTEP")])  # the atoms dump lacks the last timestep
+    assert "timestep 3000 has no match in" in lammps_import(tmp_path, atoms, pairs)
+
+
+def test_lammps_nan_missing_column_and_dimension_are_refused(tmp_path):
+    atoms, pairs = copy_dumps(tmp_path)
+    edit_line(atoms, 11, lambda line: " ".join(["nan" if k == 2 else v for k, v in enumerate(line.split())]))
+    assert lammps_import(tmp_path, atoms, pairs).startswith(f"{atoms}, line 11, column 'x': NaN or infinite value")
+    atoms, pairs = copy_dumps(tmp_path)
+    edit_line(atoms, 9, lambda line: line.replace(" radius", " diameter"))
+    assert lammps_import(tmp_path, atoms, pairs).startswith(f"{atoms}, column 'radius': missing")
+    atoms, pairs = copy_dumps(tmp_path)
+    message = lammps_import(tmp_path, atoms, pairs, dimension=3)
+    assert message.startswith(f"{atoms}, column 'z' (timestep 1000, line 1): every atom at z = 0: a 2D state, but "
+                              "the system is declared 3D"), message
+    atoms, pairs = copy_dumps(tmp_path)
+    edit_line(pairs, 10, lambda line: " ".join(["99999" if k == 1 else v for k, v in enumerate(line.split())]))
+    message = lammps_import(tmp_path, atoms, pairs)
+    assert message.startswith(f"{pairs}, line 10, column 'c_pid[2]': atom id 99999 is not in {atoms} at timestep "
+                              "1000"), message
+    atoms, pairs = copy_dumps(tmp_path)
+    edit_line(atoms, 11, lambda line: " ".join(["-0.5" if k == 5 else v for k, v in enumerate(line.split())]))
+    assert lammps_import(tmp_path, atoms, pairs).startswith(f"{atoms}, line 11, column 'radius': radius -0.5 is not "
+                                                            "positive")
+
+
+def test_a_3d_lammps_dump_reads(tmp_path):
+    atoms, pairs = tmp_path / "a.dump", tmp_path / "p.dump"
+    head = "ITEM: TIMESTEP\n5\nITEM: NUMBER OF {}\n{}\nITEM: BOX BOUNDS ff ff ff\n0 2\n0 2\n0 2\n"
+    atoms.write_text(head.format("ATOMS", 2) + "ITEM: ATOMS id type x y z radius\n1 1 0.5 0.5 0.5 0.5\n"
+                     "2 1 0.5 0.5 1.4 0.5\n")
+    pairs.write_text(head.format("ENTRIES", 1) + "ITEM: ENTRIES c_pid[1] c_pid[2] c_pf[1] c_pf[2] c_pf[3] c_pf[4]\n"
+                     "2 1 3.0 0.5 0 0\n")
+    source = {"format": "lammps"}
+    (state,) = lammps.read_run({"atoms": atoms, "pairs": pairs}, 3, source)
+    assert state.timestep == 5 and state.dimension == 3
+    np.testing.assert_allclose(state.rho, 2 * 4 / 3 * np.pi * 0.125 / 8)
+    # given on atom 2 from atom 1: stored on atom 1 (index 0) from atom 2, so both forces reversed
+    np.testing.assert_allclose(state.force_normal, [[0, 0, -3.0]])
+    np.testing.assert_allclose(state.force_tangential, [[-0.5, 0, 0]])
+
+
+# --- the config: schema and checks of a `source:` entry -----------------------------------------------------------
+def checked(config):
+    from forcenet.workflow_io import CONFIG_SCHEMA, checked_config
+
+    return checked_config(config, REPO / CONFIG_SCHEMA)
+
+
+def test_the_example_config_passes_and_a_bad_source_entry_names_its_key():
+    systems = checked(EXAMPLE)
+    assert sorted(systems) == ["lammps_2d", "lammps_2d_p2", "table_2d"] and "material" not in EXAMPLE
+    mixed = {**EXAMPLE, "systems": {**EXAMPLE["systems"], "table_2d": {**EXAMPLE["systems"]["table_2d"],
+                                                                        "force_law": "hertz"}}}
+    with pytest.raises(ConfigError, match="config key 'systems.table_2d': .*'force_law' was unexpected"):
+        checked(mixed)
+    no_forces = {k: v for k, v in EXAMPLE["systems"]["table_2d"]["source"].items() if k != "forces"}
+    with pytest.raises(ConfigError, match="config key 'systems.table_2d.source': 'forces' is a required property"):
+        checked({**EXAMPLE, "systems": {"table_2d": {"dimension": 2, "source": no_forces}},
+                 "studies": {"p1": {"systems": ["table_2d"]}}})
+    same_rho = [dict(state, box={"lo": [0, 0], "hi": [6, 4]})
+                for state in EXAMPLE["systems"]["table_2d"]["source"]["runs"][0]]
+    flat = {"dimension": 2, "source": {**EXAMPLE["systems"]["table_2d"]["source"], "runs": [same_rho]}}
+    with pytest.raises(ConfigError, match="config key 'systems.table_2d.source.runs\\[0\\].*must increase"):
+        checked({**EXAMPLE, "systems": {"table_2d": flat}, "studies": {"p1": {"systems": ["table_2d"]}}})
+    with pytest.raises(ConfigError, match="config key 'systems.lammps_2d.source.runs': lists 1 run\\(s\\), but "
+                                          "realizations is 2: one run per realization"):
+        checked({**EXAMPLE, "realizations": 2})
+
+
+def test_a_3d_lammps_state_is_imported_and_analysed(tmp_path):
+    config = {**EXAMPLE, "systems": {"lammps_3d": lammps_entry("lammps_3d", 3)}, "studies": {}}
+    spec = system_from_config("lammps_3d", config)
+    assert spec.rho_labels == ["0.580", "0.600", "0.620"] and spec.dimension == 3
+    snapshot, analysis = tmp_path / "rho0.620.nc", tmp_path / "a.nc"
+    outputs = [str(tmp_path / f"rho{label}.nc") for label in spec.rho_labels]
+    import_run(config=config, system="lammps_3d", realization=0, outputs=outputs)
+    pipeline.analyze_run(snapshots=[str(snapshot)], outputs=[str(analysis)],
+                         analysis=pipeline.snapshot_analysis_params(config, "lammps_3d"),
+                         expect=run_expectation(config, "lammps_3d"))
+    ds = read_dataset(analysis, "analysis")
+    assert list(ds["homology_dim"].values) == [0, 1, 2] and ds.attrs["source_format"] == "lammps"
+    assert int(ds["betti"].sel(force_kind="total", homology_dim=0, threshold=0.0)) >= 1
+    assert json.loads(ds.attrs["source_files"])[0] == "data/examples/lammps_3d/atoms.dump"

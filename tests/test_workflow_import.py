@@ -1,0 +1,83 @@
+"""config/example_import.yaml end to end (issue 26): the shipped LAMMPS dumps and contact table are imported,
+analysed, stacked, drawn and judged like simulated systems; a malformed source stops the dry run with one line;
+a snapshot copied from another system is refused by the analysis job, naming the attribute (issue 27)."""
+from __future__ import annotations
+
+import json
+import shutil
+from pathlib import Path
+
+import pandas as pd
+import pytest
+
+from conftest import REPO, snakemake
+from forcenet.datasets import paths, read_dataset, read_snapshot
+
+pytestmark = pytest.mark.workflow
+CONFIG = REPO / "config" / "example_import.yaml"
+RESULTS = "results/example_import"
+
+
+def workdir_with_examples(root: Path) -> Path:
+    """A scratch directory in which the example config's relative paths (data/examples/…) resolve."""
+    root.mkdir(parents=True, exist_ok=True)
+    shutil.copytree(REPO / "data", root / "data")
+    return root
+
+
+@pytest.fixture(scope="module")
+def example_run(tmp_path_factory) -> Path:
+    workdir = workdir_with_examples(tmp_path_factory.mktemp("example_import"))
+    result = snakemake(workdir, config=CONFIG)
+    assert result.returncode == 0, result.stderr[-6000:]
+    return workdir
+
+
+def test_the_example_config_imports_analyses_and_draws_its_systems(example_run):
+    results = example_run / RESULTS
+    for system, labels in {"lammps_2d": ("0.820", "0.840", "0.860"), "table_2d": ("0.229", "0.233", "0.237")}.items():
+        for label in labels:
+            snap = read_snapshot(paths.snapshot(results, system, "r00", label))  # the contract, values included
+            assert snap.attrs["source_format"] in ("lammps", "table")
+            assert len(json.loads(snap.attrs["source_sha256"])) == 2
+            read_dataset(paths.analysis(results, system, "r00", label), "analysis")
+        measures = read_dataset(paths.network_measures(results, system), "network_measures")
+        assert measures.attrs["force_law"] == "imported" and measures.sizes["rho"] == 3
+    read_dataset(paths.distances(results, "lammps_2d_p2"), "distances")
+    for name in ("p1_fig01_networks", "p1_fig06_betti0", "p2_fig06_distances_normal_mu05"):
+        assert (Path(paths.figure(results, name, "pdf"))).stat().st_size > 0
+    p2 = pd.read_csv(paths.p2_validation_table(results, "csv"))
+    assert (p2["verdict"] == "not evaluated").all() and p2["measured"].str.contains("imported states").all()
+    p1 = pd.read_csv(paths.p1_validation_table(results, "csv"))
+    imported = p1[(p1["system"] == "lammps_2d") & p1["evidence"].str.contains("imported states", na=False)]
+    assert len(imported) > 5
+    assert (p1[p1["system"] == "lammps_2d"]["verdict"] == "holds").any()  # claims without ρ_J are judged
+
+
+def test_a_snapshot_copied_from_another_system_is_refused_by_the_analysis(example_run, tmp_path):
+    workdir = tmp_path / "copy"
+    shutil.copytree(example_run, workdir, symlinks=True)
+    source = workdir / paths.snapshot(RESULTS, "lammps_2d", "r00", "0.840")
+    target = workdir / paths.snapshot(RESULTS, "lammps_2d_p2", "r00", "0.840")
+    shutil.copy(source, target)
+    result = snakemake(workdir, paths.network_measures(RESULTS, "lammps_2d_p2"), "--forcerun",
+                       "analyze_lammps_2d_p2", config=CONFIG)
+    output = result.stdout + result.stderr
+    lines = [line for line in output.splitlines() if "not of this run" in line and " ERROR " in line]
+    assert result.returncode != 0 and "Traceback" not in output
+    assert len(lines) == 1 and (f"{target.relative_to(workdir)}: not of this run: global attribute 'system' is "
+                                "'lammps_2d', but this run is 'lammps_2d_p2'") in lines[0], output[-3000:]
+
+
+def test_a_malformed_source_stops_the_dry_run_with_one_line_and_writes_nothing(tmp_path):
+    workdir = workdir_with_examples(tmp_path / "bad")
+    atoms = workdir / "data" / "examples" / "lammps_2d" / "atoms.dump"
+    lines = atoms.read_text().splitlines()
+    lines[10] = " ".join("nan" if k == 2 else value for k, value in enumerate(lines[10].split()))
+    atoms.write_text("\n".join(lines) + "\n")
+    result = snakemake(workdir, "-n", config=CONFIG)
+    output = result.stdout + result.stderr
+    assert result.returncode != 0 and "Traceback" not in output
+    expected = ("Invalid config: data/examples/lammps_2d/atoms.dump, line 11, column 'x': NaN or infinite value")
+    assert sum(expected in line for line in output.splitlines()) == 1, output[-3000:]
+    assert not (workdir / "results").exists()
