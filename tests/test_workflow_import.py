@@ -47,7 +47,7 @@ def test_the_example_config_imports_analyses_and_draws_its_systems(example_run):
     for name in ("p1_fig01_networks", "p1_fig06_betti0", "p2_fig06_distances_normal_mu05"):
         assert (Path(paths.figure(results, name, "pdf"))).stat().st_size > 0
     p2 = pd.read_csv(paths.p2_validation_table(results, "csv"))
-    assert (p2["verdict"] == "not evaluated").all() and p2["measured"].str.contains("imported states").all()
+    assert (p2["verdict"] == "not evaluated").all() and p2["evidence"].str.contains("imported states", na=False).all()
     p1 = pd.read_csv(paths.p1_validation_table(results, "csv"))
     imported = p1[(p1["system"] == "lammps_2d") & p1["evidence"].str.contains("imported states", na=False)]
     assert len(imported) > 5
