@@ -49,16 +49,49 @@ def _format(value) -> str:
     return str(value)
 
 
+#: the Hertz results P1 calls prominent, whose verdicts the second table shows per setting
+TARGET_CLAIMS = ("p1-3-clusters-below-jamming", "p1-5.1-b0-ridge", "p1-5.1-b0-ridge-law-contrast",
+                 "p1-5.3-weak-peak-nonlinear-only", "p1-5.3-weak-peak-at-ridge", "p1-6-cluster-size-peak-small-threshold")
+
+
+def verdict_rows(folders: list[tuple[Path, str]]) -> pd.DataFrame:
+    """Per run folder with a P1 table (`tables/p1_validation.csv`, made by the P1 report rule on that folder): the
+    counts of the primary verdicts about the folder's system and across systems, and the verdicts of
+    `TARGET_CLAIMS` (marker in brackets)."""
+    rows = []
+    for folder, system in folders:
+        path = folder / "tables" / "p1_validation.csv"
+        if not path.exists():
+            continue
+        table = pd.read_csv(path, comment="#")
+        claims = table[(table["kind"] == "claim") & table["reading"].isna() & table["system"].isin([system, "all"])]
+        counts = claims["verdict"].value_counts()
+        row = {"run": str(folder), "system": system, "holds": int(counts.get("holds", 0)),
+               "does not hold": int(counts.get("does not hold", 0)),
+               "not evaluated": int(counts.get("not evaluated", 0)),
+               "marginal": int((claims["marker"] == "marginal").sum())}
+        for claim in TARGET_CLAIMS:
+            hit = claims[claims["id"] == claim]
+            row[claim] = "; ".join(f"{v}{' (' + m + ')' if isinstance(m, str) else ''}, {x:.3g}"
+                                   for v, m, x in zip(hit["verdict"], hit["marker"], hit["measured"])) or "–"
+        rows.append(row)
+    return pd.DataFrame(rows)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("folders", nargs="+", help="series run folders (FOLDER or FOLDER:SYSTEM)")
     parser.add_argument("--linear", type=Path, help="results folder with 2d_linear/network_measures.nc")
     parser.add_argument("--markdown", type=Path, help="also write the table to this file")
+    parser.add_argument("--verdicts", action="store_true",
+                        help="also tabulate the P1 verdicts of every folder that has tables/p1_validation.csv")
     args = parser.parse_args()
     rows = []
+    runs = []
     for argument in args.folders:
         folder, _, system = str(argument).partition(":")
-        rows.append(series_row(SeriesRun(Path(folder), system or Path(folder).name.split("_g")[0])))
+        runs.append((Path(folder), system or Path(folder).name.split("_g")[0]))
+        rows.append(series_row(SeriesRun(*runs[-1])))
     if args.linear is not None:
         from forcenet.report.p1 import jamming_point
         import xarray as xr
@@ -72,6 +105,10 @@ def main() -> None:
     rows.sort(key=lambda r: (r["system"], r.get("gamma_n", math.inf)))
     frame = pd.DataFrame([{key: _format(row.get(key, math.nan)) for key, _ in COLUMNS} for row in rows])
     text = "\n".join(markdown_table(frame, [key for key, _ in COLUMNS], dict(COLUMNS)))
+    if args.verdicts:
+        verdicts = verdict_rows(runs)
+        if len(verdicts):
+            text += "\n\n" + "\n".join(markdown_table(verdicts, list(verdicts.columns)))
     print(text)
     if args.markdown:
         args.markdown.write_text(text + "\n")
