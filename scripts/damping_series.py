@@ -8,7 +8,7 @@ Each folder is a `results_dir` made with `config/validation.yaml` and one overla
 taken from the folder name, up to `_g`), or `FOLDER:SYSTEM` for any other run folder (e.g. P1's start,
 `results/p1_start:2d_linear`, docs/validation/p1_start.md). `--linear` names a results folder holding the linear system's
 `2d_linear/network_measures.nc` (P1's paper-size protocol), whose B0/N ridge is printed beside the Hertz rows.
-What each column means: `forcenet.report.damping_series`.
+What each column means: `forcenet.damping_series`.
 """
 from __future__ import annotations
 
@@ -22,7 +22,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "src"))
 import pandas as pd  # noqa: E402
 
 from forcenet.report.claims import markdown_table  # noqa: E402
-from forcenet.report.damping_series import SeriesRun, network_readings, series_row  # noqa: E402
+from forcenet.damping_series import SeriesRun, network_readings, series_row  # noqa: E402
 
 COLUMNS = [
     ("system", "system"), ("N", "N"), ("gamma_n", "γ_n"), ("e_at_v0", "e (mean pair, v0)"),

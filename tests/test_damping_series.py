@@ -1,10 +1,10 @@
-"""The damping series' readings (forcenet.report.damping_series) on hand-made states."""
+"""The damping series' readings (forcenet.damping_series) on hand-made states."""
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
-from forcenet.report.damping_series import approach_speeds
+from forcenet.damping_series import approach_speeds
 
 
 def test_approach_speeds_count_only_near_pairs_that_close():
