@@ -31,7 +31,8 @@ import numpy as np
 import xarray as xr
 
 from forcenet.datasets import read_snapshot
-from forcenet.datasets.paths import network_measures, realization_name, rho_file, run_cost, run_dir
+from forcenet.datasets.paths import (STAGING_DIR, network_measures, realization_name, rho_file, run_cost,
+                                     run_dir)
 from forcenet.dem import calibration, stability
 from forcenet.measures.jamming import jamming_point as inflection
 
@@ -84,10 +85,13 @@ class SeriesRun:
 
 
 def _snapshot_states(run: SeriesRun) -> list[dict]:
+    """`survey.snapshot_row` of every snapshot of the run, in grid order: the published ones, or, for a run that
+    stopped (a blow-up publishes nothing), the ones it left in its staging folder."""
     from forcenet.survey import snapshot_row
 
     states = []
-    for path in sorted(run.sim.glob(rho_file("*"))):
+    paths = sorted(run.sim.glob(rho_file("*"))) or sorted((run.sim / STAGING_DIR).glob(rho_file("*")))
+    for path in paths:
         with read_snapshot(path) as snap:
             row = snapshot_row(snap)
             row["path"] = path
