@@ -27,7 +27,8 @@ from forcenet.damping_series import SeriesRun, network_readings, series_row  # n
 COLUMNS = [
     ("system", "system"), ("N", "N"), ("gamma_n", "γ_n"), ("e_at_v0", "e (mean pair, v0)"),
     ("e_at_median_speed", "e (median approach speed near ρ_J)"), ("median_approach_speed", "median approach speed"),
-    ("completed", "whole grid"), ("top_rho", "last ρ"), ("capped_relaxations", "capped relaxations"), ("max_damping_dt", "max λΔt"),
+    ("completed", "whole grid"), ("top_rho", "last ρ"), ("capped_relaxations", "capped relaxations"),
+    ("max_damping_dt", "max λΔt"),
     ("passes_rule", "passes the rule"), ("rho_J", "ρ_J"), ("rho_J_bulk", "ρ_J bulk"),
     ("connected_below_rho_J", "particles ≥ 2 contacts, last 2 states before the jump"),
     ("rho_below_rho_J", "their ρ"),
