@@ -4,11 +4,12 @@
     .venv/bin/python scripts/damping_series.py results/damping/2d_hertz_g* results/damping/3d_hertz_g*_n512 \
         [--linear results/validation] [--markdown docs/validation/damping_runs.md]
 
-Each folder is a `results_dir` made with `config/validation.yaml` and one overlay of `config/damping/` (system
+Each folder is a `results_dir` made with `config/damping/base.yaml` and one overlay of `config/damping/` (system
 taken from the folder name, up to `_g`), or `FOLDER:SYSTEM` for any other run folder (e.g. P1's start,
-`results/p1_start:2d_linear`, docs/validation/p1_start.md). `--linear` names a results folder holding the linear system's
-`2d_linear/network_measures.nc` (P1's paper-size protocol), whose B0/N ridge is printed beside the Hertz rows.
-What each column means: `forcenet.damping_series`.
+`results/p1_start:2d_linear`, docs/validation/p1_start.md). `--linear` names a results folder holding the linear
+system's `2d_linear/network_measures.nc` (P1's paper-size protocol), whose B0/N ridge is printed beside the Hertz
+rows. `--verdicts` adds each folder's P1 verdicts (from its `tables/p1_validation.csv`). What each column means:
+`forcenet.damping_series`.
 """
 from __future__ import annotations
 
@@ -52,7 +53,8 @@ def _format(value) -> str:
 
 #: the Hertz results P1 calls prominent, whose verdicts the second table shows per setting
 TARGET_CLAIMS = ("p1-3-clusters-below-jamming", "p1-5.1-b0-ridge", "p1-5.1-b0-ridge-law-contrast",
-                 "p1-5.3-weak-peak-nonlinear-only", "p1-5.3-weak-peak-at-ridge", "p1-6-cluster-size-peak-small-threshold")
+                 "p1-5.3-weak-peak-nonlinear-only", "p1-5.3-weak-peak-at-ridge",
+                 "p1-6-cluster-size-peak-small-threshold")
 
 
 def verdict_rows(folders: list[tuple[Path, str]]) -> pd.DataFrame:

@@ -8,14 +8,15 @@ Sizes (reduced units, length d_ave, mass m̄):
 * masses ∝ d² in 2D (disks of a common thickness, P1: chosen so the mean mass is m̄) and ∝ d³ in 3D,
   normalised so the mean mass is exactly 1; moments of inertia m r²/2 (disk) and 2 m r²/5 (sphere).
 
-Lattice: spacing = largest possible diameter + `LATTICE_GAP`, so no two particles overlap; as many sites per
-axis as fit in the box (N = n_axis^d, the lattice centred in the box). With `SystemSpec.initial_state` of
-lattice ``"box"`` (P1 §3's start: ≈ 2000 disks on a square grid in a 50 × 50 d_ave box, ρ0 ≈ 0.645) the given
-number of sites per axis is spread evenly over the whole box (spacing box_length / n_axis, the outer sites half a
-spacing from the walls); neighbouring large particles may then overlap at t = 0 (2025 disks in 50 d_ave: 10 % of
-a large diameter), which the dynamics resolve in the relaxation that precedes the first compression
-(`protocol.run_compression`). Species are assigned to sites at random. Velocities: each component normal with standard deviation `initial_speed`, minus the mean (zero total
-momentum); angular velocities 0. Every random draw comes from one `numpy.random.Generator`, in a fixed order.
+Lattice: spacing = largest possible diameter + `LATTICE_GAP`, so no two particles overlap; as many sites per axis as
+fit in the box (N = n_axis^d, the lattice centred in the box). With `SystemSpec.initial_state` of lattice ``"box"``
+(P1 §3's start: ≈ 2000 disks on a square grid in a 50 × 50 d_ave box, ρ0 ≈ 0.645) the given number of sites per axis
+is spread evenly over the whole box (spacing box_length / n_axis, the outer sites half a spacing from the walls);
+neighbouring large particles may then overlap at t = 0 (2025 disks in 50 d_ave: 10 % of a large diameter), which the
+dynamics resolve in the relaxation that precedes the first compression (`protocol.run_compression`). Species are
+assigned to sites at random. Velocities: each component normal with standard deviation `initial_speed`, minus the
+mean (zero total momentum); angular velocities 0. Every random draw comes from one `numpy.random.Generator`, in a
+fixed order.
 
 Rough walls (P2): each wall is a square grid (a row in 2D) of touching wall particles of diameter
 `WALL_PARTICLE_DIAMETER` (monodisperse), centred `WALL_PARTICLE_DIAMETER/2` outside the wall plane, so the wall
