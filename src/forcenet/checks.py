@@ -116,10 +116,10 @@ def normal_damping_estimate(system) -> float | None:
     calibrated value); None for the Hertz law, whose damping rate depends on the overlap."""
     if system.beta != 0.0:
         return None
-    if system.damping_model == "linear_law":
-        return units.collision_time_damping(system.restitution)
-    if system.damping_model == "explicit":
-        return float(system.normal_damping)
+    if system.damping_model != "head_on":  # linear_law and explicit: the engine's own value, no calibration to run
+        from forcenet.dem.calibration import normal_damping_for_system
+
+        return normal_damping_for_system(system)
     return units.linear_damping_for_restitution(system.normal_stiffness, system.restitution,
                                                 0.5)  # two mean particles, as the calibration
 

@@ -98,6 +98,7 @@ def _snapshot_states(run: SeriesRun) -> list[dict]:
             row["grid_rho"] = float(path.stem.removeprefix("rho"))
             row["config"] = json.loads(snap.attrs["config"])
             row["normal_damping"] = float(snap.attrs["dem_normal_damping"])
+            row["arrays"] = (snap.position.values, snap.velocity.values, snap.radius.values)
             states.append(row)
     return sorted(states, key=lambda row: row["grid_rho"])
 
@@ -129,9 +130,9 @@ def series_row(run: SeriesRun) -> dict:
     rho_j = _fit(rho, z)
     rho_j_bulk = _fit([s["rho_bulk"] for s in states], z)
     below = [s for s in states if s["rho"] < rho_j and s["Z"] < UNJAMMED_Z] if math.isfinite(rho_j) else []
-    n = len(read_positions(states[0]["path"])[2])
+    n = len(states[0]["arrays"][2])
     near = [s for s in states if math.isfinite(rho_j) and abs(s["rho"] - rho_j) <= NEAR_JAMMING + 1e-9]
-    speeds = np.concatenate([approach_speeds(*read_positions(s["path"])) for s in near]) if near else np.empty(0)
+    speeds = np.concatenate([approach_speeds(*s["arrays"]) for s in near]) if near else np.empty(0)
     median_speed = float(np.median(speeds)) if speeds.size else math.nan
 
     def restitution(speed: float) -> float:
@@ -155,12 +156,6 @@ def series_row(run: SeriesRun) -> dict:
     }
     row.update(network_readings(run, rho_j))
     return row
-
-
-def read_positions(path: Path) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """position, velocity (N, d) and radius (N,) of a snapshot."""
-    with read_snapshot(path) as snap:
-        return snap.position.values, snap.velocity.values, snap.radius.values
 
 
 def _cpu_hours(run: SeriesRun) -> float:
