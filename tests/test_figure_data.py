@@ -92,7 +92,8 @@ def test_line_family_csv_holds_the_plotted_curves(measures, tmp_path):
 def test_a_changed_table_is_what_gets_drawn_and_a_mismatch_is_caught(measures, tmp_path):
     """The drawing reads only the table: alter one value and the figure shows it, and the comparison above fails
     against the unaltered CSV (so it can fail)."""
-    data = p1_figure_data("p1_fig12_total_persistence", measures)
+    diagrams = {name: make_diagrams(ds) for name, ds in measures.items()}
+    data = p1_figure_data("p1_fig12_total_persistence", measures, diagrams)
     original = round_trip(data, tmp_path)
     changed = FigureData(data.table.copy(), data.layout)
     changed.table.loc[0, cols.MEAN] += 1.0

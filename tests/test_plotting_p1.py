@@ -65,7 +65,7 @@ def make_diagrams(measures: xr.Dataset, points_per_diagram: int = 12, seed: int 
                                         ("point_rho", np.full(points_per_diagram, rho))):
                         columns[key].append(values)
     return xr.Dataset({key: ("point", np.concatenate(values)) for key, values in columns.items()},
-                      attrs=dict(measures.attrs))
+                      coords={"force_kind": list(FORCE_KINDS)}, attrs=dict(measures.attrs))
 
 
 def make_snapshot(dimension: int, n_side: int = 6, seed: int = 1) -> xr.Dataset:
@@ -160,8 +160,8 @@ def test_figure_draws_labelled_panels(name, measures, diagrams, snapshots):
             assert len(bands(ax)) == n_curves  # every mean curve carries its spread band
 
 
-def test_line_figures_use_the_system_colour(measures):
-    fig = make_p1_figure("p1_fig12_total_persistence", measures)
+def test_line_figures_use_the_system_colour(measures, diagrams):
+    fig = make_p1_figure("p1_fig12_total_persistence", measures, diagrams)
     for ax, name in zip(data_axes(fig), ["2d_hertz", "2d_linear", "3d_hertz"]):  # P1's panel order
         assert {line.get_color() for line in mean_lines(ax)} == {system_color(name)}
 
@@ -283,7 +283,7 @@ def test_figures_cope_with_a_missing_system(measures, diagrams):
     two = {name: ds for name, ds in measures.items() if name != "3d_hertz"}
     assert len(data_axes(make_p1_figure("p1_fig06_betti0", two))) == 2  # no 3D close-up
     assert len(data_axes(make_p1_figure("p1_fig07_betti1", two))) == 2  # no B2 panel
-    assert len(data_axes(make_p1_figure("p1_fig11_persistence_bins", two))) == 4  # 2D column only
+    assert len(data_axes(make_p1_figure("p1_fig11_persistence_bins", two, diagrams))) == 4  # 2D column only
 
 
 @pytest.fixture(scope="module")
@@ -313,3 +313,24 @@ def test_saved_as_pdf_and_png(tmp_path, measures):
     fig = make_p1_figure("p1_z_jamming", measures)
     save_figure(fig, tmp_path / "f.pdf", tmp_path / "f.png")
     assert (tmp_path / "f.pdf").stat().st_size > 1000 and (tmp_path / "f.png").stat().st_size > 1000
+
+
+def test_total_persistence_and_bins_are_drawn_with_never_dying_classes_at_minus_one(measures, diagrams):
+    # the papers' convention (docs/decisions.md), as the P1 table judges: each never-dying class adds birth + 1 to
+    # TP_k and counts in the PD0 bin of its birth; with no never-dying class the stored measures are drawn
+    from forcenet.report.p1 import never_dying_at_minus_one, per_particle
+
+    name = "2d_hertz"
+    data = p1_figure_data("p1_fig12_total_persistence", measures, diagrams).table
+    tp0 = data[(data[cols.SYSTEM] == name) & (data[figures.HOMOLOGY_K] == 0)][cols.MEAN].to_numpy()
+    expected = per_particle(never_dying_at_minus_one(measures[name], diagrams[name]), "total_persistence")
+    total = dict(homology_dim=0, force_kind="total")
+    assert tp0 == pytest.approx(expected.sel(**total).mean("realization").values)
+    stored = per_particle(measures[name], "total_persistence").sel(**total).mean("realization").values
+    assert np.all(tp0 > stored)  # make_diagrams has one never-dying PD0 point per diagram, born at >= 0.05
+    none = {n: d.isel(point=np.flatnonzero(~d["essential"].values.astype(bool))) for n, d in diagrams.items()}
+    data = p1_figure_data("p1_fig12_total_persistence", measures, none).table
+    tp0 = data[(data[cols.SYSTEM] == name) & (data[figures.HOMOLOGY_K] == 0)][cols.MEAN].to_numpy()
+    assert tp0 == pytest.approx(stored)
+    bins = p1_figure_data("p1_fig11_persistence_bins", measures, diagrams).table
+    assert set(bins["persistence_bin"]) == set(figures.PD_BINS)

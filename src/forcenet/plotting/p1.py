@@ -27,7 +27,7 @@ from forcenet.plotting import figure_data as cols
 from forcenet.plotting.figure_data import FigureData, concat, curve_rows
 from forcenet.plotting.style import LABELS, panel_figure, system_color, system_label, system_title
 from forcenet.report.p1 import (DEFAULT_P1_FORCE_UNIT, P1_SMALL_THRESHOLD, f_max_cut, jamming_point,
-                                per_particle, percolating_size_mean, rho_values, select_total,
+                                never_dying_at_minus_one, per_particle, percolating_size_mean, rho_values, select_total,
                                 shape_parameter_average, system_dimension, system_order)
 from forcenet.report.realizations import mean_and_spread, realization_mean
 
@@ -423,11 +423,20 @@ def draw_p1_fig10_persistence_diagram(data: FigureData) -> Figure:
     return fig
 
 
-def prepare_p1_fig11_persistence_bins(measures: Mapping[str, xr.Dataset], *,
+def _never_dying_at_minus_one(measures: Mapping[str, xr.Dataset],
+                              diagrams: Mapping[str, xr.Dataset]) -> dict[str, xr.Dataset]:
+    """The measures with each system's never-dying classes at death −1 (`never_dying_at_minus_one`: the papers'
+    convention, docs/decisions.md), as the P1 table judges them."""
+    return {name: never_dying_at_minus_one(ds, diagrams[name]) if name in diagrams else ds
+            for name, ds in measures.items()}
+
+
+def prepare_p1_fig11_persistence_bins(measures: Mapping[str, xr.Dataset], diagrams: Mapping[str, xr.Dataset], *,
                                       force_unit: str = DEFAULT_P1_FORCE_UNIT) -> FigureData:
     """F11: PD0 points per bin N0/N versus ρ; rows rough/weak/medium/strong, columns 2D and 3D (P1 Fig. 11),
-    one curve per system. layout["columns"]: the number of panel columns (one per dimension)."""
-    systems = _systems(measures, force_unit)
+    one curve per system; a never-dying class counts in the bin of its birth (death −1, `diagrams`).
+    layout["columns"]: the number of panel columns (one per dimension)."""
+    systems = _systems(_never_dying_at_minus_one(measures, diagrams), force_unit)
     dimensions = sorted({s.dimension for s in systems})
     blocks = []
     for row, bin_name in enumerate(PD_BINS):
@@ -458,11 +467,12 @@ def draw_p1_fig11_persistence_bins(data: FigureData) -> Figure:
     return fig
 
 
-def prepare_p1_fig12_total_persistence(measures: Mapping[str, xr.Dataset], *,
+def prepare_p1_fig12_total_persistence(measures: Mapping[str, xr.Dataset], diagrams: Mapping[str, xr.Dataset], *,
                                        force_unit: str = DEFAULT_P1_FORCE_UNIT) -> FigureData:
-    """F12: total persistence TP0/N and TP1/N of the total-force network versus ρ."""
+    """F12: total persistence TP0/N and TP1/N of the total-force network versus ρ, each never-dying class of
+    `diagrams` adding birth + 1 (death −1)."""
     blocks = []
-    for panel, system in enumerate(_systems(measures, force_unit)):
+    for panel, system in enumerate(_systems(_never_dying_at_minus_one(measures, diagrams), force_unit)):
         tp = per_particle(system.data, "total_persistence")
         for k in (0, 1):
             mean, spread = mean_and_spread(tp.sel(homology_dim=k))

@@ -110,11 +110,12 @@ FIGURES: tuple[FigureEntry, ...] = (
                 "p1:draw_p1_fig10_persistence_diagram", ("measures", "diagrams"),
                 "An example PD0 with the rough, weak, medium and strong persistence bins"),
     FigureEntry("p1_fig11_persistence_bins", "P1 Fig. 11", "p1:prepare_p1_fig11_persistence_bins",
-                "p1:draw_p1_fig11_persistence_bins", ("measures",),
-                "PD0 points per bin N0/N versus ρ, 2D and 3D." + _CUT),
+                "p1:draw_p1_fig11_persistence_bins", ("measures", "diagrams"),
+                "PD0 points per bin N0/N versus ρ, 2D and 3D; a never-dying class in the bin of its birth (death −1)."
+                + _CUT),
     FigureEntry("p1_fig12_total_persistence", "P1 Fig. 12", "p1:prepare_p1_fig12_total_persistence",
-                "p1:draw_p1_fig12_total_persistence", ("measures",),
-                "Total persistence TP0/N and TP1/N versus ρ." + _CUT),
+                "p1:draw_p1_fig12_total_persistence", ("measures", "diagrams"),
+                "Total persistence TP0/N and TP1/N versus ρ, never-dying classes at death −1." + _CUT),
     FigureEntry("p1_z_jamming", "P1 §4, the jamming point", "p1:prepare_p1_z_jamming", "p1:draw_p1_z_jamming",
                 ("measures",), "Coordination number Z(ρ) with the jamming point ρ_J (inflection) marked"),
     # --- P2: one realization's consecutive states, or one system's distances.nc ---------------------------------
