@@ -505,3 +505,18 @@ def test_what_snakemake_reports_before_the_workflow(tmp_path: Path):
     result = _snakemake("-n", "--cores", "1", "--configfile", "config/smoke.yaml", "results/sim/nothing.nc")
     output = result.stdout + result.stderr
     assert "FileNotFoundError: [Errno 2] No such file or directory: 'results/sim/nothing.nc'" in output, output[-2000:]
+
+
+def test_the_readings_beside_take_the_other_value_of_each_convention():
+    from forcenet.pipeline import readings_beside
+
+    config = yaml.safe_load((REPO / "config/config.yaml").read_text())
+    readings = readings_beside(config)
+    assert (readings["tetrahedra"].value, readings["tetrahedra"].folder) == (True, "fill_tetrahedra-true")
+    assert (readings["essential"].value, readings["table_states"].value) == ("apart", "literal")
+    config["analysis"].update(fill_tetrahedra=True, essential_convention="apart")
+    config["studies"]["p2"]["table_states"] = "literal"
+    readings = readings_beside(config)
+    assert (readings["tetrahedra"].value, readings["essential"].value, readings["table_states"].value) == (
+        False, "minus_one", "jammed")
+    assert len({reading.folder for reading in readings.values()}) == 3

@@ -12,6 +12,7 @@ import pytest
 
 from conftest import load_config, snakemake
 from forcenet.datasets import paths
+from forcenet.pipeline import readings_beside
 from forcenet.plotting.registry import FIGURES
 from forcenet.systems import validate_config
 
@@ -53,6 +54,7 @@ SYMBOLIC = [
     (paths.figure, ("{figure}", "{pdf,png,csv}")), (paths.p1_validation_table, ("{csv,md}",)),
     (paths.p2_table, ("{1,2,3}", "{csv,md}")), (paths.p2_table_states, ()), (paths.p2_validation_table, ("{csv,md}",)),
     (paths.movie, (paths.movie_name("{kind}", "{system}"),)), (paths.log, ("{step}", "{name}")),
+    (paths.reading, ("{reading}",)),
 ]
 
 
@@ -128,6 +130,23 @@ def expected_smoke_outputs(results: str = "results") -> set[str]:
     files.add(paths.p2_table_states(results))
     files |= {paths.log(results, "tables", name) for name in ("p1_validation", "p2_tables", "p2_table_states",
                                                                   "p2_validation")}
+    # the readings beside (forcenet.pipeline.readings_beside), each a results folder of its own
+    reading = {key: paths.reading(results, value.folder) for key, value in readings_beside(config).items()}
+    for system, spec in specs.items():
+        if system in p1 and spec.dimension == 3:  # the 3D P1 systems analysed with the other complex
+            folder = reading["tetrahedra"]
+            for r in realizations:
+                files.add(paths.run_log(folder, "analyze", system, r))
+                files |= {paths.analysis(folder, system, r, rho) for rho in spec.rho_labels}
+            files |= {paths.network_measures(folder, system), paths.diagrams(folder, system),
+                      paths.log(folder, "aggregate", system)}
+    for system in p2:  # P2's distances under the other never-dying convention
+        files |= {paths.distances(reading["essential"], system), paths.log(reading["essential"], "distances", system)}
+    for key in ("essential", "table_states"):  # and Tables I-III under it, and from the other states a, b, c
+        files |= {paths.p2_table(reading[key], i, fmt) for i in paths.P2_TABLE_NUMBERS for fmt in ("csv", "md")}
+        files.add(paths.log(reading[key], "tables", "p2_tables"))
+    files |= {paths.p2_table_states(reading["table_states"]), paths.log(reading["table_states"], "tables",
+                                                                         "p2_table_states")}
     return files
 
 

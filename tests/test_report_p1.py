@@ -899,3 +899,22 @@ def test_the_left_out_reading_of_never_dying_classes_stands_beside():
     assert verdict(table, "p1-5.3-tp2-zero-below", "3d_hertz") == framework.FAILS
     assert verdict(table, "p1-5.3-tp2-zero-below", "3d_hertz", validation.NEVER_DYING_LEFT_OUT) == framework.HOLDS
     assert verdict(validation.p1_validation(measures), "p1-5.3-tp2-zero-below", "3d_hertz") == framework.HOLDS
+
+
+def test_a_reading_of_3d_measures_keeps_the_other_systems_and_takes_its_own_diagrams():
+    # the filled-tetrahedra reading has its own 3D measures and diagrams only; the 2D systems are judged on the
+    # primary measures under it, so no 2D claim gets a row of that reading
+    measures = make_p1_measures()
+    below = [float(x) for x in measures["3d_hertz"]["rho"].values if x < 0.56]
+    hollow = {"3d_hertz": _diagrams("3d_hertz", [(r, x, 2, 2.0, None) for r in range(3) for x in below])}
+    # filled tetrahedra: no never-dying cavity below jamming (one finite point, which the measures hold already)
+    filled = {"3d_hertz": _diagrams("3d_hertz", [(0, below[0], 2, 2.0, 1.0)])}
+    table = validation.p1_validation(measures, diagrams=hollow, beside={"filled": {"3d_hertz": measures["3d_hertz"]}},
+                                     beside_diagrams={"filled": filled})
+    assert verdict(table, "p1-5.3-tp2-zero-below", "3d_hertz") == framework.FAILS
+    assert verdict(table, "p1-5.3-tp2-zero-below", "3d_hertz", "filled") == framework.HOLDS
+    readings = table[table["reading"] == "filled"]
+    assert set(readings["system"]) == {"3d_hertz"}
+    # without its own diagrams the reading takes the primary's: the cavities count, and nothing turns
+    table = validation.p1_validation(measures, diagrams=hollow, beside={"filled": {"3d_hertz": measures["3d_hertz"]}})
+    assert not (table["reading"] == "filled").any()

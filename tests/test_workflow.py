@@ -229,3 +229,32 @@ def test_the_campaign_tables_are_read_by_the_quick_build_and_written_only_at_pap
     paper_size = planned_jobs(tmp_path, "validation_report", REPO / "config/validation.yaml")
     assert "validation_report_p2" in paper_size
     assert not any(path.startswith("docs/") for path in paper_size["p2_validation"])
+
+
+def test_each_reading_beside_is_built_with_the_other_convention_and_judged(smoke_run):
+    # issue 25: the other value of fill_tetrahedra, of the never-dying convention and of the states a, b, c, each
+    # built from the same runs into results/readings/ and set beside the claims it changes
+    from forcenet.pipeline import readings_beside
+
+    results = smoke_run / "results"
+    config = yaml.safe_load((REPO / "config/smoke.yaml").read_text())
+    readings = readings_beside(config)
+    folder = {key: paths.reading(results, reading.folder) for key, reading in readings.items()}
+    for system, spec in config["systems"].items():
+        if spec["dimension"] == 3 and system in config["studies"]["p1"]["systems"]:
+            for path in (paths.network_measures(folder["tetrahedra"], system), paths.diagrams(folder["tetrahedra"], system)):
+                assert open_dataset(path).attrs["flag_complex"] == "tetrahedra", path  # smoke: hollow primary
+        else:
+            assert not Path(paths.network_measures(folder["tetrahedra"], system)).exists()
+    for system in config["studies"]["p2"]["systems"]:
+        assert open_dataset(paths.distances(folder["essential"], system)).attrs["essential_convention"] == "apart"
+        assert open_dataset(paths.distances(results, system)).attrs["essential_convention"] == "minus_one"
+    literal = pd.read_csv(paths.p2_table_states(folder["table_states"]))
+    jammed = pd.read_csv(paths.p2_table_states(results))
+    assert literal["rho_b"].iloc[0] == pytest.approx(config["studies"]["p2"]["table_rho"], abs=0.011)
+    assert jammed["rho_a"].iloc[0] >= config["studies"]["p2"]["table_rho"] - 1e-9
+    assert "rho_a = %.4f" % literal["rho_a"].iloc[0] in Path(paths.p2_table(folder["table_states"], 1, "md")).read_text()
+    table = pd.read_csv(paths.p2_validation_table(results, "csv"), comment="#", keep_default_na=False)
+    assert {readings["essential"].label, readings["table_states"].label} <= set(table["reading"])
+    # apart: a pair whose numbers of never-dying classes differ is infinitely far apart, printed so
+    assert "inf" in Path(paths.p2_table(folder["essential"], 1, "md")).read_text()

@@ -13,6 +13,7 @@ import os
 import shutil
 import sys
 from contextlib import contextmanager
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Iterator, Mapping, Sequence
 
@@ -236,6 +237,45 @@ def snapshot_analysis_params(config: Mapping[str, Any], system: str) -> dict[str
     return params
 
 
+@dataclass(frozen=True)
+class ReadingBeside:
+    """Another value of one convention, built from the same runs and judged beside the config's own in the
+    validation tables (issue 25, docs/decisions.md): `key` is the config key (dotted), `value` its other value,
+    `label` the tables' ``reading`` text."""
+
+    key: str
+    value: Any
+    label: str
+
+    @property
+    def folder(self) -> str:
+        """The name of its results folder below ``{results}/readings/`` (`forcenet.datasets.paths.reading`)."""
+        return f"{self.key.rsplit('.', 1)[-1]}-{str(self.value).lower()}"
+
+
+_TETRAHEDRA_READINGS = {True: "filled tetrahedra", False: "hollow tetrahedra (each 4-clique a void)"}
+_ESSENTIAL_READINGS = {"apart": "never-dying classes matched only with each other",
+                       "minus_one": "never-dying classes at death -1"}
+
+
+def readings_beside(config: Mapping[str, Any]) -> dict[str, ReadingBeside]:
+    """The readings a build judges beside its own conventions, each from a second build of the same runs:
+    ``tetrahedra``, P1's 3D systems analysed with the other ``analysis.fill_tetrahedra``; ``essential``, P2's
+    distances and Tables I–III with never-dying classes matched only with each other (``apart``; at death −1 when
+    the config's convention is ``apart``); ``table_states``, P2's Tables I–III from the other rule of
+    ``studies.p2.table_states`` (the literal states around ``table_rho``, or the jammed ones)."""
+    fill = not bool(config["analysis"]["fill_tetrahedra"])
+    convention = "minus_one" if config["analysis"]["essential_convention"] == "apart" else "apart"
+    p2 = config["studies"].get("p2", {})
+    table_rho = float(p2.get("table_rho", 0.79))
+    state_rule = "jammed" if p2.get("table_states", "jammed") == "literal" else "literal"
+    state_labels = {"literal": f"states a, b, c nearest rho = {table_rho:g} (literal)",
+                    "jammed": f"states a, b, c the first jammed ones from rho = {table_rho:g}"}
+    return {"tetrahedra": ReadingBeside("analysis.fill_tetrahedra", fill, _TETRAHEDRA_READINGS[fill]),
+            "essential": ReadingBeside("analysis.essential_convention", convention, _ESSENTIAL_READINGS[convention]),
+            "table_states": ReadingBeside("studies.p2.table_states", state_rule, state_labels[state_rule])}
+
+
 def analyze_run(*, snapshots: Sequence[str], outputs: Sequence[str], analysis: Mapping[str, Any],
                 log_path: str | None = None, expect: Mapping[str, Any] | None = None) -> None:
     """Analyse every snapshot of one compression run (one process: imports and JIT paid once). Every snapshot is
@@ -429,12 +469,14 @@ def movie(*, kind: str, system: str, inputs: Sequence[str], output: str, rattler
 
 def p1_validation_table(*, measures: Sequence[str], systems: Sequence[str], csv: str, md: str, force_unit: str,
                         paper_size: str | None = None, snapshots: Sequence[str] = (), diagrams: Sequence[str] = (),
+                        beside: Mapping[str, Mapping[str, Sequence[str]]] | None = None,
                         log_path: str | None = None) -> None:
     """P1's numbers and claims next to ours (results/tables/p1_validation.{csv,md}); `force_unit`
     (``analysis.p1_force_unit``) is the unit of the F_max rule the figures use; `paper_size` (the campaign's
     ``docs/validation/p1.csv``, or None in a paper-size config) adds our paper-size values beside P1's;
     `snapshots` (each system's snapshots at its largest ρ, every realization) give the overlaps P1 §3 bounds;
-    `diagrams` (diagrams.nc) the never-dying classes that enter TP and the bins at death −1."""
+    `diagrams` (diagrams.nc) the never-dying classes that enter TP and the bins at death −1; `beside` ({reading
+    label: {"measures": […], "diagrams": […]}}, `readings_beside`) the systems a reading changes, judged beside."""
     from forcenet.datasets import read_snapshot
     from forcenet.report.claims import verdict_counts
     from forcenet.report.p1 import largest_relative_overlap
@@ -447,9 +489,14 @@ def p1_validation_table(*, measures: Sequence[str], systems: Sequence[str], csv:
             with read_snapshot(path) as snapshot:
                 name = str(snapshot.attrs["system"])
                 overlaps[name] = max(overlaps.get(name, 0.0), largest_relative_overlap(snapshot))
+        readings = dict(beside or {})
         table = p1_validation(_open_by_system(measures, "network_measures"), force_unit=force_unit,
                               resamples=ROBUSTNESS_RESAMPLES, overlaps=overlaps,
-                              diagrams=_open_by_system(diagrams, "diagrams"))
+                              diagrams=_open_by_system(diagrams, "diagrams"),
+                              beside={label: _open_by_system(files.get("measures", ()), "network_measures")
+                                      for label, files in readings.items()},
+                              beside_diagrams={label: _open_by_system(files.get("diagrams", ()), "diagrams")
+                                               for label, files in readings.items()})
         write_p1_validation(table, csv, md, paper_size=paper_size)
         log.info("P1 validation: %d rows, claim verdicts %s", len(table), verdict_counts(table))
 
@@ -529,11 +576,14 @@ def p2_tables(*, snapshots: Sequence[str], states: str, csv: Sequence[str], md: 
 
 def p2_validation_table(*, distances: Sequence[str], tables: Sequence[str], measures: Sequence[str], states: str,
                         frictional: str, frictionless: str | None, md: str, csv: str, paper_size: str | None = None,
-                        diagrams: Sequence[str] = (), log_path: str | None = None) -> None:
+                        diagrams: Sequence[str] = (), beside: Mapping[str, Mapping[str, Sequence[str]]] | None = None,
+                        log_path: str | None = None) -> None:
     """Each claim of P2 §IV with its measured evidence, verdict and, where it does not hold, the explanation
     (results/tables/p2_validation.md); `measures` (network_measures.nc) and `states` (the p2_table_states CSV)
     feed the explanations' diagnostics; `diagrams` (diagrams.nc) the PD point counts; `paper_size` (the campaign's
-    ``docs/validation/p2.csv``, or None in a paper-size config) adds our paper-size values beside P2's."""
+    ``docs/validation/p2.csv``, or None in a paper-size config) adds our paper-size values beside P2's; `beside`
+    ({reading label: {"distances": […], "tables": […]}}, `readings_beside`; either key may be left out) the
+    readings judged beside P2's conventions."""
     import pandas as pd
 
     from forcenet.report.claims import verdict_counts
@@ -542,11 +592,18 @@ def p2_validation_table(*, distances: Sequence[str], tables: Sequence[str], meas
     from forcenet.report.p2_validation import p2_validation, write_p2_validation
 
     with job_logger(log_path, "p2_validation") as log:
-        table = p2_validation(_open_by_system(distances, "distances"),
-                              {f"table{i + 1}": read_table(path) for i, path in enumerate(sorted(tables))},
+        def read_tables(paths: Sequence[str]) -> dict[str, pd.DataFrame]:
+            return {f"table{i + 1}": read_table(path) for i, path in enumerate(sorted(paths))}
+
+        readings = {label: {**({"distances": _open_by_system(files["distances"], "distances")}
+                               if files.get("distances") else {}),
+                            **({"tables": read_tables(files["tables"])} if files.get("tables") else {})}
+                    for label, files in (beside or {}).items()}
+        table = p2_validation(_open_by_system(distances, "distances"), read_tables(tables),
                               frictional=frictional, frictionless=frictionless or "",
                               measures=_open_by_system(measures, "network_measures"), states=pd.read_csv(states),
-                              diagrams=_open_by_system(diagrams, "diagrams"), resamples=ROBUSTNESS_RESAMPLES)
+                              diagrams=_open_by_system(diagrams, "diagrams"), resamples=ROBUSTNESS_RESAMPLES,
+                              beside=readings)
         write_p2_validation(table, csv, md, paper_size=paper_size)
         log.info("P2 validation: claim verdicts %s", verdict_counts(table))
 

@@ -27,22 +27,65 @@ for _name, _spec in SYSTEMS.items():
             "../scripts/analyze.py"
 
 
-rule aggregate_system:
-    """Stack one system's analyses over (realization, ρ)."""
-    localrule: True
-    input:
-        system_analyses,
-    output:
-        measures=paths.network_measures(RESULTS, "{system}"),
-        diagrams=paths.diagrams(RESULTS, "{system}"),
-    log:
-        paths.log(RESULTS, "aggregate", "{system}"),
-    params:
-        realizations=lambda wildcards: [realization_index(r) for r in realizations(wildcards.system)
-                                        for _ in SYSTEMS[wildcards.system].rho_grid],
-        rhos=lambda wildcards: [rho for _ in realizations(wildcards.system) for rho in SYSTEMS[wildcards.system].rho_grid],
-    resources:
-        runtime=30,
-        mem_mb=4000,
-    script:
-        "../scripts/aggregate.py"
+# The tetrahedra reading beside (common.smk): P1's 3D systems analysed again with the other fill_tetrahedra, a few
+# seconds per run; 2D complexes have no tetrahedra, so the reading leaves them alone.
+P1_SOLIDS = [s for s in P1_SYSTEMS if SYSTEMS[s].dimension == 3]
+TETRAHEDRA_RESULTS = READING_RESULTS["tetrahedra"]
+
+for _name in P1_SOLIDS:
+    _spec = SYSTEMS[_name]
+
+    rule:
+        name:
+            f"analyze_{_name}_{READINGS['tetrahedra'].folder.replace('-', '_')}"
+        input:
+            [snapshot_path(_name, "{realization}", rho) for rho in _spec.rho_labels],
+        output:
+            [paths.analysis(TETRAHEDRA_RESULTS, _name, "{realization}", rho) for rho in _spec.rho_labels],
+        log:
+            paths.run_log(TETRAHEDRA_RESULTS, "analyze", _name, "{realization}"),
+        params:
+            analysis={**snapshot_analysis_params(config, _name), "fill_tetrahedra": READINGS["tetrahedra"].value},
+            system=_name,
+        group:
+            "analysis"
+        threads: 1
+        resources:
+            runtime=lambda wildcards, attempt, spec=_spec: analysis_runtime_minutes(spec) * attempt,
+            mem_mb=2000,
+        script:
+            "../scripts/analyze.py"
+
+
+def stacked_realizations(wildcards):
+    """The realization of each analysis that aggregate stacks (realization-major)."""
+    return [r for r in realization_numbers(wildcards) for _ in SYSTEMS[wildcards.system].rho_grid]
+
+
+def stacked_rhos(wildcards):
+    """The grid ρ of each analysis that aggregate stacks (realization-major)."""
+    return [rho for _ in realizations(wildcards.system) for rho in SYSTEMS[wildcards.system].rho_grid]
+
+
+for _results, _suffix in ((RESULTS, ""), *(((TETRAHEDRA_RESULTS, "_tetrahedra_reading"),) if P1_SOLIDS else ())):
+
+    rule:
+        """Stack one system's analyses over (realization, ρ)."""
+        name:
+            f"aggregate_system{_suffix}"
+        localrule: True
+        input:
+            lambda wildcards, results=_results: system_analyses(wildcards, results),
+        output:
+            measures=paths.network_measures(_results, "{system}"),
+            diagrams=paths.diagrams(_results, "{system}"),
+        log:
+            paths.log(_results, "aggregate", "{system}"),
+        params:
+            realizations=stacked_realizations,
+            rhos=stacked_rhos,
+        resources:
+            runtime=30,
+            mem_mb=4000,
+        script:
+            "../scripts/aggregate.py"

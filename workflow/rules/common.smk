@@ -12,7 +12,7 @@ sys.path.insert(0, str(Path(workflow.basedir) / "src"))  # works before `pip ins
 from forcenet.datasets import paths  # every file name of the build (standard library only)
 from forcenet.datasets.paths import realization_index
 from forcenet.errors import ForcenetError
-from forcenet.pipeline import snapshot_analysis_params
+from forcenet.pipeline import readings_beside, snapshot_analysis_params
 from forcenet.systems import realization_indices, simulation_params
 from forcenet.workflow_io import CONFIG_SCHEMA, DEFAULT_CONFIG, checked_config, read_config_file, resolve_results_dir
 
@@ -85,10 +85,26 @@ def analysis_path(system, realization, rho_label):
     return paths.analysis(RESULTS, system, realization, rho_label)
 
 
-def system_analyses(wildcards):
-    """Every analysis file of one system, realization-major (the order aggregate expects)."""
+def system_analyses(wildcards, results=None):
+    """Every analysis file of one system (in `results`, a reading's folder, else RESULTS), realization-major (the
+    order aggregate expects)."""
     spec = SYSTEMS[wildcards.system]
-    return [analysis_path(wildcards.system, r, rho) for r in realizations(wildcards.system) for rho in spec.rho_labels]
+    return [paths.analysis(results or RESULTS, wildcards.system, r, rho)
+            for r in realizations(wildcards.system) for rho in spec.rho_labels]
+
+
+def realization_numbers(wildcards):
+    """The realization indices (0, 1, …) of one system."""
+    return [realization_index(r) for r in realizations(wildcards.system)]
+
+
+# The readings beside (issue 25; forcenet.pipeline.readings_beside): the other value of three conventions, built
+# from the same runs into {results}/readings/{folder}/ (paths.reading) and judged beside the config's own in the
+# validation tables, a row for each claim it changes. tetrahedra: P1's 3D systems analysed again with the other
+# analysis.fill_tetrahedra (analyze.smk); essential: P2's distances and Tables I-III with never-dying classes
+# matched only with each other; table_states: P2's Tables I-III from the other studies.p2.table_states (p2.smk).
+READINGS = readings_beside(config)
+READING_RESULTS = {key: paths.reading(RESULTS, reading.folder) for key, reading in READINGS.items()}
 
 
 def system_params(system):

@@ -76,6 +76,9 @@ rule p1_validation_table:
         # P1 §3: the overlaps at the largest rho, every realization
         snapshots=[snapshot_path(s, r, SYSTEMS[s].rho_labels[-1]) for s in P1_SYSTEMS for r in realizations(s)],
         diagrams=[paths.diagrams(RESULTS, s) for s in P1_SYSTEMS],  # never-dying classes at death -1 in TP, bins
+        # the tetrahedra reading beside (analyze.smk): the 3D systems with the other complex
+        tetrahedra_measures=[paths.network_measures(TETRAHEDRA_RESULTS, s) for s in P1_SOLIDS],
+        tetrahedra_diagrams=[paths.diagrams(TETRAHEDRA_RESULTS, s) for s in P1_SOLIDS],
     output:
         csv=paths.p1_validation_table(RESULTS, "csv"),
         md=report(paths.p1_validation_table(RESULTS, "md"), caption="../report/table.rst", category="P1",
@@ -86,6 +89,7 @@ rule p1_validation_table:
         systems=P1_SYSTEMS,
         force_unit=FORCE_UNIT,
         paper_size=paper_size_table("p1"),
+        tetrahedra_reading=READINGS["tetrahedra"].label,
     script:
         "../scripts/p1_validation.py"
 

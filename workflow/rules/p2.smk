@@ -20,14 +20,14 @@ def p2_table_labels():
 P2_TABLE_STATE_RULE = config["studies"].get("p2", {}).get("table_states", "jammed")
 
 
-def p2_table_candidates(path=snapshot_path, states="abc"):
+def p2_table_candidates(path=snapshot_path, states="abc", rule=P2_TABLE_STATE_RULE):
     """Files of the candidate states of every realization, realization-major, among which p2_table_states picks
-    a, b, c and one realization (forcenet.report.p2_tables.TABLE_STATE_CRITERION): under the "literal" rule the
+    a, b, c and one realization (forcenet.report.p2_tables.TABLE_STATE_CRITERION): under the "literal" `rule` the
     states a, b, c (or those named by `states`), under "jammed" every state at or above table_rho (which three
     are a, b, c is known only from their Z); none when the config has no P2 study."""
     if not P2_FRICTIONAL:
         return []
-    if P2_TABLE_STATE_RULE == "jammed":
+    if rule == "jammed":
         spec = SYSTEMS[P2_FRICTIONAL]
         table_rho = config["studies"]["p2"].get("table_rho", 0.79)
         labels = [label for rho, label in zip(spec.rho_grid, spec.rho_labels) if rho >= table_rho - 1e-9]
@@ -39,7 +39,15 @@ def p2_table_candidates(path=snapshot_path, states="abc"):
 P2_TABLE_STATES = paths.p2_table_states(RESULTS)
 # the P2 products read networks made by the P2 study's rattler rule (P2 §III C keeps rattlers)
 P2_RATTLER_RULE = study_rattler_rule(config, P2_FRICTIONAL) if P2_FRICTIONAL else None
-
+ESSENTIAL_CONVENTION = config["analysis"]["essential_convention"]
+# P2's products of this build and of its readings beside (common.smk): (rule-name suffix, results folder, the rule
+# of states a, b, c, where that rule's choice is written, the convention for never-dying classes). The essential
+# reading takes the build's states a, b, c and changes the convention; the table-states reading the other way round.
+P2_BUILDS = [("", RESULTS, P2_TABLE_STATE_RULE, P2_TABLE_STATES, ESSENTIAL_CONVENTION),
+             ("_essential_reading", READING_RESULTS["essential"], P2_TABLE_STATE_RULE, P2_TABLE_STATES,
+              READINGS["essential"].value),
+             ("_table_states_reading", READING_RESULTS["table_states"], READINGS["table_states"].value,
+              paths.p2_table_states(READING_RESULTS["table_states"]), ESSENTIAL_CONVENTION)]
 
 rule p2_distances:
     """d_B, d_W1, d_W2 between consecutive snapshots, normal and tangential networks, β0 and β1."""
@@ -50,8 +58,8 @@ rule p2_distances:
     log:
         paths.log(RESULTS, "distances", "{system}"),
     params:
-        realizations=lambda wildcards: [realization_index(r) for r in realizations(wildcards.system)],
-        essential_convention=config["analysis"]["essential_convention"],
+        realizations=realization_numbers,
+        essential_convention=ESSENTIAL_CONVENTION,
     resources:
         runtime=60,
         mem_mb=4000,
@@ -59,39 +67,70 @@ rule p2_distances:
         "../scripts/p2_distances.py"
 
 
-rule p2_table_states:
-    """Which realization's states a, b, c make Tables I–III and Figs 1, 3 (P2 Fig. 1: Z and <F> almost identical)."""
-    localrule: True
+rule p2_distances_essential_reading:
+    """The distances with the never-dying classes under the essential reading beside (common.smk)."""
     input:
-        p2_table_candidates(analysis_path),
+        system_analyses,
     output:
-        P2_TABLE_STATES,
+        paths.distances(READING_RESULTS["essential"], "{system}"),
     log:
-        paths.log(RESULTS, "tables", "p2_table_states"),
+        paths.log(READING_RESULTS["essential"], "distances", "{system}"),
     params:
-        rule=P2_TABLE_STATE_RULE,
-        table_rho=config["studies"].get("p2", {}).get("table_rho", 0.79),
-        dimension=SYSTEMS[P2_FRICTIONAL].dimension if P2_FRICTIONAL else 2,
+        realizations=realization_numbers,
+        essential_convention=READINGS["essential"].value,
+    resources:
+        runtime=60,
+        mem_mb=4000,
     script:
-        "../scripts/p2_table_states.py"
+        "../scripts/p2_distances.py"
 
 
-rule p2_tables:
-    localrule: True
-    input:
-        snapshots=p2_table_candidates(),
-        states=P2_TABLE_STATES,
-    output:
-        csv=[paths.p2_table(RESULTS, i, "csv") for i in paths.P2_TABLE_NUMBERS],
-        md=[report(paths.p2_table(RESULTS, i, "md"), caption="../report/p2_tables.rst", category="P2",
-                   subcategory=REPORT_TABLES) for i in paths.P2_TABLE_NUMBERS],
-    log:
-        paths.log(RESULTS, "tables", "p2_tables"),
-    params:
-        rattler_rule=P2_RATTLER_RULE,
-        essential_convention=config["analysis"]["essential_convention"],
-    script:
-        "../scripts/p2_tables.py"
+for _suffix, _results, _state_rule, _states, _convention in P2_BUILDS:
+    if _states != P2_TABLE_STATES or not _suffix:
+
+        rule:
+            """Which realization's states a, b, c make Tables I–III and Figs 1, 3 (P2 Fig. 1: Z and <F> almost
+            identical)."""
+            name:
+                f"p2_table_states{_suffix}"
+            localrule: True
+            input:
+                p2_table_candidates(analysis_path, rule=_state_rule),
+            output:
+                _states,
+            log:
+                paths.log(_results, "tables", "p2_table_states"),
+            params:
+                rule=_state_rule,
+                table_rho=config["studies"].get("p2", {}).get("table_rho", 0.79),
+                dimension=SYSTEMS[P2_FRICTIONAL].dimension if P2_FRICTIONAL else 2,
+            script:
+                "../scripts/p2_table_states.py"
+
+    rule:
+        name:
+            f"p2_tables{_suffix}"
+        localrule: True
+        input:
+            snapshots=p2_table_candidates(rule=_state_rule),
+            states=_states,
+        output:
+            csv=[paths.p2_table(_results, i, "csv") for i in paths.P2_TABLE_NUMBERS],
+            md=[report(paths.p2_table(_results, i, "md"), caption="../report/p2_tables.rst", category="P2",
+                       subcategory=REPORT_TABLES) for i in paths.P2_TABLE_NUMBERS] if not _suffix else
+               [paths.p2_table(_results, i, "md") for i in paths.P2_TABLE_NUMBERS],
+        log:
+            paths.log(_results, "tables", "p2_tables"),
+        params:
+            rattler_rule=P2_RATTLER_RULE,
+            essential_convention=_convention,
+        script:
+            "../scripts/p2_tables.py"
+
+
+def p2_reading_tables(key, fmt="csv"):
+    """Tables I–III of a reading beside (its key in READINGS)."""
+    return [paths.p2_table(READING_RESULTS[key], i, fmt) for i in paths.P2_TABLE_NUMBERS]
 
 
 rule p2_validation:
@@ -103,6 +142,10 @@ rule p2_validation:
         diagrams=[paths.diagrams(RESULTS, s) for s in P2_SYSTEMS],  # PD1 point counts (IV.C-8)
         states=P2_TABLE_STATES,
         paper_size=paper_size_input("p2"),
+        # the readings beside (common.smk), each judged where it changes a claim
+        essential_distances=[paths.distances(READING_RESULTS["essential"], s) for s in P2_SYSTEMS],
+        essential_tables=p2_reading_tables("essential"),
+        table_states_tables=p2_reading_tables("table_states"),
     output:
         md=report(paths.p2_validation_table(RESULTS, "md"), caption="../report/table.rst", category="P2",
                   subcategory=REPORT_TABLES),
@@ -113,5 +156,7 @@ rule p2_validation:
         frictional=P2_FRICTIONAL,
         frictionless=P2_FRICTIONLESS,
         paper_size=paper_size_table("p2"),
+        essential_reading=READINGS["essential"].label,
+        table_states_reading=READINGS["table_states"].label,
     script:
         "../scripts/p2_validation.py"

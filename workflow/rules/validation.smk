@@ -39,11 +39,16 @@ else:
             "../scripts/validation_report.py"
 
 
+    # P2's Tables I-III, then the same tables of the table-states reading beside (p2.smk)
+    P2_TABLE_HEADINGS = ["Table I", "Table II", "Table III"]
+
     rule validation_report_p2:
         localrule: True
         input:
-            md=[paths.p2_validation_table(RESULTS, "md")] + [paths.p2_table(RESULTS, i, "md") for i in paths.P2_TABLE_NUMBERS],
-            csv=[paths.p2_validation_table(RESULTS, "csv")] + [paths.p2_table(RESULTS, i, "csv") for i in paths.P2_TABLE_NUMBERS],
+            md=[paths.p2_validation_table(RESULTS, "md")] + [paths.p2_table(RESULTS, i, "md") for i in paths.P2_TABLE_NUMBERS]
+               + p2_reading_tables("table_states", "md"),
+            csv=[paths.p2_validation_table(RESULTS, "csv")] + [paths.p2_table(RESULTS, i, "csv") for i in paths.P2_TABLE_NUMBERS]
+                + p2_reading_tables("table_states", "csv"),
             costs=run_costs(P2_SYSTEMS),
         output:
             md=paths.campaign_table("p2", "md"),
@@ -52,7 +57,8 @@ else:
             study="p2",
             systems=P2_SYSTEMS,
             title="P2 validation: our runs beside the paper",
-            headings=["P2 validation table", "Table I", "Table II", "Table III"],
+            headings=["P2 validation table", *P2_TABLE_HEADINGS,
+                      *(f"{heading}, {READINGS['table_states'].label}" for heading in P2_TABLE_HEADINGS)],
         script:
             "../scripts/validation_report.py"
 

@@ -6,5 +6,7 @@ p1_validation_table(  # noqa: F821 — `snakemake` is injected by Snakemake
     csv=snakemake.output.csv, md=snakemake.output.md, force_unit=snakemake.params.force_unit,
     paper_size=snakemake.params.paper_size, snapshots=list(snakemake.input.snapshots),
     diagrams=list(snakemake.input.diagrams),
+    beside={snakemake.params.tetrahedra_reading: {"measures": list(snakemake.input.tetrahedra_measures),
+                                                  "diagrams": list(snakemake.input.tetrahedra_diagrams)}},
     log_path=snakemake.log[0],
 )

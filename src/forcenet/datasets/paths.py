@@ -23,6 +23,7 @@ scripts, tests and tutorial use to find a file. Imported when the workflow is pa
     tables/p2_validation.{csv,md}            every P2 claim with its evidence and verdict
     movies/{kind}_{system}.mp4               compression movies of the P1 systems (kind: network, b0_surface)
     logs/{step}/{name}.log                   one log per job: simulate and analyze {system}/{realization}, …
+    readings/{reading}                       a reading beside (another value of one convention), laid out as above
 
 and ``docs/validation/{p1,p2}.{md,csv}`` (in the repository, not under a results folder) are the validation
 campaign's committed tables.
@@ -50,6 +51,8 @@ CHECKPOINT = "checkpoint.npz"
 VALIDATION_DIR = "docs/validation"
 #: the formats each figure is written in: vector PDF, PNG (shown in the HTML report) and the CSV of its values
 FIGURE_FORMATS = ("pdf", "png", "csv")
+#: the folder (below the results folder) that holds the readings beside, each laid out as a results folder
+READINGS_DIR = "readings"
 #: the numbers of P2's Tables I–III
 P2_TABLE_NUMBERS = (1, 2, 3)
 
@@ -108,6 +111,12 @@ def diagrams(results: Folder, system: str) -> str:
 def distances(results: Folder, system: str) -> str:
     """P2's distances between the diagrams of consecutive states of one system (kind "distances")."""
     return f"{results}/{system}/distances.nc"
+
+
+def reading(results: Folder, name: str) -> str:
+    """The results folder of one reading beside (`forcenet.pipeline.ReadingBeside.folder`): its analyses, measures,
+    distances and tables have below it the names they have below `results`."""
+    return f"{results}/{READINGS_DIR}/{name}"
 
 
 def figure(results: Folder, figure_id: str, fmt: str) -> str:

@@ -74,6 +74,7 @@ def p1_validation(measures: Mapping[str, xr.Dataset], *, force_unit: str = DEFAU
                   judge_up_to_rho_max: bool = False, readings: Sequence[Reading] = P1_READINGS,
                   beside: Mapping[str, Mapping[str, xr.Dataset]] | None = None, resamples: int = 0, seed: int = 0,
                   overlaps: Mapping[str, float] | None = None, diagrams: Mapping[str, xr.Dataset] | None = None,
+                  beside_diagrams: Mapping[str, Mapping[str, xr.Dataset]] | None = None,
                   **tolerances) -> pd.DataFrame:
     """P1's numbers and claims beside what `measures` (system → network_measures dataset) shows.
 
@@ -89,11 +90,14 @@ def p1_validation(measures: Mapping[str, xr.Dataset], *, force_unit: str = DEFAU
     realization).
 
     Beside a claim's row stands its row under each of `readings` (`P1_READINGS`) and under each measures set of
-    `beside` ({reading name: {system: dataset}}, e.g. the measures with filled tetrahedra), wherever that reading
-    changes its verdict, marker or key number; the ``reading`` column names it.
+    `beside` ({reading name: {system: dataset}}, e.g. the 3D measures with filled tetrahedra), wherever that reading
+    changes its verdict, marker or key number; the ``reading`` column names it. A system a reading leaves out is
+    judged on its primary measures under that reading (filling tetrahedra changes nothing in 2D).
 
     `diagrams` ({system: diagrams.nc}): the never-dying classes then enter TP_k and the PD0 bins at death −1
-    (`never_dying_at_minus_one`, the papers' convention), the measures as stored (classes left out) beside.
+    (`never_dying_at_minus_one`, the papers' convention), the measures as stored (classes left out) beside; the
+    measures of a reading of `beside` likewise, with that reading's diagrams (`beside_diagrams`, {reading name:
+    {system: diagrams.nc}}) where it has its own.
     `overlaps` ({system: largest overlap / sum of radii at its largest ρ}, `largest_relative_overlap` of its
     snapshots there) judges P1 §3's "overlaps up to 10 %"; without it that claim is not evaluated.
 
@@ -105,10 +109,17 @@ def p1_validation(measures: Mapping[str, xr.Dataset], *, force_unit: str = DEFAU
         raise ValueError(f"unknown P1 force unit {force_unit!r}; known: {', '.join(P1_FORCE_UNITS)}")
     tolerances_ = ClaimTolerances(**tolerances)
     present = {name: ds for name, ds in measures.items() if ds is not None}
+    beside = {name: {**present, **{n: ds for n, ds in sets.items() if ds is not None}}
+              for name, sets in (beside or {}).items()}
     if diagrams:
-        beside = {NEVER_DYING_LEFT_OUT: present, **(beside or {})}
-        present = {name: never_dying_at_minus_one(ds, diagrams[name]) if name in diagrams else ds
-                   for name, ds in present.items()}
+        def at_minus_one(sets: Mapping[str, xr.Dataset], diagrams_: Mapping[str, xr.Dataset]):
+            return {name: never_dying_at_minus_one(ds, diagrams_[name]) if name in diagrams_ else ds
+                    for name, ds in sets.items()}
+
+        beside = {name: at_minus_one(sets, {**diagrams, **(beside_diagrams or {}).get(name, {})})
+                  for name, sets in beside.items()}
+        beside = {NEVER_DYING_LEFT_OUT: present, **beside}
+        present = at_minus_one(present, diagrams)
     names = set(P1_SYSTEMS) | set(present)
     cuts = _cuts(present)
     context = _context(present, tolerances_, force_unit, judge_up_to_rho_max, cuts, overlaps)
@@ -122,8 +133,8 @@ def p1_validation(measures: Mapping[str, xr.Dataset], *, force_unit: str = DEFAU
                                       replace(tolerances_, **reading.tolerances), force_unit, judge_up_to_rho_max,
                                       overlaps=overlaps))
               for reading in readings]
-    others += [(name, _context({n: ds for n, ds in sets.items() if ds is not None}, tolerances_, force_unit,
-                               judge_up_to_rho_max)) for name, sets in (beside or {}).items()]
+    others += [(name, _context(sets, tolerances_, force_unit, judge_up_to_rho_max, overlaps=overlaps))
+               for name, sets in beside.items()]
     for claim_ in sorted(CLAIMS, key=lambda c: tuple(int(part) for part in c.section.split("."))):
         primary = _claim_rows(claim_, context, names, resampled)
         rows.extend(primary)

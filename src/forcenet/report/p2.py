@@ -148,8 +148,12 @@ def pretty_column(column: str) -> str:
 
 
 def format_number(value: Any, digits: int = 3) -> str:
-    """A table cell: a float to `digits` significant digits ("n/a" if not finite), anything else as text."""
+    """A table cell: a float to `digits` significant digits ("inf" for +∞, as a distance between diagrams with
+    different numbers of never-dying classes under the ``apart`` convention; "n/a" for NaN or −∞), anything else
+    as text."""
     if isinstance(value, (float, np.floating)):
+        if value == np.inf:
+            return "inf"
         if not np.isfinite(value):
             return "n/a"
         return f"{value:.{digits}g}"

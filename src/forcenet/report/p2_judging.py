@@ -150,7 +150,7 @@ def on_grid(s: pd.Series, x: np.ndarray) -> np.ndarray:
 
 
 def fmt(value: float, digits: int = 3) -> str:
-    """A number for the evidence texts: `digits` significant digits, "n/a" if not finite."""
+    """A number for the evidence texts: `digits` significant digits (`format_number`: "inf", "n/a")."""
     return format_number(float(value), digits)
 
 
