@@ -262,18 +262,19 @@ def readings_beside(config: Mapping[str, Any]) -> dict[str, ReadingBeside]:
     """The readings a build judges beside its own conventions, each from a second build of the same runs:
     ``tetrahedra``, P1's 3D systems analysed with the other ``analysis.fill_tetrahedra``; ``essential``, P2's
     distances and Tables I–III with never-dying classes matched only with each other (``apart``; at death −1 when
-    the config's convention is ``apart``); ``table_states``, P2's Tables I–III from the other rule of
-    ``studies.p2.table_states`` (the literal states around ``table_rho``, or the jammed ones)."""
+    the config's convention is ``apart``); ``table_states``, P2's Tables I–III from the literal states around
+    ``table_rho`` when the config's ``studies.p2.table_states`` is ``jammed`` (none when it is ``literal``: a build
+    on states that never jam, such as imported ones, has no jammed states a, b, c to set beside)."""
     fill = not bool(config["analysis"]["fill_tetrahedra"])
     convention = "minus_one" if config["analysis"]["essential_convention"] == "apart" else "apart"
     p2 = config["studies"].get("p2", {})
     table_rho = float(p2.get("table_rho", 0.79))
-    state_rule = "jammed" if p2.get("table_states", "jammed") == "literal" else "literal"
-    state_labels = {"literal": f"states a, b, c nearest rho = {table_rho:g} (literal)",
-                    "jammed": f"states a, b, c the first jammed ones from rho = {table_rho:g}"}
-    return {"tetrahedra": ReadingBeside("analysis.fill_tetrahedra", fill, _TETRAHEDRA_READINGS[fill]),
-            "essential": ReadingBeside("analysis.essential_convention", convention, _ESSENTIAL_READINGS[convention]),
-            "table_states": ReadingBeside("studies.p2.table_states", state_rule, state_labels[state_rule])}
+    readings = {"tetrahedra": ReadingBeside("analysis.fill_tetrahedra", fill, _TETRAHEDRA_READINGS[fill]),
+                "essential": ReadingBeside("analysis.essential_convention", convention, _ESSENTIAL_READINGS[convention])}
+    if p2.get("table_states", "jammed") == "jammed":
+        readings["table_states"] = ReadingBeside("studies.p2.table_states", "literal",
+                                                 f"states a, b, c nearest rho = {table_rho:g} (literal)")
+    return readings
 
 
 def analyze_run(*, snapshots: Sequence[str], outputs: Sequence[str], analysis: Mapping[str, Any],

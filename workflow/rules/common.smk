@@ -102,7 +102,8 @@ def realization_numbers(wildcards):
 # from the same runs into {results}/readings/{folder}/ (paths.reading) and judged beside the config's own in the
 # validation tables, a row for each claim it changes. tetrahedra: P1's 3D systems analysed again with the other
 # analysis.fill_tetrahedra (analyze.smk); essential: P2's distances and Tables I-III with never-dying classes
-# matched only with each other; table_states: P2's Tables I-III from the other studies.p2.table_states (p2.smk).
+# matched only with each other; table_states: P2's Tables I-III from the literal states (beside the jammed rule
+# only; p2.smk).
 READINGS = readings_beside(config)
 READING_RESULTS = {key: paths.reading(RESULTS, reading.folder) for key, reading in READINGS.items()}
 

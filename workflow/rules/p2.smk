@@ -45,9 +45,10 @@ ESSENTIAL_CONVENTION = config["analysis"]["essential_convention"]
 # reading takes the build's states a, b, c and changes the convention; the table-states reading the other way round.
 P2_BUILDS = [("", RESULTS, P2_TABLE_STATE_RULE, P2_TABLE_STATES, ESSENTIAL_CONVENTION),
              ("_essential_reading", READING_RESULTS["essential"], P2_TABLE_STATE_RULE, P2_TABLE_STATES,
-              READINGS["essential"].value),
-             ("_table_states_reading", READING_RESULTS["table_states"], READINGS["table_states"].value,
-              paths.p2_table_states(READING_RESULTS["table_states"]), ESSENTIAL_CONVENTION)]
+              READINGS["essential"].value)]
+if "table_states" in READINGS:  # only beside the jammed rule (forcenet.pipeline.readings_beside)
+    P2_BUILDS.append(("_table_states_reading", READING_RESULTS["table_states"], READINGS["table_states"].value,
+                      paths.p2_table_states(READING_RESULTS["table_states"]), ESSENTIAL_CONVENTION))
 
 rule p2_distances:
     """d_B, d_W1, d_W2 between consecutive snapshots, normal and tangential networks, β0 and β1."""
@@ -129,7 +130,9 @@ for _suffix, _results, _state_rule, _states, _convention in P2_BUILDS:
 
 
 def p2_reading_tables(key, fmt="csv"):
-    """Tables I–III of a reading beside (its key in READINGS)."""
+    """Tables I–III of a reading beside (its key in READINGS; none when the build has no such reading)."""
+    if key not in READINGS:
+        return []
     return [paths.p2_table(READING_RESULTS[key], i, fmt) for i in paths.P2_TABLE_NUMBERS]
 
 
@@ -157,6 +160,6 @@ rule p2_validation:
         frictionless=P2_FRICTIONLESS,
         paper_size=paper_size_table("p2"),
         essential_reading=READINGS["essential"].label,
-        table_states_reading=READINGS["table_states"].label,
+        table_states_reading=READINGS["table_states"].label if "table_states" in READINGS else None,
     script:
         "../scripts/p2_validation.py"

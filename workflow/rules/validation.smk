@@ -58,7 +58,8 @@ else:
             systems=P2_SYSTEMS,
             title="P2 validation: our runs beside the paper",
             headings=["P2 validation table", *P2_TABLE_HEADINGS,
-                      *(f"{heading}, {READINGS['table_states'].label}" for heading in P2_TABLE_HEADINGS)],
+                      *(f"{heading}, {READINGS['table_states'].label}" for heading in P2_TABLE_HEADINGS
+                        if "table_states" in READINGS)],
         script:
             "../scripts/validation_report.py"
 
