@@ -106,10 +106,9 @@ def test_same_seed_gives_identical_snapshots_and_another_seed_does_not(tmp_path)
         assert not np.array_equal(da.position.values, dc.position.values)
 
 
-@pytest.mark.parametrize("name", ["2d_linear", "2d_poly_mu05"])
-def test_resume_after_a_crash_gives_identical_snapshots(tmp_path, monkeypatch, name):
-    system = tiny(name)
-    reference = run(system, tmp_path / "reference")
+def run_killed_at_second_snapshot(system, directory: Path, monkeypatch) -> None:
+    """Run `system` into `directory`, killed while its second snapshot is written (the checkpoint then holds the
+    state after the first)."""
     real_writer = protocol.datasets.write_snapshot
     calls = []
 
@@ -121,8 +120,15 @@ def test_resume_after_a_crash_gives_identical_snapshots(tmp_path, monkeypatch, n
 
     monkeypatch.setattr(protocol.datasets, "write_snapshot", dying_writer)
     with pytest.raises(KeyboardInterrupt):
-        run(system, tmp_path / "resumed")
+        run(system, directory)
     monkeypatch.setattr(protocol.datasets, "write_snapshot", real_writer)
+
+
+@pytest.mark.parametrize("name", ["2d_linear", "2d_poly_mu05"])
+def test_resume_after_a_crash_gives_identical_snapshots(tmp_path, monkeypatch, name):
+    system = tiny(name)
+    reference = run(system, tmp_path / "reference")
+    run_killed_at_second_snapshot(system, tmp_path / "resumed", monkeypatch)
     first = (tmp_path / "resumed" / reference[0].name)
     mtime = first.stat().st_mtime_ns
     assert not (tmp_path / "resumed" / reference[1].name).exists()
@@ -392,3 +398,22 @@ def test_a_run_without_initial_state_keeps_its_checkpoint_fingerprint():
     system = tiny("2d_hertz")
     assert "initial_state" not in repr(system)
     assert protocol._fingerprint(system, 1) != protocol._fingerprint(p1_start(), 1)
+
+
+def test_continuing_a_checkpoint_with_the_runs_damping_reproduces_the_run(tmp_path, monkeypatch):
+    # scripts/probe_checkpoint.py: the run's own gamma_n must give the run's next snapshots bit for bit, so that
+    # what another gamma_n changes is the damping's doing
+    from forcenet.dem._kernels.law import LAW_GAMMA_N
+
+    system = tiny("2d_hertz")
+    reference = run(system, tmp_path / "reference")
+    run_killed_at_second_snapshot(system, tmp_path / "stopped", monkeypatch)
+    with np.load(tmp_path / "stopped" / "checkpoint.npz") as data:
+        state = {key: data[key] for key in data.files}
+    gamma_n = float(state["law"][LAW_GAMMA_N])
+    sim, result = protocol.continue_with_damping(system, state, gamma_n, grid_steps=2)
+    assert result["blow_up"] == "" and result["last_rho"] == pytest.approx(system.rho_grid[2], abs=1e-3)
+    with xr.open_dataset(reference[2]) as last:
+        np.testing.assert_array_equal(sim.positions(), last["position"].values)
+    other, _ = protocol.continue_with_damping(system, state, 0.25 * gamma_n, grid_steps=2)
+    assert not np.array_equal(other.positions(), sim.positions())

@@ -36,11 +36,12 @@ import numpy as np
 
 from forcenet import datasets
 from forcenet.dem import calibration, packing, stability
+from forcenet.dem._kernels.law import LAW_GAMMA_N, LAW_GAMMA_T
 from forcenet.dem.engine import ContactLaw, Simulation, SimulationBlowUp
 from forcenet.systems import SystemSpec, check_system
 
 __all__ = ["run_compression", "SimulationBlowUp", "validate_system", "build_simulation", "contact_law_for_system",
-           "blow_up_cause", "CHECKPOINT_FORMAT"]
+           "blow_up_cause", "continue_with_damping", "CHECKPOINT_FORMAT"]
 
 #: bump when the checkpoint layout or the engine's arithmetic changes (old checkpoints are then ignored)
 CHECKPOINT_FORMAT = 3
@@ -297,6 +298,40 @@ def blow_up_cause(sim: Simulation, system: SystemSpec, error: SimulationBlowUp) 
             f"d_ave/τ_c, ~{steps:.0f} steps per fifth of a diameter, walls at {system.wall_speed:g} d_ave/τ_c): "
             f"ρ = {sim.packing_fraction:.4f} is more than this packing bears; lower the grid's stop "
             f"({system.rho_grid[-1]}) or the wall_speed")
+
+
+def continue_with_damping(system: SystemSpec, state: dict, normal_damping: float, grid_steps: int,
+                          log: logging.Logger | None = None) -> tuple[Simulation, dict]:
+    """Continue a run's checkpoint through the next `grid_steps` values of `system`'s ρ grid under another normal
+    damping, writing nothing: what a blow-up depends on (`scripts/probe_checkpoint.py`).
+
+    state: the arrays of a checkpoint.npz (``np.load``); normal_damping: γ_n [d_ave^(−β) τ_c^(−1)], the
+    tangential damping scaled with it (the ratio the run had). The protocol is the run's (compression at the wall
+    speed, then a relaxation for the quasistatic one). With the run's own γ_n it reproduces the run step for step.
+    Returns the simulation where it stopped and {"last_rho": ρ of the last grid value completed, "max_damping_dt":
+    the largest λΔt of the stability check at those values, "blow_up": the blow-up's message or ""}."""
+    log = log or _LOG
+    sim = Simulation.from_state_dict(state)
+    ratio = sim.law[LAW_GAMMA_T] / sim.law[LAW_GAMMA_N] if sim.law[LAW_GAMMA_N] else 0.0
+    sim.law[LAW_GAMMA_N], sim.law[LAW_GAMMA_T] = normal_damping, normal_damping * ratio
+    start = int(state["next_index"])
+    progress = _Progress(log, system, sim, start)
+    result = {"last_rho": float(sim.packing_fraction), "max_damping_dt": 0.0, "blow_up": ""}
+    quasistatic = system.protocol == "quasistatic"
+    for index in range(start, min(start + grid_steps, len(system.rho_grid))):
+        try:
+            _compress_to(sim, wall_shift_for(sim, system.rho_grid[index]), index, progress, system.wall_speed,
+                         stop_walls=quasistatic)
+            if quasistatic:
+                _relax(sim, system, index, progress, log)
+            damping_dt = check_damping_is_integrable(sim, system)
+        except SimulationBlowUp as error:
+            result["blow_up"] = f"{error} (step {error.step}, particle {error.particle}, ρ {error.rho:.4f})"
+            break
+        result["last_rho"] = float(sim.packing_fraction)
+        result["max_damping_dt"] = max(result["max_damping_dt"], damping_dt)
+        sim.rebuild()  # as run_compression after each snapshot, so the state matches the run's
+    return sim, result
 
 
 def run_compression(system: SystemSpec, *, seed: int, snapshot_paths: Sequence[str | os.PathLike],
