@@ -520,3 +520,20 @@ def test_the_readings_beside_take_the_other_value_of_each_convention():
     # beside the literal states no jammed ones are set: states that never jam (imported ones) have none
     assert (readings["tetrahedra"].value, readings["essential"].value) == (False, "minus_one")
     assert "table_states" not in readings
+
+
+def test_p1_counterparts_are_defined_systems_beside_the_studys_own_with_its_rattler_rule():
+    config = yaml.safe_load((REPO / "config/validation.yaml").read_text())
+    counterparts = config["studies"]["p1"]["counterparts"]
+    assert counterparts and not set(counterparts) & set(config["studies"]["p1"]["systems"])
+    validate_config(config)
+    assert {study_rattler_rule(config, name) for name in counterparts} == {"once"}  # P1's rule, as its systems
+    jsonschema.validate(config, SCHEMA)
+    unknown = copy.deepcopy(config)
+    unknown["studies"]["p1"]["counterparts"].append("2d_nowhere")
+    with pytest.raises(ConfigError, match=r"studies\.p1\.counterparts\[\d+\].*unknown system '2d_nowhere'"):
+        validate_config(unknown)
+    both = copy.deepcopy(config)
+    both["studies"]["p1"]["counterparts"].append("2d_hertz")
+    with pytest.raises(ConfigError, match=r"studies\.p1\.counterparts\[\d+\].*one of the study's own systems"):
+        validate_config(both)

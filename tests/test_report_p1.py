@@ -918,3 +918,24 @@ def test_a_reading_of_3d_measures_keeps_the_other_systems_and_takes_its_own_diag
     # without its own diagrams the reading takes the primary's: the cavities count, and nothing turns
     table = validation.p1_validation(measures, diagrams=hollow, beside={"filled": {"3d_hertz": measures["3d_hertz"]}})
     assert not (table["reading"] == "filled").any()
+
+
+def test_a_counterpart_is_judged_only_by_the_claims_that_compare_runs():
+    # studies.p1.counterparts: the mu = 0 run feeds the friction claim, gets no row of its own, counts in no verdict
+    # total and leaves P1's own F_max and rho_max alone (its own rho_max is taken under P1's systems' F_max)
+    measures = _with_runs(**{"2d_hertz_mu0": (0.0, N_PARTICLES, dict(rho_j=0.86))})
+    measures["2d_hertz_mu0"]["mean_force"] = 0.5 * measures["2d_hertz_mu0"]["mean_force"]  # its F'_max the least
+    as_system = validation.p1_validation(measures)
+    as_counterpart = validation.p1_validation(measures, counterparts=["2d_hertz_mu0"])
+    assert verdict(as_counterpart, "p1-3-friction", "all") == verdict(as_system, "p1-3-friction", "all") == \
+        framework.HOLDS
+    assert "2d_hertz_mu0" in set(as_system["system"])
+    assert "2d_hertz_mu0" not in set(as_counterpart["system"])
+    own = validation.p1_validation({name: ds for name, ds in measures.items() if name != "2d_hertz_mu0"})
+    for key in ("f_max.dyn", "rho_max.dyn"):
+        expected = own[own["id"] == key]["measured"].tolist()
+        assert as_counterpart[as_counterpart["id"] == key]["measured"].tolist() == expected
+    f_max = {name: float(t[t["id"] == "f_max.dyn"]["measured"].iloc[0]) for name, t in
+             (("own", own), ("system", as_system))}
+    assert f_max["system"] < f_max["own"]  # as one of the systems it would have moved P1's cut
+    assert claim_verdicts(as_counterpart) == claim_verdicts(own) | {("p1-3-friction", "all"): framework.HOLDS}

@@ -471,13 +471,15 @@ def movie(*, kind: str, system: str, inputs: Sequence[str], output: str, rattler
 def p1_validation_table(*, measures: Sequence[str], systems: Sequence[str], csv: str, md: str, force_unit: str,
                         paper_size: str | None = None, snapshots: Sequence[str] = (), diagrams: Sequence[str] = (),
                         beside: Mapping[str, Mapping[str, Sequence[str]]] | None = None,
-                        log_path: str | None = None) -> None:
+                        counterparts: Sequence[str] = (), log_path: str | None = None) -> None:
     """P1's numbers and claims next to ours (results/tables/p1_validation.{csv,md}); `force_unit`
     (``analysis.p1_force_unit``) is the unit of the F_max rule the figures use; `paper_size` (the campaign's
     ``docs/validation/p1.csv``, or None in a paper-size config) adds our paper-size values beside P1's;
     `snapshots` (each system's snapshots at its largest ρ, every realization) give the overlaps P1 §3 bounds;
     `diagrams` (diagrams.nc) the never-dying classes that enter TP and the bins at death −1; `beside` ({reading
-    label: {"measures": […], "diagrams": […]}}, `readings_beside`) the systems a reading changes, judged beside."""
+    label: {"measures": […], "diagrams": […]}}, `readings_beside`) the systems a reading changes, judged beside;
+    `counterparts` (``studies.p1.counterparts``) the systems among `measures` that only the friction and
+    system-size claims judge."""
     from forcenet.datasets import read_snapshot
     from forcenet.report.claims import verdict_counts
     from forcenet.report.p1 import largest_relative_overlap
@@ -497,7 +499,8 @@ def p1_validation_table(*, measures: Sequence[str], systems: Sequence[str], csv:
                               beside={label: _open_by_system(files.get("measures", ()), "network_measures")
                                       for label, files in readings.items()},
                               beside_diagrams={label: _open_by_system(files.get("diagrams", ()), "diagrams")
-                                               for label, files in readings.items()})
+                                               for label, files in readings.items()},
+                              counterparts=counterparts)
         write_p1_validation(table, csv, md, paper_size=paper_size)
         log.info("P1 validation: %d rows, claim verdicts %s", len(table), verdict_counts(table))
 

@@ -303,7 +303,7 @@ def study_rattler_rule(config: Mapping[str, Any], system: str) -> str:
     default = config["analysis"]["remove_rattlers"]
     rules = {}
     for study, entry in config["studies"].items():
-        if system in entry["systems"]:
+        if system in entry["systems"] or system in entry.get("counterparts", ()):
             key = f"studies.{study}.remove_rattlers" if "remove_rattlers" in entry else "analysis.remove_rattlers"
             try:
                 rules[key] = resolve_rattler_rule(entry.get("remove_rattlers", default))
@@ -346,10 +346,14 @@ def validate_config(config: Mapping[str, Any]) -> dict[str, SystemSpec | Importe
     if problem is not None:
         raise problem
     for study, entry in config["studies"].items():
-        for i, name in enumerate(entry["systems"]):
-            if name not in config["systems"]:
-                raise ConfigError(f"studies.{study}.systems[{i}]", f"unknown system '{name}' "
-                                                                    f"(defined: {sorted(config['systems'])})")
+        for key in ("systems", "counterparts"):
+            for i, name in enumerate(entry.get(key, ())):
+                if name not in config["systems"]:
+                    raise ConfigError(f"studies.{study}.{key}[{i}]", f"unknown system '{name}' "
+                                                                      f"(defined: {sorted(config['systems'])})")
+                if key == "counterparts" and name in entry["systems"]:
+                    raise ConfigError(f"studies.{study}.{key}[{i}]", f"'{name}' is one of the study's own systems; "
+                                                                      "a counterpart stands beside them")
     thresholds = config["analysis"]["thresholds"]
     if thresholds["stop"] <= thresholds["start"]:
         raise ConfigError("analysis.thresholds", "stop must exceed start")

@@ -49,6 +49,8 @@ print(f"forcenet: results_dir = {RESULTS_ABSOLUTE} (every output is written ther
 PAPER_SIZE_TABLES = config.get("paper_size_tables", paths.VALIDATION_DIR)
 P1_SYSTEMS = list(config["studies"].get("p1", {}).get("systems", []))
 P2_SYSTEMS = list(config["studies"].get("p2", {}).get("systems", []))
+# P1's counterparts (the mu = 0 and box-size runs): only the friction and system-size claims judge them
+P1_COUNTERPARTS = list(config["studies"].get("p1", {}).get("counterparts", []))
 
 
 def realizations(system):

@@ -71,11 +71,12 @@ for _figure, (_entry, _systems) in BUILT_FIGURES.items():
 rule p1_validation_table:
     localrule: True
     input:
-        measures=p1_measures(),
+        measures=p1_measures() + [paths.network_measures(RESULTS, s) for s in P1_COUNTERPARTS],
         paper_size=paper_size_input("p1"),
         # P1 §3: the overlaps at the largest rho, every realization
         snapshots=[snapshot_path(s, r, SYSTEMS[s].rho_labels[-1]) for s in P1_SYSTEMS for r in realizations(s)],
-        diagrams=[paths.diagrams(RESULTS, s) for s in P1_SYSTEMS],  # never-dying classes at death -1 in TP, bins
+        # never-dying classes at death -1 in TP, bins
+        diagrams=[paths.diagrams(RESULTS, s) for s in P1_SYSTEMS + P1_COUNTERPARTS],
         # the tetrahedra reading beside (analyze.smk): the 3D systems with the other complex
         tetrahedra_measures=[paths.network_measures(TETRAHEDRA_RESULTS, s) for s in P1_SOLIDS],
         tetrahedra_diagrams=[paths.diagrams(TETRAHEDRA_RESULTS, s) for s in P1_SOLIDS],
@@ -90,6 +91,7 @@ rule p1_validation_table:
         force_unit=FORCE_UNIT,
         paper_size=paper_size_table("p1"),
         tetrahedra_reading=READINGS["tetrahedra"].label,
+        counterparts=P1_COUNTERPARTS,
     script:
         "../scripts/p1_validation.py"
 

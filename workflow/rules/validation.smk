@@ -26,13 +26,13 @@ else:
         input:
             md=[paths.p1_validation_table(RESULTS, "md")],  # lists, one per heading, as for P2
             csv=[paths.p1_validation_table(RESULTS, "csv")],
-            costs=run_costs(P1_SYSTEMS),
+            costs=run_costs(P1_SYSTEMS + P1_COUNTERPARTS),
         output:
             md=paths.campaign_table("p1", "md"),
             csv=paths.campaign_table("p1", "csv"),
         params:
             study="p1",
-            systems=P1_SYSTEMS,
+            systems=P1_SYSTEMS + P1_COUNTERPARTS,
             title="P1 validation: our runs beside the paper",
             headings=["P1 validation table"],
         script:

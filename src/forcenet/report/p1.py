@@ -207,8 +207,11 @@ def mean_force(ds: xr.Dataset, scale: float = 1.0) -> xr.DataArray:
     return realization_mean(select_total(ds)["mean_force"]) * scale
 
 
-def f_max_cut(measures: Mapping[str, xr.Dataset], unit: str = DEFAULT_P1_FORCE_UNIT) -> FMaxCut:
-    """P1 §3 F_max rule over the systems in `measures`, ⟨F⟩ compared in `unit` (see `FMaxCut`, `force_scale`).
+def f_max_cut(measures: Mapping[str, xr.Dataset], unit: str = DEFAULT_P1_FORCE_UNIT,
+              f_max: float | None = None) -> FMaxCut:
+    """P1 §3 F_max rule over the systems in `measures`, ⟨F⟩ compared in `unit` (see `FMaxCut`, `force_scale`);
+    with `f_max` given (the F_max of other systems, e.g. P1's own beside their counterparts) each system's ρ_max
+    under that F_max.
 
     Raises ValueError if a system lacks the constant the unit needs."""
     if not measures:
@@ -216,7 +219,8 @@ def f_max_cut(measures: Mapping[str, xr.Dataset], unit: str = DEFAULT_P1_FORCE_U
     curves = {name: mean_force(ds, force_scale(ds, unit, name)) for name, ds in measures.items()}
     f_prime = {name: finite_max(curve.values) for name, curve in curves.items()}
     finite = [value for value in f_prime.values() if np.isfinite(value)]
-    f_max = min(finite) if finite else math.nan
+    if f_max is None:
+        f_max = min(finite) if finite else math.nan
     rho_max = {}
     for name, curve in curves.items():
         rho = rho_values(curve)

@@ -75,7 +75,7 @@ def p1_validation(measures: Mapping[str, xr.Dataset], *, force_unit: str = DEFAU
                   beside: Mapping[str, Mapping[str, xr.Dataset]] | None = None, resamples: int = 0, seed: int = 0,
                   overlaps: Mapping[str, float] | None = None, diagrams: Mapping[str, xr.Dataset] | None = None,
                   beside_diagrams: Mapping[str, Mapping[str, xr.Dataset]] | None = None,
-                  **tolerances) -> pd.DataFrame:
+                  counterparts: Sequence[str] = (), **tolerances) -> pd.DataFrame:
     """P1's numbers and claims beside what `measures` (system → network_measures dataset) shows.
 
     Rows of kind ``"value"``: F_max and per system ρ_max under each unit of `P1_FORCE_UNITS` (the one the figures
@@ -101,6 +101,10 @@ def p1_validation(measures: Mapping[str, xr.Dataset], *, force_unit: str = DEFAU
     `overlaps` ({system: largest overlap / sum of radii at its largest ρ}, `largest_relative_overlap` of its
     snapshots there) judges P1 §3's "overlaps up to 10 %"; without it that claim is not evaluated.
 
+    `counterparts` (``studies.p1.counterparts``: the μ = 0 and box-size runs) are systems of `measures` that only
+    the claims comparing systems see (P1 §3's friction and system-size claims): they get no row of their own and
+    count in no verdict total.
+
     Claims are judged over every simulated ρ, or over ρ ≤ ρ_max (P1's shown range) with `judge_up_to_rho_max`;
     those P1 states at ρ_max (PDF order, B1 plateau) use ρ_max either way. `tolerances`: the fields of
     `ClaimTolerances` (documented there), e.g. ``rho_tolerance=0.03``.
@@ -120,21 +124,22 @@ def p1_validation(measures: Mapping[str, xr.Dataset], *, force_unit: str = DEFAU
                   for name, sets in beside.items()}
         beside = {NEVER_DYING_LEFT_OUT: present, **beside}
         present = at_minus_one(present, diagrams)
-    names = set(P1_SYSTEMS) | set(present)
-    cuts = _cuts(present)
+    names = (set(P1_SYSTEMS) | set(present)) - set(counterparts)
+    cuts = _cuts(present, counterparts)
     context = _context(present, tolerances_, force_unit, judge_up_to_rho_max, cuts, overlaps)
     draws = bootstrap_draws(present, resamples, seed)
     resampled = [_context({name: resample_realizations(ds, draw[name]) for name, ds in present.items()},
-                          tolerances_, force_unit, judge_up_to_rho_max, overlaps=overlaps) for draw in draws]
+                          tolerances_, force_unit, judge_up_to_rho_max, overlaps=overlaps, counterparts=counterparts)
+                 for draw in draws]
     rows = _force_rows(cuts, force_unit)
     for name in system_order(names):
         rows.extend(_value_rows(name, context.systems.get(name), cuts, force_unit))
     others = [(reading.name, _context(reading.measures(present) if reading.measures else present,
                                       replace(tolerances_, **reading.tolerances), force_unit, judge_up_to_rho_max,
-                                      overlaps=overlaps))
+                                      overlaps=overlaps, counterparts=counterparts))
               for reading in readings]
-    others += [(name, _context(sets, tolerances_, force_unit, judge_up_to_rho_max, overlaps=overlaps))
-               for name, sets in beside.items()]
+    others += [(name, _context(sets, tolerances_, force_unit, judge_up_to_rho_max, overlaps=overlaps,
+                               counterparts=counterparts)) for name, sets in beside.items()]
     for claim_ in sorted(CLAIMS, key=lambda c: tuple(int(part) for part in c.section.split("."))):
         primary = _claim_rows(claim_, context, names, resampled)
         rows.extend(primary)
@@ -147,22 +152,34 @@ def p1_validation(measures: Mapping[str, xr.Dataset], *, force_unit: str = DEFAU
 
 def _context(present: Mapping[str, xr.Dataset], tolerances: ClaimTolerances, force_unit: str, up_to_rho_max: bool,
              cuts: Mapping[str, FMaxCut | str] | None = None,
-             overlaps: Mapping[str, float] | None = None) -> ClaimContext:
-    """Every system of `present` as the judges see it, under the F_max cut of `force_unit`, with its snapshot
-    overlap from `overlaps`."""
-    cut = (cuts if cuts is not None else _cuts(present)).get(force_unit)
+             overlaps: Mapping[str, float] | None = None, counterparts: Sequence[str] = ()) -> ClaimContext:
+    """Every system of `present` as the judges see it, under the F_max cut of `force_unit` (made by the systems
+    that are not `counterparts`), with its snapshot overlap from `overlaps`."""
+    cut = (cuts if cuts is not None else _cuts(present, counterparts)).get(force_unit)
     systems = {name: replace(system_data(name, ds, cut if isinstance(cut, FMaxCut) else None, tolerances,
                                          up_to_rho_max), overlap=float((overlaps or {}).get(name, math.nan)))
                for name, ds in present.items()}
     return ClaimContext(systems, tolerances)
 
 
-def _cuts(present: Mapping[str, xr.Dataset]) -> dict[str, FMaxCut | str]:
-    """The F_max cut under every unit, or the reason it cannot be made."""
+def _cuts(present: Mapping[str, xr.Dataset], counterparts: Sequence[str] = ()) -> dict[str, FMaxCut | str]:
+    """The F_max cut under every unit, or the reason it cannot be made: F_max from the systems that are not
+    `counterparts`, which get their ρ_max under that F_max (they must not move P1's own ρ_max)."""
+    own = {name: ds for name, ds in present.items() if name not in counterparts} or dict(present)
+    beside = {name: ds for name, ds in present.items() if name not in own}
     cuts: dict[str, FMaxCut | str] = {}
     for unit in P1_FORCE_UNITS:
         try:
-            cuts[unit] = f_max_cut(present, unit) if present else "no system in the results"
+            if not present:
+                cuts[unit] = "no system in the results"
+                continue
+            cut = f_max_cut(own, unit)
+            if beside:
+                extra = f_max_cut(beside, unit, f_max=cut.f_max)
+                cut = replace(cut, f_prime_max={**cut.f_prime_max, **extra.f_prime_max},
+                              rho_max={**cut.rho_max, **extra.rho_max},
+                              mean_force={**cut.mean_force, **extra.mean_force})
+            cuts[unit] = cut
         except ValueError as error:
             cuts[unit] = str(error)
     return cuts
