@@ -537,3 +537,7 @@ def test_p1_counterparts_are_defined_systems_beside_the_studys_own_with_its_ratt
     both["studies"]["p1"]["counterparts"].append("2d_hertz")
     with pytest.raises(ConfigError, match=r"studies\.p1\.counterparts\[\d+\].*one of the study's own systems"):
         validate_config(both)
+    p2 = copy.deepcopy(config)
+    p2["studies"]["p2"]["counterparts"] = ["2d_linear_mu0"]
+    with pytest.raises(ConfigError, match=r"studies\.p2\.counterparts': only P1's"):
+        validate_config(p2)

@@ -346,6 +346,9 @@ def validate_config(config: Mapping[str, Any]) -> dict[str, SystemSpec | Importe
     if problem is not None:
         raise problem
     for study, entry in config["studies"].items():
+        if "counterparts" in entry and study != "p1":
+            raise ConfigError(f"studies.{study}.counterparts", "only P1's friction and system-size claims judge "
+                                                               "counterpart runs; this study has none")
         for key in ("systems", "counterparts"):
             for i, name in enumerate(entry.get(key, ())):
                 if name not in config["systems"]:
