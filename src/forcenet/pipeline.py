@@ -492,7 +492,8 @@ def p1_validation_table(*, measures: Sequence[str], systems: Sequence[str], csv:
             with read_snapshot(path) as snapshot:
                 name = str(snapshot.attrs["system"])
                 overlaps[name] = max(overlaps.get(name, 0.0), largest_relative_overlap(snapshot))
-        readings = dict(beside or {})
+        # a reading without measures of its own (no 3D system for the tetrahedra) would only repeat the primary
+        readings = {label: files for label, files in (beside or {}).items() if files.get("measures")}
         table = p1_validation(_open_by_system(measures, "network_measures"), force_unit=force_unit,
                               resamples=ROBUSTNESS_RESAMPLES, overlaps=overlaps,
                               diagrams=_open_by_system(diagrams, "diagrams"),
