@@ -6,7 +6,8 @@
 
 Each folder is a `results_dir` made with `config/damping/base.yaml` and one overlay of `config/damping/` (system
 taken from the folder name, up to `_g`), or `FOLDER:SYSTEM` for any other run folder (e.g. P1's start,
-`results/p1_start:2d_linear`, docs/validation/p1_start.md). `--linear` names a results folder holding the linear
+`results/p1_start:2d_linear`, docs/validation/p1_start.md), or `FOLDER:SYSTEM:REALIZATION` for one realization of
+a campaign (`results/validation:2d_hertz:3`). `--linear` names a results folder holding the linear
 system's `2d_linear/network_measures.nc` (P1's paper-size protocol), whose B0/N ridge is printed beside the Hertz
 rows. `--verdicts` adds each folder's P1 verdicts (from its `tables/p1_validation.csv`). What each column means:
 `forcenet.damping_series`.
@@ -26,7 +27,7 @@ from forcenet.report.claims import markdown_table  # noqa: E402
 from forcenet.damping_series import SeriesRun, network_readings, series_row  # noqa: E402
 
 COLUMNS = [
-    ("system", "system"), ("N", "N"), ("gamma_n", "γ_n"), ("e_at_v0", "e (mean pair, v0)"),
+    ("system", "system"), ("realization", "run"), ("N", "N"), ("gamma_n", "γ_n"), ("e_at_v0", "e (mean pair, v0)"),
     ("e_at_median_speed", "e (median approach speed near ρ_J)"), ("median_approach_speed", "median approach speed"),
     ("completed", "whole grid"), ("top_rho", "last ρ"), ("capped_relaxations", "capped relaxations"),
     ("max_damping_dt", "max λΔt"),
@@ -83,7 +84,8 @@ def verdict_rows(folders: list[tuple[Path, str]]) -> pd.DataFrame:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("folders", nargs="+", help="series run folders (FOLDER or FOLDER:SYSTEM)")
+    parser.add_argument("folders", nargs="+",
+                        help="series run folders (FOLDER, FOLDER:SYSTEM or FOLDER:SYSTEM:REALIZATION)")
     parser.add_argument("--linear", type=Path, help="results folder with 2d_linear/network_measures.nc")
     parser.add_argument("--markdown", type=Path, help="also write the table to this file")
     parser.add_argument("--verdicts", action="store_true",
@@ -92,9 +94,9 @@ def main() -> None:
     rows = []
     runs = []
     for argument in args.folders:
-        folder, _, system = str(argument).partition(":")
-        runs.append((Path(folder), system or Path(folder).name.split("_g")[0]))
-        rows.append(series_row(SeriesRun(*runs[-1])))
+        run = SeriesRun.parse(argument)
+        runs.append((run.results, run.system))
+        rows.append(series_row(run))
     if args.linear is not None:
         from forcenet.report.p1 import jamming_point
         import xarray as xr
@@ -105,7 +107,7 @@ def main() -> None:
         row = {"system": "2d_linear (reference)", "rho_J": rho_j}
         row.update(network_readings(SeriesRun(args.linear, "2d_linear"), rho_j))
         rows.append(row)
-    rows.sort(key=lambda r: (r["system"], r.get("gamma_n", math.inf)))
+    rows.sort(key=lambda r: (r["system"], r.get("gamma_n", math.inf), r.get("realization", "")))
     frame = pd.DataFrame([{key: _format(row.get(key, math.nan)) for key, _ in COLUMNS} for row in rows])
     text = "\n".join(markdown_table(frame, [key for key, _ in COLUMNS], dict(COLUMNS)))
     if args.verdicts:

@@ -34,3 +34,15 @@ def test_approach_speeds_match_a_slow_reference():
                 if closing > 0:
                     reference.append(closing)
     assert sorted(approach_speeds(position, velocity, radius)) == pytest.approx(sorted(reference))
+
+
+def test_a_series_run_is_named_by_folder_system_and_realization():
+    from pathlib import Path
+
+    from forcenet.damping_series import SeriesRun
+
+    assert SeriesRun.parse("results/damping/2d_hertz_g22.1807") == SeriesRun(
+        Path("results/damping/2d_hertz_g22.1807"), "2d_hertz", 0)
+    assert SeriesRun.parse("results/p1_start:2d_linear") == SeriesRun(Path("results/p1_start"), "2d_linear", 0)
+    assert SeriesRun.parse("results/validation:2d_hertz:r03") == SeriesRun(Path("results/validation"), "2d_hertz", 3)
+    assert SeriesRun.parse("results/validation:3d_hertz:2").sim == Path("results/validation/sim/3d_hertz/r02")

@@ -83,6 +83,16 @@ class SeriesRun:
     def sim(self) -> Path:
         return Path(run_dir(str(self.results), self.system, realization_name(self.realization)))
 
+    @classmethod
+    def parse(cls, text: str) -> "SeriesRun":
+        """`FOLDER`, `FOLDER:SYSTEM` or `FOLDER:SYSTEM:REALIZATION` (an index, `3` or `r03`); a bare folder is a
+        series folder named `{system}_g{gamma_n}…`, realization 0."""
+        folder, system, realization = (text.split(":") + ["", ""])[:3]
+        if not system:
+            system = Path(folder).name.split("_g")[0]
+        index = int(realization.removeprefix("r")) if realization else 0
+        return cls(Path(folder), system, index)
+
 
 def _snapshot_states(run: SeriesRun) -> list[dict]:
     """`survey.snapshot_row` of every snapshot of the run, in grid order: the published ones, or, for a run that
@@ -142,7 +152,8 @@ def series_row(run: SeriesRun) -> dict:
                                                  calibration.MEAN_PAIR_EFFECTIVE_MASS, speed)
 
     row = {
-        "system": run.system, "N": n, "gamma_n": gamma, "results": str(run.results),
+        "system": run.system, "realization": realization_name(run.realization), "N": n, "gamma_n": gamma,
+        "results": str(run.results),
         "e_at_v0": restitution(spec.wall_speed), "median_approach_speed": median_speed,
         "e_at_median_speed": restitution(median_speed),
         "completed": bool(completed), "top_rho": float(done[-1]), "capped_relaxations": int(capped),
