@@ -235,3 +235,17 @@ def test_p2_table_shows_the_campaign_evidence_and_verdict_beside_p2s_words(tmp_p
     assert (f"| id | section | system | claim | P2 | {PAPER_SIZE_HEADER} | criterion | measured | evidence | verdict | "
             "marker |") in md
     assert "| rho_J(mu=0) > rho_J(mu=0.5) | rho_J 0.802, 0.833 (holds) | c |" in md
+
+
+def test_bootstrap_draws_keep_a_single_realization_in_every_draw():
+    import xarray as xr
+
+    from forcenet.report.realizations import bootstrap_draws
+
+    def runs(n):
+        return xr.Dataset({"x": ("realization", np.arange(float(n)))})
+
+    draws = bootstrap_draws({"five": runs(5), "one": runs(1)}, 20, seed=3)
+    assert len(draws) == 20 and all(list(d["one"]) == [0] for d in draws)
+    assert len({tuple(d["five"]) for d in draws}) > 1 and all(len(d["five"]) == 5 for d in draws)
+    assert bootstrap_draws({"one": runs(1), "also one": runs(1)}, 20) == []

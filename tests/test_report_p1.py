@@ -939,3 +939,17 @@ def test_a_counterpart_is_judged_only_by_the_claims_that_compare_runs():
              (("own", own), ("system", as_system))}
     assert f_max["system"] < f_max["own"]  # as one of the systems it would have moved P1's cut
     assert claim_verdicts(as_counterpart) == claim_verdicts(own) | {("p1-3-friction", "all"): framework.HOLDS}
+
+
+def test_a_single_realization_counterpart_keeps_the_robustness_of_the_systems_with_several():
+    # the campaign's mu = 0 and box-size runs have one realization each: P1's systems (three) still get their
+    # bootstrap share, and a system with one realization gets none (every resample is that realization)
+    measures = _with_runs(**{"2d_hertz_mu0": (0.0, N_PARTICLES, dict(rho_j=0.86))})
+    measures["2d_hertz_mu0"] = measures["2d_hertz_mu0"].isel(realization=[0])
+    table = validation.p1_validation(measures, resamples=20, seed=1, counterparts=["2d_hertz_mu0"])
+    assert rows(table, "p1-5.1-b1-zero-below", "2d_linear")["robustness"].iloc[0] == 1.0
+    assert 0.0 <= rows(table, "p1-3-friction", "all")["robustness"].iloc[0] <= 1.0
+    single = validation.p1_validation({**make_p1_measures(), "2d_linear": make_p1_measures()["2d_linear"].isel(
+        realization=[0])}, resamples=20, seed=1)
+    assert np.isnan(rows(single, "p1-5.1-b1-zero-below", "2d_linear")["robustness"].iloc[0])
+    assert rows(single, "p1-5.1-b1-zero-below", "2d_hertz")["robustness"].iloc[0] == 1.0

@@ -28,7 +28,7 @@ from forcenet.report.p1 import (DEFAULT_P1_FORCE_UNIT, P1_FORCE_UNITS, P1_RHO_ST
                                 system_dimension, system_force_law, system_order, value_at)
 from forcenet.report.p1_diagnostics import SHAPE_READINGS, with_shape_reading
 from forcenet.report.p1_judging import ClaimContext, SystemData
-from forcenet.report.realizations import bootstrap_draws, resample_realizations
+from forcenet.report.realizations import REALIZATION, bootstrap_draws, resample_realizations
 from forcenet.systems import IMPORTED_FORCE_LAW
 
 #: every claim of P1 §3–6, in the order the table lists them within a section
@@ -230,8 +230,11 @@ def _claim_rows(claim_: Claim, context: ClaimContext, names: set[str], resampled
                 raise NotEvaluated("rho_J could not be located")
             return claim_.judge(system, within.tolerances)
 
+        # one realization is the same in every resample: no robustness to measure (NaN), not a trivial 0 or 1
+        varies = system is not None and system.full.sizes.get(REALIZATION, 1) > 1
         rows.append(judge_claim(claim_, name, claim_.paper_value(role), criterion, lambda: judge(context),
-                                resampled=[lambda c=c: judge(c) for c in resampled], reading=reading))
+                                resampled=[lambda c=c: judge(c) for c in resampled] if varies else [],
+                                reading=reading))
     return rows
 
 

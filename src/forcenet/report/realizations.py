@@ -79,9 +79,11 @@ def bootstrap_draws(datasets: Mapping[str, xr.Dataset], resamples: int, seed: in
                     dim: str = REALIZATION) -> list[dict[str, np.ndarray]]:
     """`resamples` bootstrap draws of the realizations of every dataset of `datasets` ({name: indices} each; each
     name from its own stream, seeded by `seed` + its rank in sorted order, so adding a system leaves the others'
-    draws alone only where it sorts after them); none when any dataset has a single realization."""
+    draws alone only where it sorts after them). A dataset with a single realization (a counterpart run, say) is in
+    every draw as it is; none when no dataset has two or more."""
     per_name = {name: bootstrap_resamples(datasets[name].sizes.get(dim, 1), resamples, seed + k)
                 for k, name in enumerate(sorted(datasets))}
-    if not per_name or any(not draws for draws in per_name.values()):
+    if not any(per_name.values()):
         return []
-    return [{name: draws[b] for name, draws in per_name.items()} for b in range(resamples)]
+    single = np.zeros(1, dtype=int)
+    return [{name: draws[b] if draws else single for name, draws in per_name.items()} for b in range(resamples)]
