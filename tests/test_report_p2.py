@@ -531,7 +531,7 @@ def test_all_nan_curve_is_not_evaluated(system, dim, metric):
     table = p2_validation.p2_validation(data, paper_tables()).set_index("claim_id")
     for claim_id in ALL_NAN_NOT_EVALUATED[system, dim, metric]:
         assert table.loc[claim_id, "verdict"] == claims.NOT_EVALUATED, claim_id
-        assert "0 rho value(s)" in table.loc[claim_id, "evidence"], claim_id
+        assert "0 finite rho value(s)" in table.loc[claim_id, "evidence"], claim_id
 
 
 def test_after_jamming_windows_leave_out_rho_j():
@@ -540,8 +540,21 @@ def test_after_jamming_windows_leave_out_rho_j():
     assert curves.window(s, lo=J).index.min() == pytest.approx(J)
     assert curves.window(s, lo=J, closed_lo=False).index.min() == pytest.approx(J + 0.005)
     assert curves.window(s, hi=J, closed_hi=True).index.max() == pytest.approx(J)
-    with pytest.raises(claims.NotEvaluated, match=r"0 rho value\(s\) in \(0.900, inf\)"):
+    with pytest.raises(claims.NotEvaluated, match=r"0 finite rho value\(s\) in \(0.900, inf\)"):
         curves.window(s, lo=0.9, closed_lo=False)
+
+
+def test_a_window_of_infinite_distances_says_why_it_cannot_be_judged():
+    # the 'apart' convention: consecutive diagrams with different numbers of never-dying classes are infinitely far
+    curves = p2_judging.Curves(p2.FRICTIONAL, p2_shaped(), 2, claims.ClaimTolerances(min_points=2))
+    s = curves.mean("normal", 0, B)
+    s[s.index > J] = np.inf
+    with pytest.raises(claims.NotEvaluated, match=r"0 finite rho value\(s\) .*; \d+ infinite there \(different "
+                       r"numbers of never-dying classes\)"):
+        curves.window(s, lo=J, closed_lo=False)
+    with pytest.raises(claims.NotEvaluated) as finite_only:
+        curves.window(s, lo=0.9, closed_lo=False)
+    assert "infinite" not in str(finite_only.value)  # no state there at all: nothing infinite to name
 
 
 def test_jamming_density_from_z_crossing():

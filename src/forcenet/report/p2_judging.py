@@ -85,7 +85,12 @@ class Curves:
         part = s[inside & np.isfinite(s.values)]
         if len(part) < self.tol.min_points:
             interval = f"{'[' if closed_lo else '('}{lo:.3f}, {hi:.3f}{']' if closed_hi else ')'}"
-            raise NotEvaluated(f"{self.name}: {len(part)} rho value(s) in {interval} (need {self.tol.min_points})")
+            infinite = int((inside & np.isinf(s.values)).sum())
+            # an infinite distance: the two diagrams hold different numbers of never-dying classes, which the
+            # 'apart' convention (analysis.essential_convention) never matches with finite points
+            why = f"; {infinite} infinite there (different numbers of never-dying classes)" if infinite else ""
+            raise NotEvaluated(f"{self.name}: {len(part)} finite rho value(s) in {interval} (need "
+                               f"{self.tol.min_points}){why}")
         return part
 
     def argmax(self, s: pd.Series, lo: float = -np.inf, hi: float = np.inf, **closed: bool) -> float:
