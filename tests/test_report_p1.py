@@ -953,3 +953,27 @@ def test_a_single_realization_counterpart_keeps_the_robustness_of_the_systems_wi
         realization=[0])}, resamples=20, seed=1)
     assert np.isnan(rows(single, "p1-5.1-b1-zero-below", "2d_linear")["robustness"].iloc[0])
     assert rows(single, "p1-5.1-b1-zero-below", "2d_hertz")["robustness"].iloc[0] == 1.0
+
+
+def test_a_counterpart_moves_no_claim_about_all_of_p1s_systems():
+    # a one-realization mu = 0 run whose rough bin is ten times P1's systems': the claims over "all systems"
+    # (rough-bin similarity, S_p noisier in 3D, ...) compare P1's three systems only, so every measured value but
+    # the friction claim's is the one P1's systems alone give
+    measures = _with_runs(**{"2d_hertz_mu0": (0.0, N_PARTICLES, dict(rho_j=0.86))})
+    counterpart = measures["2d_hertz_mu0"].isel(realization=[0])
+    counterpart["persistence_bin_count"].loc[dict(persistence_bin="rough")] *= 10.0
+    measures["2d_hertz_mu0"] = counterpart
+    own = validation.p1_validation({name: ds for name, ds in measures.items() if name != "2d_hertz_mu0"})
+    with_it = validation.p1_validation(measures, counterparts=["2d_hertz_mu0"])
+
+    def measured(table):
+        claims = table[(table["kind"] == "claim") & (table["reading"].fillna("") == "")
+                       & (table["id"] != "p1-3-friction")]
+        return {(i, s): (v, m) for i, s, v, m in zip(claims["id"], claims["system"], claims["verdict"],
+                                                     claims["measured"].fillna(-1.0))}
+
+    assert measured(with_it) == measured(own)
+    assert verdict(with_it, "p1-5.2-shape-noisier-in-3d", "all") != framework.NOT_EVALUATED
+    as_system = validation.p1_validation(measures)  # as one of P1's systems it would enter the comparison
+    assert "2d_hertz_mu0" in rows(as_system, "p1-5.3-rough-similar-near-jamming", "all")["evidence"].iloc[0]
+    assert "2d_hertz_mu0" not in rows(with_it, "p1-5.3-rough-similar-near-jamming", "all")["evidence"].iloc[0]

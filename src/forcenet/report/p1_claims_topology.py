@@ -344,9 +344,10 @@ def _relative_shape_spread(system: SystemData) -> float:
        per_system=False)
 def shape_noisier_in_3d(context: ClaimContext) -> Judgement:
     """Judge of claim p1-5.2-shape-noisier-in-3d (across systems)."""
-    if min(s.data.sizes.get("realization", 1) for s in context.systems.values()) < 2:
-        raise NotEvaluated("needs at least 2 realizations")
-    three, two = _relative_shape_spread(context.role(HERTZ_3D)), _relative_shape_spread(context.role(HERTZ_2D))
+    compared = context.role(HERTZ_3D), context.role(HERTZ_2D)
+    if min(s.data.sizes.get("realization", 1) for s in compared) < 2:
+        raise NotEvaluated("needs at least 2 realizations of each")
+    three, two = (_relative_shape_spread(s) for s in compared)
     return Judgement(three / two if two > 0 else math.inf,
                      f"relative spread of S_p at F_th < 1 beyond rho_J: 3D {three:.3g}, 2D Hertz {two:.3g}",
                      three > two)
@@ -372,7 +373,7 @@ def shape_bounds(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
        per_system=False)
 def rough_similar_near_jamming(context: ClaimContext) -> Judgement:
     """Judge of claim p1-5.3-rough-similar-near-jamming (across systems)."""
-    values = {name: interp_at(bin_curve(system, "rough"), system.rho_j) for name, system in context.systems.items()
+    values = {name: interp_at(bin_curve(system, "rough"), system.rho_j) for name, system in context.own.items()
               if np.isfinite(system.rho_j)}
     values = {name: value for name, value in values.items() if np.isfinite(value)}
     if len(values) < 2:

@@ -110,14 +110,22 @@ class SystemData:
 
 @dataclass(frozen=True)
 class ClaimContext:
-    """Every system present, for claims that compare systems."""
+    """Every system present, for claims that compare systems; `counterparts` are the runs (μ = 0, other boxes) that
+    only the claims comparing a P1 system with another run of its role see (`studies.p1.counterparts`)."""
 
     systems: Mapping[str, SystemData]
     tolerances: ClaimTolerances
+    counterparts: frozenset[str] = frozenset()
+
+    @property
+    def own(self) -> dict[str, SystemData]:
+        """The systems that are not counterparts: those P1's claims about "all systems" compare."""
+        return {name: system for name, system in self.systems.items() if name not in self.counterparts}
 
     def role(self, role: tuple[int, str]) -> SystemData:
-        """The first system (P1's order) with this role; NotEvaluated when none is present or its ρ_J is NaN."""
-        for name in system_order(self.systems):
+        """The first system (P1's order) with this role, never a counterpart; NotEvaluated when none is present or
+        its ρ_J is NaN."""
+        for name in system_order(self.own):
             system = self.systems[name]
             if system.role == role:
                 if not np.isfinite(system.rho_j):

@@ -126,7 +126,7 @@ def p1_validation(measures: Mapping[str, xr.Dataset], *, force_unit: str = DEFAU
         present = at_minus_one(present, diagrams)
     names = (set(P1_SYSTEMS) | set(present)) - set(counterparts)
     cuts = _cuts(present, counterparts)
-    context = _context(present, tolerances_, force_unit, judge_up_to_rho_max, cuts, overlaps)
+    context = _context(present, tolerances_, force_unit, judge_up_to_rho_max, cuts, overlaps, counterparts)
     draws = bootstrap_draws(present, resamples, seed)
     resampled = [_context({name: resample_realizations(ds, draw[name]) for name, ds in present.items()},
                           tolerances_, force_unit, judge_up_to_rho_max, overlaps=overlaps, counterparts=counterparts)
@@ -159,7 +159,7 @@ def _context(present: Mapping[str, xr.Dataset], tolerances: ClaimTolerances, for
     systems = {name: replace(system_data(name, ds, cut if isinstance(cut, FMaxCut) else None, tolerances,
                                          up_to_rho_max), overlap=float((overlaps or {}).get(name, math.nan)))
                for name, ds in present.items()}
-    return ClaimContext(systems, tolerances)
+    return ClaimContext(systems, tolerances, frozenset(counterparts))
 
 
 def _cuts(present: Mapping[str, xr.Dataset], counterparts: Sequence[str] = ()) -> dict[str, FMaxCut | str]:
