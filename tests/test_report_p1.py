@@ -856,6 +856,12 @@ def test_the_largest_overlap_is_measured_in_a_snapshot():
                            "radius": ("particle", np.array([0.5, 0.5, 0.6])),
                            "contact_i": ("contact", np.array([0])), "contact_j": ("contact", np.array([1]))})
     assert report.largest_relative_overlap(snapshot) == pytest.approx(0.1)  # (1.0 - 0.9) / 1.0
+    # a third disk pressed against a wall overlaps the second by (1.1 - 1.0) / 1.1: the pair touches a wall
+    walled = snapshot.assign(position=(("particle", "axis"), np.array([[0.0, 0.0], [0.9, 0.0], [1.9, 0.0]])),
+                             contact_i=("contact", np.array([0, 1])), contact_j=("contact", np.array([1, 2])),
+                             wall_contact_particle=("wall_contact", np.array([2])))
+    overlaps, at_wall = report.relative_overlaps(walled)
+    assert overlaps == pytest.approx([0.1, 0.1 / 1.1]) and at_wall.tolist() == [False, True]
     table = validation.p1_validation(make_p1_measures(), overlaps={"2d_hertz": 0.08, "2d_linear": 0.12})
     assert verdict(table, "p1-3-overlap", "2d_hertz") == framework.HOLDS
     assert verdict(table, "p1-3-overlap", "2d_linear") == framework.FAILS

@@ -120,18 +120,26 @@ def system_particles(ds: xr.Dataset) -> int:
     return int(np.nanmax(ds["n_particles"].values)) if "n_particles" in ds else 0
 
 
-def largest_relative_overlap(snapshot: xr.Dataset) -> float:
-    """The largest overlap of two particles in contact relative to the sum of their radii, (r_i + r_j − |x_i −
-    x_j|) / (r_i + r_j), in one snapshot (P1 §3: "up to 10 %" at the largest ρ); 0 without contacts."""
+def relative_overlaps(snapshot: xr.Dataset) -> tuple[np.ndarray, np.ndarray]:
+    """Per particle contact of one snapshot: the overlap relative to the sum of the radii, (r_i + r_j − |x_i −
+    x_j|) / (r_i + r_j) (shape (n_contacts,), dimensionless), and whether either particle also touches a wall
+    (bool, same shape; from ``wall_contact_particle``, all False in a snapshot without walls)."""
     i = np.asarray(snapshot["contact_i"].values, dtype=int)
     j = np.asarray(snapshot["contact_j"].values, dtype=int)
-    if i.size == 0:
-        return 0.0
     position = np.asarray(snapshot["position"].values, dtype=float)
     radius = np.asarray(snapshot["radius"].values, dtype=float)
     reach = radius[i] + radius[j]
-    gap = np.linalg.norm(position[i] - position[j], axis=1)
-    return float(np.max((reach - gap) / reach))
+    gap = np.linalg.norm(position[i] - position[j], axis=1) if i.size else np.empty(0)
+    touching = snapshot["wall_contact_particle"].values if "wall_contact_particle" in snapshot else np.empty(0, int)
+    at_wall = np.isin(i, touching) | np.isin(j, touching)
+    return (reach - gap) / reach if i.size else np.empty(0), at_wall
+
+
+def largest_relative_overlap(snapshot: xr.Dataset) -> float:
+    """The largest overlap of two particles in contact relative to the sum of their radii (`relative_overlaps`) in
+    one snapshot (P1 §3: "up to 10 %" at the largest ρ); 0 without contacts."""
+    overlaps, _ = relative_overlaps(snapshot)
+    return float(np.max(overlaps)) if overlaps.size else 0.0
 
 
 def _config_system(ds: xr.Dataset, name: str) -> dict:
