@@ -983,3 +983,25 @@ def test_a_counterpart_moves_no_claim_about_all_of_p1s_systems():
     as_system = validation.p1_validation(measures)  # as one of P1's systems it would enter the comparison
     assert "2d_hertz_mu0" in rows(as_system, "p1-5.3-rough-similar-near-jamming", "all")["evidence"].iloc[0]
     assert "2d_hertz_mu0" not in rows(with_it, "p1-5.3-rough-similar-near-jamming", "all")["evidence"].iloc[0]
+
+
+def test_a_claim_that_does_not_hold_says_why_and_on_what_basis():
+    from forcenet.report import p1_explanations
+
+    # every recorded cause names a claim of the table (no stale ids)
+    ids = {claim_.id for claim_ in validation.CLAIMS}
+    assert {key[0] if isinstance(key, tuple) else key for key in p1_explanations.EXPLANATIONS} <= ids
+    # overlaps past P1's 10 % in 2D linear: the claim fails with its measured cause; 2D Hertz holds, no cause
+    table = validation.p1_validation(make_p1_measures(), overlaps={"2d_hertz": 0.08, "2d_linear": 0.12})
+    failed = rows(table, "p1-3-overlap", "2d_linear").iloc[0]
+    assert failed["verdict"] == framework.FAILS and "pressed by a wall" in failed["explanation"]
+    assert failed["explanation_basis"] == "measured: " + p1_explanations.OVERLAPS
+    held = rows(table, "p1-3-overlap", "2d_hertz").iloc[0]
+    assert held["verdict"] == framework.HOLDS and held["explanation"] == "" and held["explanation_basis"] == ""
+    # a cause recorded for one system is not given to another
+    assert "already jammed" in p1_explanations.explain("p1-5.1-b1-zero-below", "3d_hertz").text
+    assert p1_explanations.explain("p1-5.1-b1-zero-below", "2d_linear") is None
+    # a cause of one system's own, and a hypothesis says so
+    assert "keeps more contacts" in p1_explanations.explain("p1-6-cluster-size-peak-small-threshold", "2d_linear").text
+    assert p1_explanations.explain("p1-4.3-contact-number-at-jamming", "3d_hertz").basis == framework.HYPOTHESIS
+    assert p1_explanations.explain("p1-4.3-percolating-almost-all-2d", "2d_hertz") is None

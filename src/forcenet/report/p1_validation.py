@@ -18,8 +18,8 @@ import pandas as pd
 import xarray as xr
 
 from forcenet.report import p1_claims, p1_claims_topology
-from forcenet.report.claims import (BELOW_TOLERANCE, IMPORTED_NOT_EVALUATED, NOT_EVALUATED, VERDICT_COLUMNS, Claim, ClaimTolerances,
-                                    JudgedClaim, Judgement, NotEvaluated, TableLayout, TableSection, claims_frame,
+from forcenet.report.claims import (BELOW_TOLERANCE, FAILS, IMPORTED_NOT_EVALUATED, NOT_EVALUATED, VERDICT_COLUMNS, Claim,
+                                    ClaimTolerances, Explanation, JudgedClaim, Judgement, NotEvaluated, TableLayout, TableSection, claims_frame,
                                     judge_claim, rows_beside, validation_markdown, verdict_summary, with_paper_size,
                                     write_validation_table)
 from forcenet.report.p1 import (DEFAULT_P1_FORCE_UNIT, P1_FORCE_UNITS, P1_RHO_STEP, P1_ROLES, P1_SYSTEMS, PAPER_PHI_C,
@@ -27,6 +27,7 @@ from forcenet.report.p1 import (DEFAULT_P1_FORCE_UNIT, P1_FORCE_UNITS, P1_RHO_ST
                                 isostatic_crossing, jamming_point, rho_values, select_total, never_dying_at_minus_one,
                                 system_dimension, system_force_law, system_order, value_at)
 from forcenet.report.p1_diagnostics import SHAPE_READINGS, with_shape_reading
+from forcenet.report.p1_explanations import explain
 from forcenet.report.p1_judging import ClaimContext, SystemData
 from forcenet.report.realizations import REALIZATION, bootstrap_draws, resample_realizations
 from forcenet.systems import IMPORTED_FORCE_LAW
@@ -211,6 +212,7 @@ def _claim_rows(claim_: Claim, context: ClaimContext, names: set[str], resampled
     criterion = claim_.criterion_text(context.tolerances)
     if not claim_.per_system:
         return [judge_claim(claim_, "all", claim_.paper_value(None), criterion, lambda: claim_.judge(context),
+                            explain=_explainer(claim_, "all", reading),
                             resampled=[lambda c=c: claim_.judge(c) for c in resampled], reading=reading)]
     rows = []
     for name in system_order(names):
@@ -233,9 +235,15 @@ def _claim_rows(claim_: Claim, context: ClaimContext, names: set[str], resampled
         # one realization is the same in every resample: no robustness to measure (NaN), not a trivial 0 or 1
         varies = system is not None and system.full.sizes.get(REALIZATION, 1) > 1
         rows.append(judge_claim(claim_, name, claim_.paper_value(role), criterion, lambda: judge(context),
+                                explain=_explainer(claim_, name, reading),
                                 resampled=[lambda c=c: judge(c) for c in resampled] if varies else [],
                                 reading=reading))
     return rows
+
+
+def _explainer(claim_: Claim, system: str, reading: str) -> Callable[[str], Explanation | None]:
+    """Why the claim does not hold for `system` (`p1_explanations.explain`), on the table's own reading only."""
+    return lambda verdict: explain(claim_.id, system) if verdict == FAILS and not reading else None
 
 
 def _force_rows(cuts: Mapping[str, FMaxCut | str], force_unit: str) -> list[JudgedClaim]:

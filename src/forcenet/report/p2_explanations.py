@@ -110,10 +110,11 @@ def _frictionless(ctx: Context) -> str:
 # 100 samples; config/paper.yaml with one realization). "Small system" means the claim holds at paper size;
 # "not a small-system effect" that it fails there too.
 _PAPER = "docs/p2_sampling.md, paper size"
-_AT_JAMMING = ("Not a small-system effect: a, b, c (consecutive samples at rho ~ 0.79) lie at this system's jamming "
-               f"transition, also at paper size (rho_J 0.80; {_PAPER}), where P2's look alike ('Z and the average "
-               "force almost identical'), i.e. P2's rho = 0.79 is jammed and ours is not; and each new or lost "
-               "never-dying class (a rattler joining, a defect loop opening) costs d_B >= 0.5 under P2's death -1.")
+_AT_JAMMING = ("Not a small-system effect: P2's states near rho = 0.79 look alike ('Z and the average force almost "
+               "identical'), i.e. they are jammed, and ours at 0.79 are not (rho_J 0.80, also at paper size; "
+               f"{_PAPER}); the first three jammed samples (the table's states a, b, c) lie at the transition itself, "
+               "where Z and the forces still change fast, and each new or lost never-dying class (a rattler "
+               "joining, a defect loop opening) costs d_B >= 0.5 under P2's death -1.")
 _NEVER_DYING = ("Not a small-system effect: after rho_J most consecutive pairs change the number of never-dying "
                 "classes (rattlers joining, defect loops opening or closing as contacts form), and under P2's death "
                 "-1 each costs d_B >= 0.5, a floor the force changes alone (d_B ~ 0.03-0.1) stay far below; at paper "
@@ -195,13 +196,15 @@ EXPLANATIONS: dict[str, tuple[str, str, tuple[Callable[[Context], str], ...]]] =
                f"d_W2 ratios are 2-3.4 (paper size 2.8 and 2.2; {_PAPER}).",
                THIS_TABLE,
                (_never_dying_events(_frictional, 1, "after"), _never_dying_events(_frictionless, 1, "after"))),
-    "IV.C-8": ("Not measured: the PD1 point counts of both systems have not been compared at paper size.",
-               HYPOTHESIS_ONLY, ()),
+    "IV.C-8": ("Without friction loops exist only from jamming on, and the frictionless system jams later (rho_J "
+               "0.832 against 0.803): over all states its median PD1 count is 1.1 against 7.2, but over the states "
+               "beyond both rho_J it has more loops (median 1350 against 1293 normal-force PD1 points per state), "
+               "as P2 says (forcenet.report.p2.diagram_point_counts on the campaign's diagrams.nc).", CAMPAIGN, ()),
     "IV.C-9": (_NEVER_DYING + " The d_B part of both quotients sits on that floor; not measured further.",
                HYPOTHESIS_ONLY, ()),
-    "V-1": ("Not a few-realization effect: it fails at paper size with 2 and 3 realizations too (d_B and d_W2 "
-            "peaks before jamming are as high or higher without friction; docs/validation/p2.md); no cause "
-            "measured.", CAMPAIGN, ()),
+    "V-1": ("Not a few-realization effect: it fails with 2, 3 and 5 paper-size realizations (robustness 0.2 with 5); "
+            "the d_B and d_W2 peaks before jamming are as high or higher without friction (docs/validation/p2.md); "
+            "no cause measured.", CAMPAIGN, ()),
     "V-2": ("Not a small-system effect: after jamming the frictionless packing keeps changing 2-4x more (d_W1, "
             f"d_W2; paper size 3.1 and 2.2, d_B 1.0; {_PAPER}); not reproduced.",
             SAMPLING, (_never_dying_events(_frictional, 0, "after"), _never_dying_events(_frictionless, 0, "after"))),
