@@ -328,7 +328,8 @@ def _markdown_sections(table: pd.DataFrame) -> list[TableSection]:
                          kind="value"),
             TableSection("Claims", [verdict_summary(table), ""],
                          ["id", "section", "item", "system", "measured", "paper", "criterion", "evidence", "verdict",
-                          "marker", "robustness", "states", "reading"], kind="claim")]
+                          "marker", "robustness", "states", "reading", "explanation", "explanation_basis"],
+                         kind="claim")]
 
 
 def p1_validation_markdown(table: pd.DataFrame) -> str:
