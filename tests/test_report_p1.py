@@ -944,6 +944,8 @@ def test_a_counterpart_is_judged_only_by_the_claims_that_compare_runs():
     f_max = {name: float(t[t["id"] == "f_max.dyn"]["measured"].iloc[0]) for name, t in
              (("own", own), ("system", as_system))}
     assert f_max["system"] < f_max["own"]  # as one of the systems it would have moved P1's cut
+    listed = as_counterpart[as_counterpart["id"] == "f_max.dyn"]["evidence"].iloc[0]
+    assert "counterparts (not in the min): 2d_hertz_mu0" in listed
     assert claim_verdicts(as_counterpart) == claim_verdicts(own) | {("p1-3-friction", "all"): framework.HOLDS}
 
 

@@ -132,7 +132,7 @@ def p1_validation(measures: Mapping[str, xr.Dataset], *, force_unit: str = DEFAU
     resampled = [_context({name: resample_realizations(ds, draw[name]) for name, ds in present.items()},
                           tolerances_, force_unit, judge_up_to_rho_max, overlaps=overlaps, counterparts=counterparts)
                  for draw in draws]
-    rows = _force_rows(cuts, force_unit)
+    rows = _force_rows(cuts, force_unit, counterparts)
     for name in system_order(names):
         rows.extend(_value_rows(name, context.systems.get(name), cuts, force_unit))
     others = [(reading.name, _context(reading.measures(present) if reading.measures else present,
@@ -246,14 +246,21 @@ def _explainer(claim_: Claim, system: str, reading: str) -> Callable[[str], Expl
     return lambda verdict: explain(claim_.id, system) if verdict == FAILS and not reading else None
 
 
-def _force_rows(cuts: Mapping[str, FMaxCut | str], force_unit: str) -> list[JudgedClaim]:
-    """F_max under each force unit (P1 §3), the unit of the figures marked "[figures]"."""
+def _force_rows(cuts: Mapping[str, FMaxCut | str], force_unit: str,
+                counterparts: Sequence[str] = ()) -> list[JudgedClaim]:
+    """F_max under each force unit (P1 §3), the unit of the figures marked "[figures]"; the `counterparts`' F'_max
+    are listed apart (they are not in the minimum)."""
     rows = []
     for unit, cut in cuts.items():
         item = f"F_max (min over systems of max_rho <F>, <F> in {unit})" + (" [figures]" if unit == force_unit else "")
         if isinstance(cut, FMaxCut):
-            evidence = ("F'_max: " + ", ".join(f"{n} {v:.4g}" for n, v in cut.f_prime_max.items())
-                        + f" [{cut.force_units}]")
+            def listed(names):
+                return ", ".join(f"{n} {cut.f_prime_max[n]:.4g}" for n in names)
+
+            own = [n for n in cut.f_prime_max if n not in counterparts]
+            beside = [n for n in cut.f_prime_max if n in counterparts]
+            evidence = ("F'_max: " + listed(own) + (f"; counterparts (not in the min): {listed(beside)}" if beside
+                                                    else "") + f" [{cut.force_units}]")
             rows.append(_value(f"f_max.{unit}", "3", item, "all", cut.f_max, math.nan, evidence, ""))
         else:
             rows.append(_value(f"f_max.{unit}", "3", item, "all", math.nan, math.nan, cut, NOT_EVALUATED))
