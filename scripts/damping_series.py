@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Tabulate the Hertz damping series (docs/validation/damping.md): one row per series run folder.
 
-    .venv/bin/python scripts/damping_series.py results/damping/2d_hertz_g* results/damping/3d_hertz_g*_n512 \
+    .venv/bin/python scripts/damping_series.py results/damping/2d_hertz_g*/ results/damping/3d_hertz_g*_n512/ \
         [--linear results/validation] [--markdown docs/validation/damping_runs.md]
 
 Each folder is a `results_dir` made with `config/damping/base.yaml` and one overlay of `config/damping/` (system
