@@ -997,6 +997,7 @@ def test_a_claim_that_does_not_hold_says_why_and_on_what_basis():
     table = validation.p1_validation(make_p1_measures(), overlaps={"2d_hertz": 0.08, "2d_linear": 0.12})
     failed = rows(table, "p1-3-overlap", "2d_linear").iloc[0]
     assert failed["verdict"] == framework.FAILS and "pressed by a wall" in failed["explanation"]
+    assert failed["explanation"].startswith(p1_explanations.CAMPAIGN_PREFIX)  # whose numbers: the campaign's
     assert failed["explanation_basis"] == "measured: " + p1_explanations.OVERLAPS
     held = rows(table, "p1-3-overlap", "2d_hertz").iloc[0]
     assert held["verdict"] == framework.HOLDS and held["explanation"] == "" and held["explanation_basis"] == ""
