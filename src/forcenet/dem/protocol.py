@@ -300,6 +300,19 @@ def blow_up_cause(sim: Simulation, system: SystemSpec, error: SimulationBlowUp) 
             f"({system.rho_grid[-1]}) or the wall_speed")
 
 
+def _advance(sim: Simulation, system: SystemSpec, index: int, target: float, progress: "_Progress",
+             log: logging.Logger) -> int:
+    """Move the walls to grid value `index` (wall shift `target`), then relax there under the quasistatic protocol
+    (P1 §3); the continuous one keeps the walls moving. Returns the relaxation steps (−1 without a relaxation)."""
+    quasistatic = system.protocol == "quasistatic"
+    _compress_to(sim, target, index, progress, system.wall_speed, stop_walls=quasistatic)
+    if not quasistatic:
+        return -1
+    steps = _relax(sim, system, index, progress, log)
+    progress.relaxation_steps_done.append(steps)
+    return steps
+
+
 def continue_with_damping(system: SystemSpec, state: dict, normal_damping: float, grid_steps: int,
                           log: logging.Logger | None = None) -> tuple[Simulation, dict]:
     """Continue a run's checkpoint through the next `grid_steps` values of `system`'s ρ grid under another normal
@@ -317,13 +330,9 @@ def continue_with_damping(system: SystemSpec, state: dict, normal_damping: float
     start = int(state["next_index"])
     progress = _Progress(log, system, sim, start)
     result = {"last_rho": float(sim.packing_fraction), "max_damping_dt": 0.0, "blow_up": ""}
-    quasistatic = system.protocol == "quasistatic"
     for index in range(start, min(start + grid_steps, len(system.rho_grid))):
         try:
-            _compress_to(sim, wall_shift_for(sim, system.rho_grid[index]), index, progress, system.wall_speed,
-                         stop_walls=quasistatic)
-            if quasistatic:
-                _relax(sim, system, index, progress, log)
+            _advance(sim, system, index, wall_shift_for(sim, system.rho_grid[index]), progress, log)
             damping_dt = check_damping_is_integrable(sim, system)
         except SimulationBlowUp as error:
             result["blow_up"] = f"{error} (step {error.step}, particle {error.particle}, ρ {error.rho:.4f})"
@@ -377,13 +386,7 @@ def run_compression(system: SystemSpec, *, seed: int, snapshot_paths: Sequence[s
                 steps = _relax(sim, system, index, progress, log)
                 log.info("%s: initial state relaxed in %d steps (E_kin = %.3e)", system.name, steps,
                          sim.kinetic_energy())
-            if system.protocol == "quasistatic":
-                _compress_to(sim, target, index, progress, system.wall_speed, stop_walls=True)
-                relaxation_steps = _relax(sim, system, index, progress, log)
-                progress.relaxation_steps_done.append(relaxation_steps)
-            else:
-                _compress_to(sim, target, index, progress, system.wall_speed, stop_walls=False)
-                relaxation_steps = -1
+            relaxation_steps = _advance(sim, system, index, target, progress, log)
         except SimulationBlowUp as error:
             cause = blow_up_cause(sim, system, error)
             if not cause:

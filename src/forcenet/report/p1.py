@@ -129,10 +129,9 @@ def relative_overlaps(snapshot: xr.Dataset) -> tuple[np.ndarray, np.ndarray]:
     position = np.asarray(snapshot["position"].values, dtype=float)
     radius = np.asarray(snapshot["radius"].values, dtype=float)
     reach = radius[i] + radius[j]
-    gap = np.linalg.norm(position[i] - position[j], axis=1) if i.size else np.empty(0)
+    gap = np.linalg.norm(position[i] - position[j], axis=1)  # shape (0,) without contacts
     touching = snapshot["wall_contact_particle"].values if "wall_contact_particle" in snapshot else np.empty(0, int)
-    at_wall = np.isin(i, touching) | np.isin(j, touching)
-    return (reach - gap) / reach if i.size else np.empty(0), at_wall
+    return (reach - gap) / reach, np.isin(i, touching) | np.isin(j, touching)
 
 
 def largest_relative_overlap(snapshot: xr.Dataset) -> float:

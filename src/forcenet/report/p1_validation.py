@@ -18,10 +18,10 @@ import pandas as pd
 import xarray as xr
 
 from forcenet.report import p1_claims, p1_claims_topology
-from forcenet.report.claims import (BELOW_TOLERANCE, FAILS, IMPORTED_NOT_EVALUATED, NOT_EVALUATED, VERDICT_COLUMNS, Claim,
-                                    ClaimTolerances, Explanation, JudgedClaim, Judgement, NotEvaluated, TableLayout, TableSection, claims_frame,
-                                    judge_claim, rows_beside, validation_markdown, verdict_summary, with_paper_size,
-                                    write_validation_table)
+from forcenet.report.claims import (BELOW_TOLERANCE, FAILS, IMPORTED_NOT_EVALUATED, NOT_EVALUATED, VERDICT_COLUMNS,
+                                    Claim, ClaimTolerances, Explanation, JudgedClaim, Judgement, NotEvaluated,
+                                    TableLayout, TableSection, claims_frame, judge_claim, rows_beside,
+                                    validation_markdown, verdict_summary, with_paper_size, write_validation_table)
 from forcenet.report.p1 import (DEFAULT_P1_FORCE_UNIT, P1_FORCE_UNITS, P1_RHO_STEP, P1_ROLES, P1_SYSTEMS, PAPER_PHI_C,
                                 PAPER_RHO_J, PAPER_RHO_MAX, PAPER_Z_AT_JAMMING, FMaxCut, cut_at_rho_max, f_max_cut,
                                 isostatic_crossing, jamming_point, rho_values, select_total, never_dying_at_minus_one,
