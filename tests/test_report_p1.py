@@ -815,6 +815,7 @@ def _with_runs(**extra) -> dict[str, xr.Dataset]:
     measures = make_p1_measures()
     for ds in measures.values():
         ds.attrs["friction"] = 0.5
+        ds.attrs["relaxation_tolerance"] = 0.1
     for name, (friction, particles, keywords) in extra.items():
         ds = make_measures(name, **keywords)
         ds.attrs["friction"] = friction
@@ -838,6 +839,39 @@ def test_friction_changes_only_rho_j_when_the_mu0_run_gives_the_same_verdicts():
     # with no mu = 0 run the claim says which run it needs
     alone = rows(validation.p1_validation(make_p1_measures()), "p1-3-friction", "all").iloc[0]
     assert alone["verdict"] == framework.NOT_EVALUATED and "mu = 0" in alone["evidence"]
+
+
+def _stricter(measures: dict[str, xr.Dataset], name: str, tolerance: float = 0.05) -> dict[str, xr.Dataset]:
+    """`measures` with run `name` marked as relaxed to `tolerance` (P1's systems: 0.1)."""
+    measures[name].attrs["relaxation_tolerance"] = tolerance
+    return measures
+
+
+def test_stricter_relaxation_is_judged_on_verdicts_and_on_rho_j():
+    # 2D Hertz (rho_J 0.845) relaxed to half the tolerance: same verdicts, rho_J 0.003 higher (within half the
+    # 0.01 step)
+    alike = validation.p1_validation(_stricter(_with_runs(**{"2d_hertz_strict": (0.5, N_PARTICLES, dict(
+        rho_j=0.848))}), "2d_hertz_strict"))
+    row = rows(alike, "p1-3-relaxation", "all").iloc[0]
+    assert row["verdict"] == framework.HOLDS and row["measured"] == 1.0
+    assert "2d_hertz_strict (tolerance 0.05 against 0.1) +0.0030, allowed 0.0050" in row["evidence"]
+    # the same verdicts, but the stricter run jams 0.02 later: the measured value changed
+    later = validation.p1_validation(_stricter(_with_runs(**{"2d_hertz_strict": (0.5, N_PARTICLES, dict(
+        rho_j=0.865))}), "2d_hertz_strict"))
+    later_row = rows(later, "p1-3-relaxation", "all").iloc[0]
+    assert later_row["verdict"] == framework.FAILS and later_row["measured"] == 1.0
+    # at the same rho_J, but the ridge and the <S>/N peak vanish and loops appear below jamming: conclusions changed
+    unlike = validation.p1_validation(_stricter(_with_runs(**{"2d_hertz_strict": (0.5, N_PARTICLES, dict(
+        rho_j=0.845, ridge=False, cluster_peak=False, loops_below=0.05, shape_below=2.0))}), "2d_hertz_strict"))
+    assert verdict(unlike, "p1-3-relaxation", "all") == framework.FAILS
+    assert "p1-5.1-b0-ridge (2d_hertz_strict)" in rows(unlike, "p1-3-relaxation", "all")["evidence"].iloc[0]
+    # a run relaxed as loosely (or with other friction) is no stricter run: the claim says which run it needs
+    same = validation.p1_validation(_with_runs(**{"2d_hertz_other": (0.5, N_PARTICLES, dict(rho_j=0.845))}))
+    assert verdict(same, "p1-3-relaxation", "all") == framework.NOT_EVALUATED
+    assert "smaller tolerance" in rows(same, "p1-3-relaxation", "all")["evidence"].iloc[0]
+    frictionless = validation.p1_validation(_stricter(_with_runs(**{"2d_hertz_mu0": (0.0, N_PARTICLES, dict(
+        rho_j=0.86))}), "2d_hertz_mu0"))
+    assert verdict(frictionless, "p1-3-relaxation", "all") == framework.NOT_EVALUATED
 
 
 def test_other_box_sizes_are_judged_where_a_run_exists_and_30_cubed_never():

@@ -100,6 +100,9 @@ class ClaimTolerances:
     same_verdicts : "qualitatively the same" (P1 §3: other sizes, friction): this share of the per-system claims
         judged on both runs has the same verdict.
     overlap_bound : P1 §3's "overlaps up to 10 % of the sum of the radii" at the largest ρ.
+    rho_j_shift : P1 §3's stricter relaxation "does not change the measured quantities significantly": ρ_J of the
+        run relaxed more strictly within this of the system's. None: half the system's ρ step, the resolution of
+        the grid the inflection of Z is fitted on.
 
     P2 (§III D–§V): documented field by field below.
     """
@@ -124,6 +127,7 @@ class ClaimTolerances:
     approx_fraction: float = 0.15
     same_verdicts: float = 0.8
     overlap_bound: float = 0.10
+    rho_j_shift: float | None = None
     below_cut: str = BELOW_BEFORE_JUMP
     # --- P2 ---
     value_factor: float = 1.5  # "≈ x", "roughly the same", "similar": measured within [x / f, x · f]

@@ -115,6 +115,17 @@ def system_friction(ds: xr.Dataset, name: str = "") -> float:
         return math.nan
 
 
+def system_relaxation_tolerance(ds: xr.Dataset, name: str = "") -> float:
+    """The kinetic-energy fluctuation tolerance the system's runs relaxed to (P1 §3's 0.1; global attr
+    ``relaxation_tolerance``, else the config's ``relaxation.tolerance``; NaN when neither says)."""
+    value = ds.attrs.get("relaxation_tolerance",
+                         (_config_system(ds, name).get("relaxation") or {}).get("tolerance", math.nan))
+    try:
+        return float(value)
+    except (TypeError, ValueError):
+        return math.nan
+
+
 def system_particles(ds: xr.Dataset) -> int:
     """The number of particles N of the system's runs (largest ``n_particles``; 0 when the dataset has none)."""
     return int(np.nanmax(ds["n_particles"].values)) if "n_particles" in ds else 0

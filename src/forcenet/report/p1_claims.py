@@ -21,7 +21,7 @@ from forcenet.report.p1 import (HERTZ_2D, HERTZ_3D, LINEAR_2D, P1_HALF, P1_LARGE
                                 P1_SMALL_THRESHOLD, PAPER_CLUSTER_SIZE_PEAK, PAPER_PHI_C, PAPER_RHO_MAX_BY_ROLE,
                                 PAPER_Z_AT_JAMMING, cut_at_rho_max, value_at, finite_max, force_bins, force_pdf_width,
                                 percolating_size_mean, percolation_fraction, select_total, system_friction,
-                                system_particles)
+                                system_particles, system_relaxation_tolerance)
 from forcenet.report.p1_diagnostics import size_peak_threshold_per_rho
 from forcenet.report.p1_judging import (ALL_2D, ClaimContext, SystemData, expected_for_law, finite_values, fmt_values,
                                         peak_verdict, require, strongest_peak)
@@ -159,9 +159,33 @@ def friction_changes_only_rho_j(context: ClaimContext) -> Judgement:
                           "the frictional one (the paper-size mu = 0 pair): not in these results")
 
 
-claim("p1-3-relaxation", "3", "stricter or other relaxation criteria change neither conclusions nor measured values",
-      "not computable from one set of runs", per_system=False, needs_rho_j=False)(_not_measured(
-          "needs runs under several relaxation protocols"))
+@claim("p1-3-relaxation", "3", "stricter or other relaxation criteria change neither conclusions nor measured values",
+       "for each P1 system with a run relaxed to a smaller kinetic-energy tolerance beside it (same N and mu): the "
+       "same verdict, each on its own rho_J, for >= {same_verdicts} of the per-system claims judged on both, and "
+       "|rho_J(stricter) - rho_J| <= half the rho step (rho_j_shift)", per_system=False, needs_rho_j=False)
+def stricter_relaxation_changes_nothing(context: ClaimContext) -> Judgement:
+    """Judge of claim p1-3-relaxation (across systems): P1's systems against runs relaxed to a smaller tolerance
+    on std(E_kin)/mean(E_kin) (P1 §3: "a more strict relaxation condition does not change our conclusions, nor
+    ... the measured quantities significantly")."""
+    pairs = _counterparts(context, (HERTZ_2D, LINEAR_2D, HERTZ_3D),
+                          lambda a, b: system_relaxation_tolerance(b.full, b.name)
+                          < system_relaxation_tolerance(a.full, a.name)
+                          and system_friction(a.full, a.name) == system_friction(b.full, b.name)
+                          and system_particles(a.full) == system_particles(b.full))
+    verdicts = _same_verdicts(context, pairs, "stricter relaxation against P1's", "needs a run relaxed to a "
+                              "smaller tolerance beside a P1 system (same N and mu): not in these results")
+    shifts, margins, within = [], [verdicts.margin], True
+    for reference, stricter in pairs:
+        allowed = context.tolerances.rho_j_shift
+        allowed = reference.step / 2 if allowed is None else allowed
+        shift = stricter.rho_j - reference.rho_j
+        within = within and abs(shift) <= allowed + 1e-12
+        margins.append(relative_margin(abs(shift), allowed))
+        shifts.append(f"{stricter.name} (tolerance {system_relaxation_tolerance(stricter.full, stricter.name):g} "
+                      f"against {system_relaxation_tolerance(reference.full, reference.name):g}) {shift:+.4f}, "
+                      f"allowed {allowed:.4f}")
+    return Judgement(verdicts.measured, f"{verdicts.evidence}; rho_J shift: {'; '.join(shifts)}",
+                     verdicts.holds and within, margin=smallest_margin(*margins))
 
 
 # --- §4 Force distribution, percolation and jamming -------------------------------------------------------------
