@@ -6,7 +6,8 @@
 Reads `<results>/<system>/network_measures.nc` of each system and prints, in markdown:
 
 1. per system and ρ: Z without rattlers, the share of contacts with F ≥ F_th, S_p at those F_th, the F_th of the
-   ⟨S⟩/N peak and of the last percolating network, TP0/N;
+   ⟨S⟩/N peak and of the last percolating network, TP0/N, the rough- and strong-bin N0/N and the share of contacts
+   with F ≥ 2.5 ⟨F⟩ (the strong bin's births);
 2. where 2d_linear and 2d_hertz both ran: S_p(linear) − S_p(Hertz) at the ρ both sampled beyond their ρ_J;
 3. the verdicts of P1 §5.2's S_p claims under the two readings of P1's definition (pooled over the clusters of a
    realization, as the tables; or the mean over clusters).

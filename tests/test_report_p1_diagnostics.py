@@ -81,6 +81,17 @@ def test_network_rows_and_common_rho():
     assert list(rows["rho"]) == pytest.approx(list(RHO))
     assert list(rows["share_F>=0.5"]) == pytest.approx([0.5] * 3)
     assert list(rows["Z_no_rattlers"]) == pytest.approx([0.2, 3.1, 4.1])
+    assert "strong N0/N" not in rows  # no persistence bins in these results
+    # with P1's bins: the strong-bin N0/N beside the share of contacts at F >= 2.5 <F> that its points are born at
+    bins = measures(edge_count=edges).assign_coords(threshold=[0.0, 1.0, 2.5, 3.0])
+    counts = np.zeros((2, RHO.size, 5))
+    counts[:, :, 3] = [[2.0, 4.0, 6.0], [4.0, 6.0, 8.0]]  # strong points of 100 particles
+    bins["persistence_bin_count"] = (("realization", "rho", "persistence_bin"), counts)
+    bins = bins.assign_coords(persistence_bin=["rough", "weak", "medium", "strong", "essential"])
+    binned = diag.network_rows(system(bins), thresholds=(1.0,))
+    assert list(binned["strong N0/N"]) == pytest.approx([0.03, 0.05, 0.07])
+    assert list(binned["rough N0/N"]) == pytest.approx([0.0] * 3)
+    assert list(binned["share_F>=2.5"]) == pytest.approx([0.2] * 3)  # 2 of 10 edges at F_th = 2.5
     first = system(measures(), rho_j=0.80)
     second = system(measures().sel(rho=[0.82, 0.84]), rho_j=0.815)
     # beyond rho_J + 0.01: 0.82 and 0.84 for the first, only 0.84 for the second (0.82 < 0.825)

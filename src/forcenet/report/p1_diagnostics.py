@@ -30,9 +30,10 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
+from forcenet.measures.persistence_stats import STRONG_BIRTH
 from forcenet.report.p1 import (P1_PERCOLATION_MAJORITY, per_particle, percolation_fraction, rho_values,
                                 shape_parameter_average)
-from forcenet.report.p1_judging import SystemData
+from forcenet.report.p1_judging import SystemData, bin_curve
 from forcenet.report.realizations import realization_mean
 
 __all__ = ["SHAPE_READINGS", "contact_share_above", "percolation_threshold_per_rho", "size_peak_threshold_per_rho",
@@ -87,7 +88,9 @@ def with_shape_reading(ds: xr.Dataset, reading: str) -> xr.Dataset:
 
 def network_rows(system: SystemData, thresholds: Sequence[float] = (0.5, 1.0, 1.5, 2.0)) -> pd.DataFrame:
     """One row per ρ of `system`: ρ, Z without rattlers, the share of contacts with F ≥ F_th and S_p (pooled; the
-    cluster mean at F_th = 1) at `thresholds`, the ⟨S⟩/N peak and percolation thresholds, and TP0/N."""
+    cluster mean at F_th = 1) at `thresholds`, the ⟨S⟩/N peak and percolation thresholds, TP0/N, and where the
+    results have P1 §5.3's persistence bins the rough- and strong-bin N0/N beside the share of contacts with
+    F ≥ 2.5 ⟨F⟩ (the strong bin's births)."""
     share = contact_share_above(system)
     shapes = shape_readings(system)
     pooled = shapes["pooled"][0]
@@ -103,6 +106,11 @@ def network_rows(system: SystemData, thresholds: Sequence[float] = (0.5, 1.0, 1.
     rows["percolation F_th"] = percolation_threshold_per_rho(system).values
     tp0 = per_particle(system.data, "total_persistence").sel(homology_dim=0)
     rows["TP0/N"] = realization_mean(tp0).values
+    if "persistence_bin_count" in system.data:
+        if np.isclose(system.thresholds, STRONG_BIRTH).any():
+            rows[f"share_F>={STRONG_BIRTH:g}"] = share.sel(threshold=STRONG_BIRTH, method="nearest").values
+        for bin_name in ("rough", "strong"):
+            rows[f"{bin_name} N0/N"] = bin_curve(system, bin_name).values
     return rows
 
 
