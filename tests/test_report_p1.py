@@ -1021,7 +1021,7 @@ def test_a_counterpart_moves_no_claim_about_all_of_p1s_systems():
     assert "2d_hertz_mu0" not in rows(with_it, "p1-5.3-rough-similar-near-jamming", "all")["evidence"].iloc[0]
 
 
-def test_a_claim_that_does_not_hold_says_why_and_on_what_basis():
+def test_a_claim_that_does_not_hold_says_why_and_on_what_basis(monkeypatch):
     from forcenet.report import p1_explanations
 
     # every recorded cause names a claim of the table (no stale ids)
@@ -1040,5 +1040,9 @@ def test_a_claim_that_does_not_hold_says_why_and_on_what_basis():
     assert p1_explanations.explain("p1-5.1-b1-zero-below", "2d_linear") is None
     # a cause of one system's own, and a hypothesis says so
     assert "keeps more contacts" in p1_explanations.explain("p1-6-cluster-size-peak-small-threshold", "2d_linear").text
+    frictionless = p1_explanations.explain("p1-4.3-contact-number-at-jamming", "3d_hertz")
+    assert frictionless.basis == "measured: " + p1_explanations.FRICTIONLESS_3D
+    monkeypatch.setitem(p1_explanations.EXPLANATIONS, ("p1-4.3-contact-number-at-jamming", "3d_hertz"),
+                        ("a cause not measured", p1_explanations.HYPOTHESIS_ONLY))
     assert p1_explanations.explain("p1-4.3-contact-number-at-jamming", "3d_hertz").basis == framework.HYPOTHESIS
     assert p1_explanations.explain("p1-4.3-percolating-almost-all-2d", "2d_hertz") is None

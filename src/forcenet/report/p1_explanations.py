@@ -11,6 +11,7 @@ from forcenet.report.claims import Explanation
 SURVEY = "python scripts/p1_network_survey.py --results results/validation"
 PER_REALIZATION = ("python scripts/damping_series.py results/validation:2d_linear:0 … results/validation:2d_hertz:4 "
                    "results/validation:3d_hertz:0 … :2 (docs/validation/damping.md)")
+FRICTIONLESS_3D = "python scripts/p1_network_survey.py --results results/validation --systems 3d_hertz 3d_hertz_mu0"
 OVERLAPS = "python scripts/overlap_survey.py --system 2d_linear 2d_hertz 3d_hertz"
 TABLE = "snakemake validation_report --configfile config/validation.yaml (the row's reading beside, docs/validation/p1.md)"
 HYPOTHESIS_ONLY = ""
@@ -43,12 +44,14 @@ EXPLANATIONS: dict[str | tuple[str, str], tuple[str, str]] = {
     "p1-4.3-percolating-small-3d-near-jamming": (
         _ONE_STEP + " The first jammed 3D state already percolates with 75 % of the particles.", SURVEY),
     ("p1-4.3-contact-number-at-jamming", "3d_hertz"): (
-        "Frictional spheres (mu = 0.5) jam below the frictionless isostatic Z = 6: our rattler-free Z is 4.2 at "
-        "0.59 and 4.8 at 0.60 and reaches 6 only at rho = 0.66; P1's ~6 is the frictionless value. No 3D mu = 0 "
-        "run measures it.", HYPOTHESIS_ONLY),
+        "P1's ~6 is the frictionless value: at its first jammed state the mu = 0 run (3d_hertz_mu0, one "
+        "realization, rho_J 0.617) has rattler-free Z 5.74 (6.17 one step later), our mu = 0.5 runs 4.18 (4.80), "
+        "reaching 6 only at rho = 0.66. Z at rho_J itself interpolates across the one-step jump of Z (4.47 with "
+        "friction, 4.36 without).", FRICTIONLESS_3D),
     ("p1-4.3-phi-c-at-jamming", "3d_hertz"): (
-        "phi_c = 1/(Z - 1) follows Z at rho_J, 4.47 for our frictional spheres against P1's ~6 "
-        "(p1-4.3-contact-number-at-jamming).", HYPOTHESIS_ONLY),
+        "phi_c = 1/(Z - 1) follows Z at rho_J (p1-4.3-contact-number-at-jamming): at the first jammed state it is "
+        "0.21 without friction (3d_hertz_mu0, Z 5.74), P1's ~0.2, and 0.31 with mu = 0.5 (Z 4.18).",
+        FRICTIONLESS_3D),
     ("p1-5.1-b0-ridge", "3d_hertz"): (_ONE_STEP, SURVEY),
     "p1-5.1-b0-ridge-law-contrast": (
         "The ridge exists in 2D Hertz but is 1.19x the linear law's, not 2x: per realization the B0/N at "
