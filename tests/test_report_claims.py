@@ -249,3 +249,7 @@ def test_bootstrap_draws_keep_a_single_realization_in_every_draw():
     assert len(draws) == 20 and all(list(d["one"]) == [0] for d in draws)
     assert len({tuple(d["five"]) for d in draws}) > 1 and all(len(d["five"]) == 5 for d in draws)
     assert bootstrap_draws({"one": runs(1), "also one": runs(1)}, 20) == []
+    # a system's draws are its own: judging another system beside it (a counterpart, say) leaves them alone
+    beside = bootstrap_draws({"five": runs(5), "one": runs(1), "another five": runs(5), "a": runs(3)}, 20, seed=3)
+    assert [list(d["five"]) for d in beside] == [list(d["five"]) for d in draws]
+    assert [list(d["another five"]) for d in beside] != [list(d["five"]) for d in beside]

@@ -25,7 +25,8 @@ these.
 """
 from __future__ import annotations
 
-from typing import Mapping
+import zlib
+from typing import Mapping, Sequence
 
 import numpy as np
 import xarray as xr
@@ -59,9 +60,10 @@ def mean_and_spread(da: xr.DataArray, dim: str = REALIZATION) -> tuple[xr.DataAr
 
 
 
-def bootstrap_resamples(n_realizations: int, resamples: int, seed: int = 0) -> list[np.ndarray]:
+def bootstrap_resamples(n_realizations: int, resamples: int, seed: int | Sequence[int] = 0) -> list[np.ndarray]:
     """`resamples` draws of `n_realizations` realization indices with replacement (sorted), from a generator
-    seeded by `seed`: the same draws every time. Empty when there are fewer than 2 realizations (a resample of
+    seeded by `seed` (an int or a sequence of ints, `numpy.random.SeedSequence` entropy): the same draws every
+    time. Empty when there are fewer than 2 realizations (a resample of
     one realization is that realization: no robustness to measure)."""
     if n_realizations < 2 or resamples < 1:
         return []
@@ -78,11 +80,12 @@ def resample_realizations(ds: xr.Dataset, indices: np.ndarray, dim: str = REALIZ
 def bootstrap_draws(datasets: Mapping[str, xr.Dataset], resamples: int, seed: int = 0,
                     dim: str = REALIZATION) -> list[dict[str, np.ndarray]]:
     """`resamples` bootstrap draws of the realizations of every dataset of `datasets` ({name: indices} each; each
-    name from its own stream, seeded by `seed` + its rank in sorted order, so adding a system leaves the others'
-    draws alone only where it sorts after them). A dataset with a single realization (a counterpart run, say) is in
-    every draw as it is; none when no dataset has two or more."""
-    per_name = {name: bootstrap_resamples(datasets[name].sizes.get(dim, 1), resamples, seed + k)
-                for k, name in enumerate(sorted(datasets))}
+    name from its own stream, seeded by (`seed`, CRC-32 of the name), so a system's draws do not depend on which
+    other systems are judged beside it). A dataset with a single realization (a counterpart run, say) is in every
+    draw as it is; none when no dataset has two or more."""
+    per_name = {name: bootstrap_resamples(datasets[name].sizes.get(dim, 1), resamples,
+                                          (int(seed), zlib.crc32(name.encode())))
+                for name in sorted(datasets)}
     if not any(per_name.values()):
         return []
     single = np.zeros(1, dtype=int)
