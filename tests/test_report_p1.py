@@ -882,7 +882,27 @@ def test_other_box_sizes_are_judged_where_a_run_exists_and_30_cubed_never():
         force_law="linear", rho_j=0.82, strong_peak=False, loops_below=0.05, shape_below=2.0))}))
     assert verdict(different, "p1-3-system-size", "all") == framework.FAILS
     assert verdict(validation.p1_validation(make_p1_measures()), "p1-3-system-size", "all") == framework.NOT_EVALUATED
-    assert "out of reach" in rows(bigger, "p1-3-system-size-3d", "all")["evidence"].iloc[0]
+    assert verdict(bigger, "p1-3-system-size-3d", "all") == framework.NOT_EVALUATED  # a 2D run is no 3D size
+
+
+def test_3d_size_is_judged_only_with_fewer_and_more_spheres_beside_it():
+    def spheres(**runs):
+        return validation.p1_validation(_with_runs(**{name: (0.5, n, dict(dimension=3, rho_j=0.575, **keywords))
+                                                      for name, (n, keywords) in runs.items()}))
+
+    # P1 names 10^3 and 30^3 (our synthetic 3D system has 400 spheres): one side alone is not judged, and says
+    # what it lacks
+    large_only = rows(spheres(hertz_27000=(27000, {})), "p1-3-system-size-3d", "all").iloc[0]
+    assert large_only["verdict"] == framework.NOT_EVALUATED and "N = 27000" in large_only["evidence"]
+    assert verdict(validation.p1_validation(make_p1_measures()), "p1-3-system-size-3d", "all") == \
+        framework.NOT_EVALUATED
+    # both sides behaving alike: the same verdicts
+    alike = rows(spheres(hertz_100=(100, {}), hertz_27000=(27000, {})), "p1-3-system-size-3d", "all").iloc[0]
+    assert alike["verdict"] == framework.HOLDS and "hertz_27000" in alike["evidence"]
+    # other sizes lose the B0 ridge and the <S>/N peak, and loops and cavities appear below jamming: not the same
+    broken = dict(ridge=False, loops_below=0.05, cluster_peak=False, shape_below=2.0)
+    unlike = spheres(hertz_100=(100, broken), hertz_27000=(27000, broken))
+    assert verdict(unlike, "p1-3-system-size-3d", "all") == framework.FAILS
 
 
 def test_the_largest_overlap_is_measured_in_a_snapshot():

@@ -10,7 +10,6 @@ are tolerances of `ClaimTolerances`.
 from __future__ import annotations
 
 import math
-from typing import Callable
 
 import numpy as np
 import xarray as xr
@@ -51,14 +50,6 @@ def clusters_below_jamming(system: SystemData, tolerances: ClaimTolerances) -> J
                      margin=smallest_margin(relative_margin(most_below, tolerances.min_clusters),
                                             contrast_margin(share_below, share_beyond)),
                      states=system.states(below))
-
-
-def _not_measured(reason: str) -> Callable:
-    """A judge for a claim that no run in reach can decide: always not evaluated, for `reason`."""
-    def judge(context: ClaimContext) -> Judgement:
-        """Not evaluated: the reason of `_not_measured`."""
-        raise NotEvaluated(reason)
-    return judge
 
 
 @claim("p1-3-overlap", "3", "at the largest rho the particles overlap by up to 10 % of the sum of the radii",
@@ -140,10 +131,24 @@ def system_size(context: ClaimContext) -> Judgement:
                           "P1's protocol) of a 2D P1 system beside the 50 x 50 one: not in these results")
 
 
-claim("p1-3-system-size-3d", "3", "the results stay qualitatively the same for 10^3 and 30^3 spheres (3D)",
-      "not judged: no run in reach", per_system=False, needs_rho_j=False)(_not_measured(
-          "30^3 = 27000 spheres at P1's protocol is out of reach of this project's runs (6.6 x the 4096-sphere "
-          "run, the largest it makes); not run"))
+@claim("p1-3-system-size-3d", "3", "the results stay qualitatively the same for 10^3 and 30^3 spheres (3D)",
+       "for 3D Hertz with runs of both fewer and more spheres beside it (same friction), as P1 names both: the same "
+       "verdict for >= {same_verdicts} of the per-system claims judged on both runs of each pair",
+       per_system=False, needs_rho_j=False)
+def system_size_3d(context: ClaimContext) -> Judgement:
+    """Judge of claim p1-3-system-size-3d (across systems): P1's 3D system against runs of fewer and of more
+    spheres (P1 §3: 10³ and 30³); not evaluated until both sides exist."""
+    pairs = _counterparts(context, (HERTZ_3D,), lambda a, b: system_particles(a.full) != system_particles(b.full)
+                          and system_friction(a.full, a.name) == system_friction(b.full, b.name))
+    sizes = sorted(system_particles(other.full) for _, other in pairs)
+    if pairs:
+        reference = system_particles(pairs[0][0].full)
+        if not (sizes[0] < reference < sizes[-1]):
+            raise NotEvaluated(f"P1 compares 10^3 and 30^3 spheres: needs runs of both fewer and more than "
+                               f"{reference} spheres beside 3D Hertz; these results have N = "
+                               f"{', '.join(str(n) for n in sizes)}")
+    return _same_verdicts(context, pairs, "other numbers of spheres", "needs runs of 10^3 and 30^3 spheres (one "
+                          "realization each at P1's protocol) beside the 3D Hertz one: not in these results")
 
 
 @claim("p1-3-friction", "3",
