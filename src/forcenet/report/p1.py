@@ -105,25 +105,28 @@ def system_force_law(ds: xr.Dataset, name: str = "") -> str:
     return str(_recorded(ds, "force_law", name)).lower()
 
 
-def system_friction(ds: xr.Dataset, name: str = "") -> float:
-    """The friction coefficient μ of the system's runs (global attr ``friction``, else the config attr; NaN when
-    neither says)."""
-    value = ds.attrs.get("friction", _config_system(ds, name).get("friction", math.nan))
+def _system_number(ds: xr.Dataset, name: str, attr: str, *config_keys: str) -> float:
+    """A number the system's file records: global attribute `attr`, else its config entry's value at the path
+    `config_keys`; NaN when neither says (or it is not a number)."""
+    value = _config_system(ds, name)
+    for key in config_keys:
+        value = value.get(key, math.nan) if isinstance(value, dict) else math.nan
     try:
-        return float(value)
+        return float(ds.attrs.get(attr, value))
     except (TypeError, ValueError):
         return math.nan
+
+
+def system_friction(ds: xr.Dataset, name: str = "") -> float:
+    """The friction coefficient μ of the system's runs (global attr ``friction``, else the config's; NaN when
+    neither says)."""
+    return _system_number(ds, name, "friction", "friction")
 
 
 def system_relaxation_tolerance(ds: xr.Dataset, name: str = "") -> float:
     """The kinetic-energy fluctuation tolerance the system's runs relaxed to (P1 §3's 0.1; global attr
     ``relaxation_tolerance``, else the config's ``relaxation.tolerance``; NaN when neither says)."""
-    value = ds.attrs.get("relaxation_tolerance",
-                         (_config_system(ds, name).get("relaxation") or {}).get("tolerance", math.nan))
-    try:
-        return float(value)
-    except (TypeError, ValueError):
-        return math.nan
+    return _system_number(ds, name, "relaxation_tolerance", "relaxation", "tolerance")
 
 
 def system_particles(ds: xr.Dataset) -> int:
