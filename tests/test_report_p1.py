@@ -737,6 +737,34 @@ def test_the_weak_bin_contrast_is_judged_on_one_scale():
     assert verdict(validation.p1_validation(equal), "p1-5.3-weak-peak-nonlinear-only", "all") == framework.FAILS
 
 
+def test_a_maximum_shared_by_two_states_is_the_first_whatever_the_rounding():
+    # 52 weak-bin points over 5 realizations of 2025 disks at two rho, averaged in two orders: the means differ in
+    # their last bit, the maximum is the same count, so the first state (lowest rho) holds it either way
+    rho = np.array([0.76, 0.78, 0.80, 0.82, 0.84])
+    high, low = 0.005135802469135803, 0.005135802469135802
+    assert high != low and math.isclose(high, low, rel_tol=1e-15)
+    for first, second in ((high, low), (low, high)):
+        peak = judging.find_peak([first, 0.001, 0.002, second, 0.003], rho, rho_j=0.817, tolerance=0.02, scale=high)
+        assert peak.rho == 0.76 and not peak.near
+    # a maximum that is not tied is found wherever it is
+    assert judging.find_peak([0.005, 0.001, 0.002, 0.006, 0.003], rho, 0.817, 0.02, 0.006).rho == 0.82
+
+
+def test_the_weak_peak_at_the_ridge_is_the_one_around_jamming_not_a_stray_maximum_below_it():
+    # a few weak-bin points far below jamming as many as at the peak around jamming: the conjecture reads the
+    # peak around jamming (as p1-5.3-weak-peak-nonlinear-only does), so the stray state changes nothing
+    measures = make_p1_measures()
+    ds = measures["2d_hertz"]
+    weak = ds["persistence_bin_count"].sel(persistence_bin="weak")
+    stray = {"rho": float(ds["rho"][0]), "persistence_bin": "weak"}
+    ds["persistence_bin_count"].loc[stray] = weak.max(["rho"])
+    table = validation.p1_validation(measures)
+    assert verdict(table, "p1-5.3-weak-peak-at-ridge", "2d_hertz") == framework.HOLDS
+    # the peak around jamming moved off the ridge still fails (its companion case in VIOLATIONS)
+    beside = make_p1_measures(**{"2d_hertz": {"ridge_at": -0.015, "weak_at": 0.015}})
+    assert verdict(validation.p1_validation(beside), "p1-5.3-weak-peak-at-ridge", "2d_hertz") == framework.FAILS
+
+
 def test_the_pdf_order_is_judged_at_our_rho_max_and_at_p1s():
     # the linear PDF widens at rho = 0.89 only (P1's rho_max for it); ours (0.95) keeps the order
     measures = make_p1_measures()

@@ -497,15 +497,17 @@ def linear_medium_over_strong(system: SystemData, tolerances: ClaimTolerances) -
 
 @claim("p1-5.3-weak-peak-at-ridge", "5.3",
        "(conjecture) the B0/N ridge is formed by weak interactions: the weak-bin peak sits at the ridge",
-       "|rho of the weak-bin N0/N maximum - rho of the B0/N ridge peak (F_th < 0.5)| <= tol; judged where both "
-       "peaks are found near rho_J", scope=(HERTZ_2D, HERTZ_3D))
+       "|rho of the weak-bin N0/N peak - rho of the B0/N ridge peak (F_th < 0.5)| <= tol, both the highest point "
+       "within tol of rho_J with prominence >= {min_prominence} of its own height; judged where both are found",
+       scope=(HERTZ_2D, HERTZ_3D))
 def weak_peak_at_ridge(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
-    """Judge of claim p1-5.3-weak-peak-at-ridge (per system)."""
-    curve = bin_curve(system, "weak").values
-    weak = find_peak(curve, system.rho, system.rho_j, system.tolerance, finite_max(curve))
+    """Judge of claim p1-5.3-weak-peak-at-ridge (per system). P1's conjecture ties the ridge to the weak-bin peak
+    "around jamming", so both peaks are found as p1-5.3-weak-peak-nonlinear-only and p1-5.1-b0-ridge find them
+    (`peak_near`), not as the curve's global maximum, which below jamming can sit on a few stray points."""
+    weak = peak_near(bin_curve(system, "weak").values, system.rho, system.rho_j, system.tolerance)
     ridge = _ridge(system)
     found = [p for p in (weak, ridge[0] if ridge else None)
-             if p is not None and p.near and p.relative_prominence >= tolerances.min_prominence]
+             if p is not None and p.relative_prominence >= tolerances.min_prominence]
     if len(found) < 2:
         raise NotEvaluated("the weak-bin peak or the B0/N ridge is not found near rho_J")
     distance = abs(found[0].rho - found[1].rho)

@@ -150,6 +150,10 @@ ALL_2D = (HERTZ_2D, LINEAR_2D)
 
 
 # --- helpers the judges share ---------------------------------------------------------------------------------
+# relative difference under which two values of a curve are the same maximum (`find_peak`)
+TIE_RTOL = 1e-9
+
+
 @dataclass(frozen=True)
 class Peak:
     """The highest point of a curve versus ρ: where, how high, its topographic prominence relative to a scale,
@@ -163,11 +167,15 @@ class Peak:
 
 def find_peak(curve, rho: np.ndarray, rho_j: float, tolerance: float, scale: float) -> Peak | None:
     """The maximum of `curve` (ρ,) and its prominence: height above the higher of the lowest points on its two
-    sides (0 when the maximum is at an end of a monotonic curve), divided by `scale`. None if all NaN."""
+    sides (0 when the maximum is at an end of a monotonic curve), divided by `scale`. None if all NaN.
+
+    Values within `TIE_RTOL` of the maximum are one maximum and the first of them (lowest ρ) is taken: N0/N
+    curves are counts averaged over realizations, and two equal counts can differ in their last bit."""
     curve = np.asarray(curve, dtype=float)
     if not np.isfinite(curve).any() or not np.isfinite(scale) or scale <= 0:
         return None
-    k = int(np.nanargmax(curve))
+    top = np.nanmax(curve)
+    k = int(np.flatnonzero(curve >= top - TIE_RTOL * abs(top))[0])
     prominence = curve[k] - max(np.nanmin(curve[:k + 1]), np.nanmin(curve[k:]))
     return Peak(float(rho[k]), float(curve[k]), float(prominence / scale),
                 bool(abs(rho[k] - rho_j) <= tolerance + 1e-12))
