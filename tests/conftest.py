@@ -1,10 +1,13 @@
 """Shared fixtures: repository paths and config loading."""
 from __future__ import annotations
 
+import atexit
 import copy
 import os
+import shutil
 import subprocess
 import sys
+import tempfile
 from pathlib import Path
 
 import pytest
@@ -12,6 +15,28 @@ import yaml
 
 REPO = Path(__file__).resolve().parents[1]
 CONFIG_DIR = REPO / "config"
+
+
+def _without_slurm_controller_query() -> str:
+    """Put an `scontrol` that fails at once first on this process's PATH (inherited by every Snakemake it starts);
+    the folder holding it.
+
+    Snakemake's Slurm executor plugin asks `scontrol show config` each time Snakemake starts, whichever executor runs
+    (snakemake-executor-plugin-slurm 2.x, for a help text; 10 s timeout). Where Slurm is installed and no controller
+    answers, as after tests/test_slurm.py stopped the cluster it started (it installs Slurm on a fresh CI machine),
+    every later Snakemake process of the suite waited those 10 s. Where no scontrol exists the plugin gets the same
+    answer, none. tests/test_slurm.py runs with `REAL_PATH`."""
+    folder = tempfile.mkdtemp(prefix="forcenet-tests-no-scontrol-")
+    stub = Path(folder) / "scontrol"
+    stub.write_text("#!/bin/sh\necho 'scontrol is off for the tests that do not use Slurm' >&2\nexit 1\n")
+    stub.chmod(0o755)
+    atexit.register(shutil.rmtree, folder, ignore_errors=True)
+    os.environ["PATH"] = folder + os.pathsep + os.environ.get("PATH", "")
+    return folder
+
+
+REAL_PATH = os.environ.get("PATH", "")
+SCONTROL_STUB_DIR = _without_slurm_controller_query()
 
 
 def load_config(name: str = "config.yaml") -> dict:

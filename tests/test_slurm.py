@@ -23,7 +23,7 @@ import pytest
 import xarray as xr
 import yaml
 
-from conftest import REPO
+from conftest import REAL_PATH, REPO
 from forcenet.datasets import open_dataset, paths
 from forcenet.systems import validate_config
 
@@ -34,12 +34,14 @@ PROFILE = REPO / "workflow/profiles/slurm"
 SMOKE = REPO / "config/smoke.yaml"
 # Global attributes that may differ between two runs of the same code: the commit (+dirty) of a tree being edited.
 VOLATILE_ATTRS = {"git_commit"}
+# the real Slurm commands: conftest puts an scontrol that fails at once first on the suite's PATH
+SLURM_ENV = {**os.environ, "PATH": REAL_PATH}
 
 
 def _node_takes_jobs() -> bool:
     """`scripts/slurm_cluster.sh status` exits 0 when this node takes jobs (the one definition of that)."""
     try:
-        return subprocess.run([str(SCRIPT), "status"], capture_output=True, timeout=60).returncode == 0
+        return subprocess.run([str(SCRIPT), "status"], capture_output=True, timeout=60, env=SLURM_ENV).returncode == 0
     except (OSError, subprocess.SubprocessError):
         return False
 
@@ -67,14 +69,14 @@ def slurm_cluster():
     reason = _why_cluster_cannot_start()
     if reason:
         pytest.skip(reason)
-    up = subprocess.run(["bash", str(SCRIPT), "up"], capture_output=True, text=True, timeout=900)
+    up = subprocess.run(["bash", str(SCRIPT), "up"], capture_output=True, text=True, timeout=900, env=SLURM_ENV)
     if up.returncode != 0:
-        subprocess.run(["bash", str(SCRIPT), "down"], capture_output=True, text=True, timeout=120)
+        subprocess.run(["bash", str(SCRIPT), "down"], capture_output=True, text=True, timeout=120, env=SLURM_ENV)
         pytest.fail(f"scripts/slurm_cluster.sh up failed:\n{up.stdout[-3000:]}\n{up.stderr[-3000:]}")
     try:
         yield "started"
     finally:
-        subprocess.run(["bash", str(SCRIPT), "down"], capture_output=True, text=True, timeout=120)
+        subprocess.run(["bash", str(SCRIPT), "down"], capture_output=True, text=True, timeout=120, env=SLURM_ENV)
 
 
 def _targets() -> list[str]:
@@ -96,7 +98,7 @@ def runs(slurm_cluster, tmp_path_factory):
                              stderr=subprocess.STDOUT, text=True)
     slurm = subprocess.run(_snakemake(slurm_dir, "--workflow-profile", str(PROFILE), "--jobs", "4",
                                       "--slurm-keep-successful-logs"),
-                           capture_output=True, text=True, timeout=1500)
+                           capture_output=True, text=True, timeout=1500, env=SLURM_ENV)
     local_output, _ = local.communicate(timeout=1500)
     print(f"local + Slurm runs: {time.perf_counter() - started:.0f} s")
     if slurm.returncode != 0:
