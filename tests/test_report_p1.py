@@ -748,6 +748,10 @@ def test_a_maximum_shared_by_two_states_is_the_first_whatever_the_rounding():
         assert peak.rho == 0.76 and not peak.near
     # a maximum that is not tied is found wherever it is
     assert judging.find_peak([0.005, 0.001, 0.002, 0.006, 0.003], rho, 0.817, 0.02, 0.006).rho == 0.82
+    # the same rule over F_th (the B0/N and <S>/N maxima per rho): equal counts at 1.8 and 1.85 <F> give 1.8
+    for first, second in ((high, low), (low, high)):
+        assert report.first_max_index([0.001, first, second, 0.002]) == 1
+    assert report.first_max_index([np.nan, 0.001, 0.003, 0.002]) == 2
 
 
 def test_the_weak_peak_at_the_ridge_is_the_one_around_jamming_not_a_stray_maximum_below_it():

@@ -419,6 +419,20 @@ def finite_max(values) -> float:
     return float(np.nanmax(values)) if np.isfinite(values).any() else math.nan
 
 
+# relative difference under which two values are the same maximum (`first_max_index`)
+TIE_RTOL = 1e-9
+
+
+def first_max_index(values) -> int:
+    """Index of the largest finite value of a 1-D array, the first of those within `TIE_RTOL` of it.
+
+    The curves P1's claims read are mostly counts (B0, persistence points) averaged over realizations: two equal
+    counts can differ in their last bit, and `np.nanargmax` would then pick by rounding. Needs a finite value."""
+    values = np.asarray(values, dtype=float)
+    top = np.nanmax(values)
+    return int(np.flatnonzero(values >= top - TIE_RTOL * abs(top))[0])
+
+
 def finite_min(values) -> float:
     """Smallest finite value of an array (any shape), NaN when none is finite."""
     values = np.asarray(values, dtype=float)

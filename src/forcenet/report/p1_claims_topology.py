@@ -14,7 +14,8 @@ import xarray as xr
 from forcenet.report.claims import (Claim, ClaimTolerances, Judgement, NotEvaluated, claim_register, contrast_margin,
                                     ratio_margin, relative_margin, smallest_margin)
 from forcenet.report.p1 import (HERTZ_2D, HERTZ_3D, LINEAR_2D, P1_LARGE_THRESHOLD, P1_OPEN_PATH_MIN, P1_SHAPE_BOUNDS,
-                                P1_SMALL_THRESHOLD, finite_max, finite_min, rho_values, shape_parameter_average)
+                                P1_SMALL_THRESHOLD, finite_max, finite_min, first_max_index, rho_values,
+                                shape_parameter_average)
 from forcenet.report.p1_judging import (ALL_2D, ClaimContext, Peak, SystemData, betti_curve, bin_curve,
                                         expected_for_law, find_peak, finite_values, fmt_values, grows_beyond, interp_at,
                                         near_by_one_step, peak_near, peak_verdict, persistence_curve, require,
@@ -100,7 +101,7 @@ def _b0_maximum_threshold(system: SystemData) -> tuple[float, np.ndarray]:
     rows = [row for row in b0 if np.isfinite(row).any() and np.nanmax(row) > 0]
     if not rows:
         raise NotEvaluated("no clusters beyond rho_J")
-    best = np.array([system.thresholds[int(np.nanargmax(row))] for row in rows])
+    best = np.array([system.thresholds[first_max_index(row)] for row in rows])
     return float(np.median(best)), best
 
 

@@ -31,8 +31,8 @@ import pandas as pd
 import xarray as xr
 
 from forcenet.measures.persistence_stats import STRONG_BIRTH
-from forcenet.report.p1 import (P1_PERCOLATION_MAJORITY, per_particle, percolation_fraction, rho_values,
-                                shape_parameter_average)
+from forcenet.report.p1 import (P1_PERCOLATION_MAJORITY, first_max_index, per_particle, percolation_fraction,
+                                rho_values, shape_parameter_average)
 from forcenet.report.p1_judging import SystemData, bin_curve
 from forcenet.report.realizations import realization_mean
 
@@ -66,7 +66,7 @@ def size_peak_threshold_per_rho(system: SystemData) -> xr.DataArray:
     is left at any F_th (P1 §4.2)."""
     size = system.mean("cluster_mean_size").transpose("rho", "threshold").values
     thresholds = system.thresholds
-    values = [thresholds[int(np.nanargmax(row))] if np.isfinite(row).any() and np.nanmax(row) > 0 else np.nan
+    values = [thresholds[first_max_index(row)] if np.isfinite(row).any() and np.nanmax(row) > 0 else np.nan
               for row in size]
     return xr.DataArray(np.asarray(values, dtype=float), dims="rho", coords={"rho": system.data["rho"]})
 

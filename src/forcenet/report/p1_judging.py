@@ -15,7 +15,8 @@ import xarray as xr
 
 from forcenet.report.claims import (BELOW_BEFORE_JUMP, BELOW_TOLERANCE, ClaimTolerances, Judgement, NotEvaluated,
                                     relative_margin, smallest_margin)
-from forcenet.report.p1 import (HERTZ_2D, HERTZ_3D, LINEAR_2D, finite_max, per_particle, rho_values, system_order)
+from forcenet.report.p1 import (HERTZ_2D, HERTZ_3D, LINEAR_2D, finite_max, first_max_index, per_particle, rho_values,
+                                system_order)
 from forcenet.report.realizations import realization_mean
 
 @dataclass(frozen=True)
@@ -150,10 +151,6 @@ ALL_2D = (HERTZ_2D, LINEAR_2D)
 
 
 # --- helpers the judges share ---------------------------------------------------------------------------------
-# relative difference under which two values of a curve are the same maximum (`find_peak`)
-TIE_RTOL = 1e-9
-
-
 @dataclass(frozen=True)
 class Peak:
     """The highest point of a curve versus ρ: where, how high, its topographic prominence relative to a scale,
@@ -169,13 +166,11 @@ def find_peak(curve, rho: np.ndarray, rho_j: float, tolerance: float, scale: flo
     """The maximum of `curve` (ρ,) and its prominence: height above the higher of the lowest points on its two
     sides (0 when the maximum is at an end of a monotonic curve), divided by `scale`. None if all NaN.
 
-    Values within `TIE_RTOL` of the maximum are one maximum and the first of them (lowest ρ) is taken: N0/N
-    curves are counts averaged over realizations, and two equal counts can differ in their last bit."""
+    A maximum shared by several ρ is the first of them (`first_max_index`)."""
     curve = np.asarray(curve, dtype=float)
     if not np.isfinite(curve).any() or not np.isfinite(scale) or scale <= 0:
         return None
-    top = np.nanmax(curve)
-    k = int(np.flatnonzero(curve >= top - TIE_RTOL * abs(top))[0])
+    k = first_max_index(curve)
     prominence = curve[k] - max(np.nanmin(curve[:k + 1]), np.nanmin(curve[k:]))
     return Peak(float(rho[k]), float(curve[k]), float(prominence / scale),
                 bool(abs(rho[k] - rho_j) <= tolerance + 1e-12))
@@ -191,7 +186,7 @@ def peak_near(curve, rho: np.ndarray, rho_j: float, tolerance: float) -> Peak | 
     window = np.flatnonzero((np.abs(rho - rho_j) <= tolerance + 1e-12) & np.isfinite(curve))
     if window.size == 0 or not (curve[window] > 0).any():
         return None
-    k = int(window[np.argmax(curve[window])])
+    k = int(window[first_max_index(curve[window])])
     top = curve[k]
 
     def lowest(indices) -> float:
