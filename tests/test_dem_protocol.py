@@ -417,3 +417,56 @@ def test_continuing_a_checkpoint_with_the_runs_damping_reproduces_the_run(tmp_pa
         np.testing.assert_array_equal(sim.positions(), last["position"].values)
     other, _ = protocol.continue_with_damping(system, state, 0.25 * gamma_n, grid_steps=2)
     assert not np.array_equal(other.positions(), sim.positions())
+
+
+class _ScriptedPacking:
+    """A stand-in for `Simulation` in `protocol._relax`: a steady kinetic energy (fluctuation 0) and a scripted
+    contact number read at each chunk end."""
+
+    packing_fraction = 0.8
+    wall_shift = 0.0
+
+    def __init__(self, contacts):
+        self.contacts, self.reads = list(contacts), 0
+
+    def set_walls(self, speed, shift_max):
+        pass
+
+    def advance(self, steps, energy):
+        energy[:] = 1.0
+
+    def contact_count(self):
+        self.reads += 1
+        return self.contacts[min(self.reads - 1, len(self.contacts) - 1)]
+
+
+class _Silent:
+    def maybe_log(self, *args, **kwargs):
+        pass
+
+
+@pytest.mark.parametrize("contacts, steps", [
+    # windows of 4 chunks: 10 10 11 11 (changes) | 11 12 12 12 (changes) | 12 12 12 12 (relaxed after 3 windows)
+    ([10, 10, 11, 11, 11, 12, 12, 12, 12, 12, 12, 12], 12 * protocol.CHUNK_STEPS),
+    # the same number from the first chunk: relaxed after one window
+    ([7] * 4, 4 * protocol.CHUNK_STEPS),
+    # never the same over a window: the cap (6 windows)
+    ([k % 2 for k in range(100)], 24 * protocol.CHUNK_STEPS),
+])
+def test_the_contact_number_criterion_waits_for_a_window_without_a_change(contacts, steps, caplog):
+    rule = Relaxation(window_steps=4 * protocol.CHUNK_STEPS, tolerance=0.1, max_steps=24 * protocol.CHUNK_STEPS,
+                      criterion="contact_number")
+    system = tiny(relaxation=rule)
+    assert protocol._relax(_ScriptedPacking(contacts), system, 0, _Silent(), protocol._LOG) == steps
+    assert ("the contact number still changing" in caplog.text) == (steps == rule.max_steps)
+    # P1's own criterion on the same packing: E_kin does not fluctuate, so one window is enough whatever the contacts
+    energy_rule = dataclasses.replace(rule, criterion="kinetic_energy_fluctuation")
+    assert protocol._relax(_ScriptedPacking(contacts), tiny(relaxation=energy_rule), 0, _Silent(),
+                           protocol._LOG) == 4 * protocol.CHUNK_STEPS
+
+
+def test_a_relaxation_criterion_outside_the_two_is_named(tmp_path):
+    config = load_config()
+    config["systems"]["2d_linear"]["relaxation"]["criterion"] = "annealing"
+    with pytest.raises(ConfigError, match="criterion"):
+        system_from_config("2d_linear", config)

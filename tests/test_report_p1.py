@@ -7,6 +7,7 @@ together) and checks that exactly those stop holding.
 """
 from __future__ import annotations
 
+import json
 import math
 import re
 from math import lgamma
@@ -904,6 +905,26 @@ def test_stricter_relaxation_is_judged_on_verdicts_and_on_rho_j():
     frictionless = validation.p1_validation(_stricter(_with_runs(**{"2d_hertz_mu0": (0.0, N_PARTICLES, dict(
         rho_j=0.86))}), "2d_hertz_mu0"))
     assert verdict(frictionless, "p1-3-relaxation", "all") == framework.NOT_EVALUATED
+
+
+def test_a_run_relaxed_by_the_contact_number_is_judged_beside_p1s_criterion():
+    # P1 §3 also relaxed by tracking the contact number: a run relaxed so, at P1's tolerance (unused by it), is
+    # the other criterion's counterpart; alike it holds, jamming 0.02 later it fails
+    def by_contacts(rho_j: float) -> dict[str, xr.Dataset]:
+        measures = _with_runs(**{"2d_linear_contacts": (0.5, N_PARTICLES, dict(force_law="linear", rho_j=rho_j))})
+        measures["2d_linear_contacts"].attrs["relaxation_criterion"] = "contact_number"
+        return measures
+
+    alike = rows(validation.p1_validation(by_contacts(0.832)), "p1-3-relaxation", "all").iloc[0]
+    assert alike["verdict"] == framework.HOLDS
+    assert ("2d_linear_contacts (contact number against tolerance 0.1) +0.0020, allowed 0.0050"
+            in alike["evidence"]), alike["evidence"]
+    assert verdict(validation.p1_validation(by_contacts(0.85)), "p1-3-relaxation", "all") == framework.FAILS
+    # the reader: the recorded config says the criterion where no attribute does; P1's own otherwise
+    recorded = xr.Dataset(attrs={"system": "x", "config": json.dumps(
+        {"systems": {"x": {"relaxation": {"criterion": "contact_number"}}}})})
+    assert report.system_relaxation_criterion(recorded) == "contact_number"
+    assert report.system_relaxation_criterion(xr.Dataset()) == "kinetic_energy_fluctuation"
 
 
 def test_other_box_sizes_are_judged_where_a_run_exists_and_30_cubed_never():

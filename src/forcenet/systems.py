@@ -34,6 +34,9 @@ RHO_DECIMALS = 3
 
 #: rattler rules of the force networks (`study_rattler_rule`; `forcenet.network` applies them)
 RATTLER_RULES = ("once", "iterative", "none")
+#: `Relaxation.criterion`: P1 §3's kinetic-energy fluctuation (the default) and its contact-number protocol
+RELAXATION_CRITERIA = ("kinetic_energy_fluctuation", "contact_number")
+KINETIC_ENERGY_FLUCTUATION, CONTACT_NUMBER = RELAXATION_CRITERIA
 
 #: P2's states a, b, c (Tables I–III, Figs 1, 3) are this many consecutive snapshots of one run
 TABLE_STATES = 3
@@ -41,11 +44,18 @@ TABLE_STATES = 3
 
 @dataclass(frozen=True)
 class Relaxation:
-    """P1 §3 relaxation: relax until std(E_kin)/mean(E_kin) over `window_steps` < `tolerance`."""
+    """P1 §3 relaxation, with the walls fixed, in windows of `window_steps` until the window meets `criterion`:
+
+    ``"kinetic_energy_fluctuation"`` (P1's own): std(E_kin)/mean(E_kin) over the window < `tolerance`;
+    ``"contact_number"`` (P1 §3's protocol "tracking the average contact number change"): the number of touching
+    particle pairs is the same at every chunk end (`forcenet.dem.protocol.CHUNK_STEPS` steps apart) of the window;
+    `tolerance` is not used. Either way at most `max_steps` per grid point (hitting it is logged).
+    """
 
     window_steps: int
     tolerance: float
     max_steps: int
+    criterion: str = KINETIC_ENERGY_FLUCTUATION
 
 
 @dataclass(frozen=True)
@@ -239,6 +249,10 @@ def system_from_config(name: str, config: Mapping[str, Any]) -> SystemSpec | Imp
                                                    f"damping_model is {entry['damping_model']}): remove one")
     relaxation = None
     if entry["protocol"] == "quasistatic":
+        criterion = entry["relaxation"].get("criterion", KINETIC_ENERGY_FLUCTUATION)
+        if criterion not in RELAXATION_CRITERIA:
+            raise ConfigError(f"{key}.relaxation.criterion",
+                              f"is {criterion!r}, not one of {list(RELAXATION_CRITERIA)}")
         relaxation = Relaxation(**entry["relaxation"])
     system = SystemSpec(
         name=name,

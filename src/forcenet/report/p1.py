@@ -37,6 +37,7 @@ import numpy as np
 import xarray as xr
 
 from forcenet.report.realizations import mean_and_spread, realization_mean
+from forcenet.systems import KINETIC_ENERGY_FLUCTUATION
 
 # --- P1's reference values (the only results typed in) --------------------------------------------------------
 P1_SYSTEMS = ("2d_hertz", "2d_linear", "3d_hertz")  # P1's panel order a, b, c
@@ -127,6 +128,14 @@ def system_relaxation_tolerance(ds: xr.Dataset, name: str = "") -> float:
     """The kinetic-energy fluctuation tolerance the system's runs relaxed to (P1 §3's 0.1; global attr
     ``relaxation_tolerance``, else the config's ``relaxation.tolerance``; NaN when neither says)."""
     return _system_number(ds, name, "relaxation_tolerance", "relaxation", "tolerance")
+
+
+def system_relaxation_criterion(ds: xr.Dataset, name: str = "") -> str:
+    """The criterion the system's runs relaxed by (`forcenet.systems.RELAXATION_CRITERIA`; global attr
+    ``relaxation_criterion``, else the config's ``relaxation.criterion``, else P1's kinetic-energy fluctuation)."""
+    relaxation = _config_system(ds, name).get("relaxation", {})
+    configured = relaxation.get("criterion") if isinstance(relaxation, dict) else None
+    return str(ds.attrs.get("relaxation_criterion", configured or KINETIC_ENERGY_FLUCTUATION))
 
 
 def system_particles(ds: xr.Dataset) -> int:

@@ -20,11 +20,12 @@ from forcenet.report.p1 import (HERTZ_2D, HERTZ_3D, LINEAR_2D, P1_HALF, P1_LARGE
                                 P1_SMALL_THRESHOLD, PAPER_CLUSTER_SIZE_PEAK, PAPER_PHI_C, PAPER_RHO_MAX_BY_ROLE,
                                 PAPER_Z_AT_JAMMING, cut_at_rho_max, value_at, finite_max, force_bins, force_pdf_width,
                                 percolating_size_mean, percolation_fraction, select_total, system_friction,
-                                system_particles, system_relaxation_tolerance)
+                                system_particles, system_relaxation_criterion, system_relaxation_tolerance)
 from forcenet.report.p1_diagnostics import size_peak_threshold_per_rho
 from forcenet.report.p1_judging import (ALL_2D, ClaimContext, SystemData, expected_for_law, finite_values, fmt_values,
                                         peak_verdict, require, strongest_peak)
 from forcenet.report.realizations import realization_mean
+from forcenet.systems import KINETIC_ENERGY_FLUCTUATION
 
 CLAIMS: list[Claim] = []
 claim = claim_register(CLAIMS)
@@ -165,29 +166,44 @@ def friction_changes_only_rho_j(context: ClaimContext) -> Judgement:
 
 
 @claim("p1-3-relaxation", "3", "stricter or other relaxation criteria change neither conclusions nor measured values",
-       "for each P1 system with a run relaxed to a smaller kinetic-energy tolerance beside it (same N and mu): the "
-       "same verdict, each on its own rho_J, for >= {same_verdicts} of the per-system claims judged on both, and "
-       "|rho_J(stricter) - rho_J| <= half the rho step (rho_j_shift)", per_system=False, needs_rho_j=False)
+       "for each P1 system with a run beside it (same N and mu) relaxed to a smaller kinetic-energy tolerance or by "
+       "P1's contact-number criterion (the contact number unchanged over a window): the same verdict, each on its "
+       "own rho_J, for >= {same_verdicts} of the per-system claims judged on both, and |rho_J(other) - rho_J| <= "
+       "half the rho step (rho_j_shift)", per_system=False, needs_rho_j=False)
 def stricter_relaxation_changes_nothing(context: ClaimContext) -> Judgement:
     """Judge of claim p1-3-relaxation (across systems): P1's systems against runs relaxed to a smaller tolerance
     on std(E_kin)/mean(E_kin) (P1 §3: "a more strict relaxation condition does not change our conclusions, nor
-    ... the measured quantities significantly")."""
-    pairs = _counterparts(context, (HERTZ_2D, LINEAR_2D, HERTZ_3D),
-                          lambda a, b: system_relaxation_tolerance(b.full, b.name)
-                          < system_relaxation_tolerance(a.full, a.name)
-                          and system_friction(a.full, a.name) == system_friction(b.full, b.name)
-                          and system_particles(a.full) == system_particles(b.full))
-    verdicts = _same_verdicts(context, pairs, "stricter relaxation against P1's", "needs a run relaxed to a "
-                              "smaller tolerance beside a P1 system (same N and mu): not in these results")
+    ... the measured quantities significantly") or by the contact-number protocol P1 §3 also ran ("such a protocol
+    does not influence the results presented in this paper")."""
+    def relaxed(data: SystemData) -> tuple[str, float]:
+        return (system_relaxation_criterion(data.full, data.name),
+                system_relaxation_tolerance(data.full, data.name))
+
+    def stricter_or_other(a: SystemData, b: SystemData) -> bool:
+        (criterion_a, tolerance_a), (criterion_b, tolerance_b) = relaxed(a), relaxed(b)
+        return ((criterion_b != criterion_a or tolerance_b < tolerance_a)
+                and system_friction(a.full, a.name) == system_friction(b.full, b.name)
+                and system_particles(a.full) == system_particles(b.full))
+
+    def described(other: SystemData, reference: SystemData) -> str:
+        (criterion, tolerance), (criterion_ref, tolerance_ref) = relaxed(other), relaxed(reference)
+        if criterion == criterion_ref == KINETIC_ENERGY_FLUCTUATION:
+            return f"tolerance {tolerance:g} against {tolerance_ref:g}"
+        return " against ".join(f"tolerance {t:g}" if c == KINETIC_ENERGY_FLUCTUATION else c.replace("_", " ")
+                                for c, t in ((criterion, tolerance), (criterion_ref, tolerance_ref)))
+
+    pairs = _counterparts(context, (HERTZ_2D, LINEAR_2D, HERTZ_3D), stricter_or_other)
+    verdicts = _same_verdicts(context, pairs, "stricter or other relaxation against P1's", "needs a run relaxed to "
+                              "a smaller tolerance or by another criterion beside a P1 system (same N and mu): not "
+                              "in these results")
     shifts, margins, within = [], [verdicts.margin], True
-    for reference, stricter in pairs:
+    for reference, other in pairs:
         allowed = context.tolerances.rho_j_shift
         allowed = reference.step / 2 if allowed is None else allowed
-        shift = stricter.rho_j - reference.rho_j
+        shift = other.rho_j - reference.rho_j
         within = within and abs(shift) <= allowed + 1e-12
         margins.append(relative_margin(abs(shift), allowed))
-        shifts.append(f"{stricter.name} (tolerance {system_relaxation_tolerance(stricter.full, stricter.name):g} "
-                      f"against {system_relaxation_tolerance(reference.full, reference.name):g}) {shift:+.4f}, "
+        shifts.append(f"{other.name} ({described(other, reference)}) {shift:+.4f}, "
                       f"allowed {allowed:.4f}")
     return Judgement(verdicts.measured, f"{verdicts.evidence}; rho_J shift: {'; '.join(shifts)}",
                      verdicts.holds and within, margin=smallest_margin(*margins))
