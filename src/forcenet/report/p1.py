@@ -106,14 +106,19 @@ def system_force_law(ds: xr.Dataset, name: str = "") -> str:
     return str(_recorded(ds, "force_law", name)).lower()
 
 
-def _system_number(ds: xr.Dataset, name: str, attr: str, *config_keys: str) -> float:
-    """A number the system's file records: global attribute `attr`, else its config entry's value at the path
-    `config_keys`; NaN when neither says (or it is not a number)."""
+def _system_setting(ds: xr.Dataset, name: str, attr: str, *config_keys: str, default=None):
+    """A setting the system's file records: global attribute `attr`, else its config entry's value at the path
+    `config_keys`, else `default`."""
     value = _config_system(ds, name)
     for key in config_keys:
-        value = value.get(key, math.nan) if isinstance(value, dict) else math.nan
+        value = value.get(key) if isinstance(value, dict) else None
+    return ds.attrs.get(attr, default if value is None else value)
+
+
+def _system_number(ds: xr.Dataset, name: str, attr: str, *config_keys: str) -> float:
+    """A number the system's file records (`_system_setting`); NaN when neither says (or it is not a number)."""
     try:
-        return float(ds.attrs.get(attr, value))
+        return float(_system_setting(ds, name, attr, *config_keys, default=math.nan))
     except (TypeError, ValueError):
         return math.nan
 
@@ -133,9 +138,8 @@ def system_relaxation_tolerance(ds: xr.Dataset, name: str = "") -> float:
 def system_relaxation_criterion(ds: xr.Dataset, name: str = "") -> str:
     """The criterion the system's runs relaxed by (`forcenet.systems.RELAXATION_CRITERIA`; global attr
     ``relaxation_criterion``, else the config's ``relaxation.criterion``, else P1's kinetic-energy fluctuation)."""
-    relaxation = _config_system(ds, name).get("relaxation", {})
-    configured = relaxation.get("criterion") if isinstance(relaxation, dict) else None
-    return str(ds.attrs.get("relaxation_criterion", configured or KINETIC_ENERGY_FLUCTUATION))
+    return str(_system_setting(ds, name, "relaxation_criterion", "relaxation", "criterion",
+                               default=KINETIC_ENERGY_FLUCTUATION))
 
 
 def system_particles(ds: xr.Dataset) -> int:
