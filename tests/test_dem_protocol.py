@@ -400,6 +400,19 @@ def test_a_run_without_initial_state_keeps_its_checkpoint_fingerprint():
     assert protocol._fingerprint(system, 1) != protocol._fingerprint(p1_start(), 1)
 
 
+def test_the_default_relaxation_criterion_keeps_the_checkpoint_fingerprint():
+    """`Relaxation.criterion` came after campaign runs had checkpointed: with the default criterion the system's
+    repr (which the fingerprint hashes) is what it was before, so those runs resume (the 27000-sphere run had
+    restarted from scratch when it was in the repr); another criterion changes the fingerprint."""
+    assert repr(Relaxation(window_steps=100, tolerance=0.001, max_steps=1000)) == \
+        "Relaxation(window_steps=100, tolerance=0.001, max_steps=1000)"
+    system = tiny("2d_hertz")
+    contacts = dataclasses.replace(system, relaxation=dataclasses.replace(system.relaxation,
+                                                                          criterion="contact_number"))
+    assert "criterion" not in repr(system)
+    assert protocol._fingerprint(system, 1) != protocol._fingerprint(contacts, 1)
+
+
 def test_continuing_a_checkpoint_with_the_runs_damping_reproduces_the_run(tmp_path, monkeypatch):
     # scripts/probe_checkpoint.py: the run's own gamma_n must give the run's next snapshots bit for bit, so that
     # what another gamma_n changes is the damping's doing

@@ -55,7 +55,9 @@ class Relaxation:
     window_steps: int
     tolerance: float
     max_steps: int
-    criterion: str = KINETIC_ENERGY_FLUCTUATION
+    # not in the repr, which the checkpoint fingerprint hashes: runs with the default keep their fingerprints
+    # (`forcenet.dem.protocol._fingerprint` adds a criterion other than the default)
+    criterion: str = field(default=KINETIC_ENERGY_FLUCTUATION, repr=False)
 
 
 @dataclass(frozen=True)

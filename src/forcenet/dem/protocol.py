@@ -39,7 +39,7 @@ from forcenet import datasets
 from forcenet.dem import calibration, packing, stability
 from forcenet.dem._kernels.law import LAW_GAMMA_N, LAW_GAMMA_T
 from forcenet.dem.engine import ContactLaw, Simulation, SimulationBlowUp
-from forcenet.systems import CONTACT_NUMBER, SystemSpec, check_system
+from forcenet.systems import CONTACT_NUMBER, KINETIC_ENERGY_FLUCTUATION, SystemSpec, check_system
 
 __all__ = ["run_compression", "SimulationBlowUp", "validate_system", "build_simulation", "contact_law_for_system",
            "blow_up_cause", "continue_with_damping", "CHECKPOINT_FORMAT"]
@@ -96,6 +96,8 @@ def _fingerprint(system: SystemSpec, seed: int) -> str:
     identity = {"system": repr(system), "seed": int(seed), "format": CHECKPOINT_FORMAT}
     if system.initial_state is not None:  # not in the repr: runs without it keep their fingerprints
         identity["initial_state"] = repr(system.initial_state)
+    if system.relaxation.criterion != KINETIC_ENERGY_FLUCTUATION:  # likewise not in the repr
+        identity["relaxation_criterion"] = system.relaxation.criterion
     text = json.dumps(identity, sort_keys=True)
     return hashlib.sha256(text.encode()).hexdigest()
 
