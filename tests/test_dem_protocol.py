@@ -413,6 +413,26 @@ def test_the_default_relaxation_criterion_keeps_the_checkpoint_fingerprint():
     assert protocol._fingerprint(system, 1) != protocol._fingerprint(contacts, 1)
 
 
+#: the fields that the checkpoint fingerprint hashes through `repr(system)`; a new field in this list would change
+#: the fingerprint of every run in progress (and restart it from scratch): give it `field(repr=False)` and let
+#: `forcenet.dem.protocol._fingerprint` add it when it is not the default, as `initial_state` and the criterion do
+FINGERPRINTED_FIELDS = {
+    "SystemSpec": ("name", "dimension", "force_law", "beta", "normal_stiffness", "tangential_stiffness",
+                   "box_length", "size_distribution", "diameter_ratio", "small_to_large", "polydispersity",
+                   "friction", "restitution", "damping_model", "walls", "time_step", "protocol", "wall_speed",
+                   "initial_speed", "rho_grid", "relaxation", "paper", "normal_damping"),
+    "Relaxation": ("window_steps", "tolerance", "max_steps"),
+}
+
+
+def test_no_new_field_enters_the_checkpoint_fingerprint_unnoticed():
+    from forcenet.systems import SystemSpec
+
+    for cls in (SystemSpec, Relaxation):
+        in_repr = tuple(f.name for f in dataclasses.fields(cls) if f.repr)
+        assert in_repr == FINGERPRINTED_FIELDS[cls.__name__], cls.__name__
+
+
 def test_continuing_a_checkpoint_with_the_runs_damping_reproduces_the_run(tmp_path, monkeypatch):
     # scripts/probe_checkpoint.py: the run's own gamma_n must give the run's next snapshots bit for bit, so that
     # what another gamma_n changes is the damping's doing
