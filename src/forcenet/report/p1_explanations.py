@@ -12,7 +12,9 @@ SURVEY = "python scripts/p1_network_survey.py --results results/validation"
 PER_REALIZATION = ("python scripts/damping_series.py results/validation:2d_linear:0 … results/validation:2d_hertz:4 "
                    "results/validation:3d_hertz:0 … :2 (docs/validation/damping.md)")
 CONTACT_NUMBER_RUN = ("python scripts/damping_series.py results/validation:2d_linear_contacts "
-                      "results/validation:2d_linear_strict")
+                      "results/validation:2d_hertz_contacts results/validation:2d_linear:0 … :4 "
+                      "results/validation:2d_hertz:0 … :4 results/validation:2d_linear_strict "
+                      "results/validation:2d_hertz_strict")
 FRICTIONLESS_3D = "python scripts/p1_network_survey.py --results results/validation --systems 3d_hertz 3d_hertz_mu0"
 OVERLAPS = "python scripts/overlap_survey.py --system 2d_linear 2d_hertz 3d_hertz"
 TABLE = "snakemake validation_report --configfile config/validation.yaml (the row's reading beside, docs/validation/p1.md)"
@@ -37,10 +39,12 @@ EXPLANATIONS: dict[str | tuple[str, str], tuple[str, str]] = {
         "disks the grid stops were set by); away from the walls it is 0.10-0.15, and 99 % of the contacts "
         "overlap by at most 7.3-8.8 % (median 3-4 %), within P1's 10 %.", OVERLAPS),
     "p1-3-relaxation": (
-        "The verdicts stay (55 of 59 the same on the three pairs) but the contact-number run moves rho_J: "
-        "2d_linear_contacts relaxed every unjammed state to the 3e6-step cap (its few contacts keep changing), "
-        "leaving Z 0.002-0.3, and jams at 0.817 against 0.8066-0.8073 over 2d_linear's five realizations "
-        "(+0.010, twice the half step allowed); the stricter-tolerance runs move it by +0.0004 and +0.0012.",
+        "The verdicts mostly stay (72 of 79 the same on the four pairs) but the contact-number runs move rho_J "
+        "by a grid step, in opposite directions. Both relaxed every unjammed state to the 3e6-step cap (their "
+        "few contacts keep changing). 2d_linear_contacts (Z 0.002-0.36 below jamming) jams at 0.817 against "
+        "0.8066-0.8073 over 2d_linear's five realizations (+0.010); 2d_hertz_contacts (Z 0.012-0.20) jams at "
+        "0.808 against 0.8167-0.8183 over 2d_hertz's five (-0.009; Z 2.72 at rho 0.81, where 2d_hertz's five "
+        "have 0.13-0.29): each twice the half step allowed. The stricter-tolerance runs move it by +0.0004 and +0.0012.",
         CONTACT_NUMBER_RUN),
     "p1-4.1-pdf-order-at-rho-max": (
         "Our linear rho_max under the F_max rule is 0.82, one step after its rho_J, where its force PDF is still "
