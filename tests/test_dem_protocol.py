@@ -411,6 +411,9 @@ def test_the_default_relaxation_criterion_keeps_the_checkpoint_fingerprint():
                                                                           criterion="contact_number"))
     assert "criterion" not in repr(system)
     assert protocol._fingerprint(system, 1) != protocol._fingerprint(contacts, 1)
+    continuous = tiny("2d_poly_mu05")  # P2's protocol: no relaxation rule, a fingerprint all the same
+    assert continuous.relaxation is None
+    assert protocol._fingerprint(continuous, 1) != protocol._fingerprint(continuous, 2)
 
 
 #: the fields that the checkpoint fingerprint hashes through `repr(system)`; a new field in this list would change

@@ -96,7 +96,8 @@ def _fingerprint(system: SystemSpec, seed: int) -> str:
     identity = {"system": repr(system), "seed": int(seed), "format": CHECKPOINT_FORMAT}
     if system.initial_state is not None:  # not in the repr: runs without it keep their fingerprints
         identity["initial_state"] = repr(system.initial_state)
-    if system.relaxation.criterion != KINETIC_ENERGY_FLUCTUATION:  # likewise not in the repr
+    # likewise not in the repr; the continuous protocol (P2) has no relaxation
+    if system.relaxation is not None and system.relaxation.criterion != KINETIC_ENERGY_FLUCTUATION:
         identity["relaxation_criterion"] = system.relaxation.criterion
     text = json.dumps(identity, sort_keys=True)
     return hashlib.sha256(text.encode()).hexdigest()
