@@ -342,6 +342,29 @@ def test_a_stage_survives_edits_the_run_does_not_depend_on(tmp_path):
         assert not (stage / "checkpoint.npz").exists(), path
 
 
+def test_a_second_process_on_a_running_run_stops_before_touching_its_stage(tmp_path):
+    """pipeline.exclusive_stage: while one process holds a run's stage, another (here a second open file, as a
+    job script left over from a killed Snakemake would be) is refused with the holder's pid, and simulate stops
+    before it prepares, resumes or writes anything; once the holder lets go the run can be taken again."""
+    from forcenet.pipeline import RunInProgress, exclusive_stage, simulate
+
+    stage = tmp_path / "sim" / "2d_hertz" / "r00" / ".partial"
+    config = load_config()
+    outputs = [str(tmp_path / "sim" / "2d_hertz" / "r00" / f"rho{label}.nc")
+               for label in system_from_config("2d_hertz", config).rho_labels]
+    with exclusive_stage(stage):
+        with pytest.raises(RunInProgress, match=f"pid {os.getpid()}"):
+            with exclusive_stage(stage):
+                pass
+        log_path = tmp_path / "simulate.log"
+        with pytest.raises(SystemExit):  # job_logger: the one-line message, exit status 1
+            simulate(config=config, system="2d_hertz", realization="r00", outputs=outputs, log_path=str(log_path))
+        assert "is being run by another process" in log_path.read_text()
+        assert not stage.exists()  # nothing prepared, nothing written
+    with exclusive_stage(stage):
+        pass
+
+
 # --- P1's start (systems.<name>.initial_state) -----------------------------------------------------------------
 
 def p1_start(name: str = "2d_hertz", sites: int = 5, box: float = 5.6, relax_first: bool = True, **changes):

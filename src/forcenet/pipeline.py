@@ -7,6 +7,7 @@ that need them, keeping the per-job start-up of light rules small.
 from __future__ import annotations
 
 import errno
+import fcntl
 import json
 import logging
 import os
@@ -126,6 +127,35 @@ def prepare_stage(stage: Path, config: Mapping[str, Any], system: str) -> Path:
     return stage
 
 
+class RunInProgress(ForcenetError):
+    """Another process is running the same compression run (it holds the lock of its stage)."""
+
+
+@contextmanager
+def exclusive_stage(stage: Path) -> Iterator[None]:
+    """Hold an exclusive lock (flock) on a run's stage for as long as the run works in it, so that a second
+    process on the same run stops at once instead of writing the same checkpoint and snapshots: a job script that
+    outlived its killed Snakemake (kill Snakemake's whole process group, `kill -- -PGID`), or two Snakemake
+    instances building one target. The lock file sits beside the stage (``<stage>.lock``, holding the pid) and goes
+    with a published run; the kernel releases the lock when its holder dies, so a killed run never blocks its
+    resumption."""
+    lock_path = stage.with_name(stage.name + ".lock")
+    lock_path.parent.mkdir(parents=True, exist_ok=True)
+    with open(lock_path, "a+") as handle:
+        try:
+            fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            handle.seek(0)
+            holder = handle.read().strip() or "unknown"
+            raise RunInProgress(f"{stage.parent} is being run by another process (pid {holder}): stop it or let "
+                                "it finish; two processes must not write one run") from None
+        handle.seek(0)
+        handle.truncate()
+        handle.write(f"{os.getpid()}\n")
+        handle.flush()
+        yield
+
+
 def simulate(*, config: Mapping[str, Any], system: str, realization: str, outputs: Sequence[str],
              cost_path: str | None = None, log_path: str | None = None) -> None:
     """One compression run of `system`: snapshots at every ρ of its grid, published only when all exist.
@@ -141,9 +171,10 @@ def simulate(*, config: Mapping[str, Any], system: str, realization: str, output
     spec = system_from_config(system, config)
     index = realization_index(realization)
     attrs = run_attrs(config, system, index, title=f"forcenet DEM snapshot, {system}")
-    stage = prepare_stage(staging_dir(outputs[0]), config, system)
-    staged = [stage / Path(path).name for path in outputs]
-    with job_logger(log_path, f"simulate.{system}.{realization}") as log:
+    stage = staging_dir(outputs[0])
+    with job_logger(log_path, f"simulate.{system}.{realization}") as log, exclusive_stage(stage):
+        stage = prepare_stage(stage, config, system)
+        staged = [stage / Path(path).name for path in outputs]
         log.info("system %s realization %s seed %d: %d snapshots, staging in %s", system, realization,
                  attrs["seed"], len(outputs), stage)
         cpu_seconds = run_compression(spec, seed=attrs["seed"], snapshot_paths=staged,
@@ -151,6 +182,7 @@ def simulate(*, config: Mapping[str, Any], system: str, realization: str, output
         for source, target in zip(staged, outputs):
             os.replace(source, target)
         shutil.rmtree(stage, ignore_errors=True)
+        stage.with_name(stage.name + ".lock").unlink(missing_ok=True)  # still held: no other process waits on it
         log.info("published %d snapshots (%.2f CPU-hours over all sessions)", len(outputs), cpu_seconds / 3600)
         if cost_path is not None:
             from forcenet.datasets import read_snapshot
