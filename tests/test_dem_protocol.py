@@ -365,6 +365,20 @@ def test_a_second_process_on_a_running_run_stops_before_touching_its_stage(tmp_p
         pass
 
 
+def test_a_file_system_without_locks_runs_unguarded_with_a_warning(tmp_path, monkeypatch, caplog):
+    import fcntl
+
+    from forcenet.pipeline import exclusive_stage
+
+    def no_locks(handle, operation):
+        raise OSError(errno.ENOLCK, "No locks available")
+
+    monkeypatch.setattr(fcntl, "flock", no_locks)
+    with caplog.at_level(logging.WARNING, logger="forcenet"), exclusive_stage(tmp_path / ".partial") as lock:
+        assert lock == tmp_path / ".partial.lock"
+    assert "running without the guard" in caplog.text
+
+
 # --- P1's start (systems.<name>.initial_state) -----------------------------------------------------------------
 
 def p1_start(name: str = "2d_hertz", sites: int = 5, box: float = 5.6, relax_first: bool = True, **changes):

@@ -162,6 +162,8 @@ def test_the_readme_resume_instructions_work_after_sigkill(tmp_path):
         assert done.returncode == 0, done.stderr[-3000:]
     log = (killed / paths.run_log("results", "simulate", "2d_linear", "r00")).read_text()
     assert "resuming from" in log
+    run = killed / paths.run_dir("results", "2d_linear", "r00")  # the killed job's stage lock did not block it,
+    assert not (run / paths.STAGE_LOCK).exists() and not (run / paths.STAGING_DIR).exists()  # and is gone with it
     for reference_file in sorted((reference / paths.run_dir("results", "2d_linear", "r00")).glob(paths.rho_file("*"))):
         resumed = killed / reference_file.relative_to(reference)
         with xr.open_dataset(reference_file) as a, xr.open_dataset(resumed) as b:

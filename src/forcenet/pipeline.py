@@ -18,7 +18,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Iterator, Mapping, Sequence
 
-from forcenet.datasets.paths import CHECKPOINT, realization_index, rho_file, staging_dir
+from forcenet.datasets.paths import CHECKPOINT, STAGE_LOCK, realization_index, rho_file, staging_dir
 from forcenet.errors import ForcenetError
 from forcenet.systems import material_from_config, realization_seed, system_from_config
 
@@ -132,14 +132,14 @@ class RunInProgress(ForcenetError):
 
 
 @contextmanager
-def exclusive_stage(stage: Path) -> Iterator[None]:
+def exclusive_stage(stage: Path, log: logging.Logger | None = None) -> Iterator[Path]:
     """Hold an exclusive lock (flock) on a run's stage for as long as the run works in it, so that a second
     process on the same run stops at once instead of writing the same checkpoint and snapshots: a job script that
     outlived its killed Snakemake (kill Snakemake's whole process group, `kill -- -PGID`), or two Snakemake
-    instances building one target. The lock file sits beside the stage (``<stage>.lock``, holding the pid) and goes
-    with a published run; the kernel releases the lock when its holder dies, so a killed run never blocks its
-    resumption."""
-    lock_path = stage.with_name(stage.name + ".lock")
+    instances building one target. Yields the lock file (`STAGE_LOCK` beside the stage, holding the pid), which a
+    published run removes while it still holds it; the kernel releases the lock when its holder dies, so a killed
+    run never blocks its resumption. On a file system without locks the run goes on unlocked, with a warning."""
+    lock_path = stage.parent / STAGE_LOCK
     lock_path.parent.mkdir(parents=True, exist_ok=True)
     with open(lock_path, "a+") as handle:
         try:
@@ -149,11 +149,16 @@ def exclusive_stage(stage: Path) -> Iterator[None]:
             holder = handle.read().strip() or "unknown"
             raise RunInProgress(f"{stage.parent} is being run by another process (pid {holder}): stop it or let "
                                 "it finish; two processes must not write one run") from None
-        handle.seek(0)
-        handle.truncate()
-        handle.write(f"{os.getpid()}\n")
-        handle.flush()
-        yield
+        except OSError as error:  # e.g. ENOLCK, EOPNOTSUPP on some cluster file systems
+            (log or logging.getLogger("forcenet")).warning(
+                "cannot lock %s (%s): running without the guard against a second process on this run",
+                lock_path, error)
+        else:
+            handle.seek(0)
+            handle.truncate()
+            handle.write(f"{os.getpid()}\n")
+            handle.flush()
+        yield lock_path
 
 
 def simulate(*, config: Mapping[str, Any], system: str, realization: str, outputs: Sequence[str],
@@ -172,7 +177,7 @@ def simulate(*, config: Mapping[str, Any], system: str, realization: str, output
     index = realization_index(realization)
     attrs = run_attrs(config, system, index, title=f"forcenet DEM snapshot, {system}")
     stage = staging_dir(outputs[0])
-    with job_logger(log_path, f"simulate.{system}.{realization}") as log, exclusive_stage(stage):
+    with job_logger(log_path, f"simulate.{system}.{realization}") as log, exclusive_stage(stage, log) as lock:
         stage = prepare_stage(stage, config, system)
         staged = [stage / Path(path).name for path in outputs]
         log.info("system %s realization %s seed %d: %d snapshots, staging in %s", system, realization,
@@ -182,7 +187,7 @@ def simulate(*, config: Mapping[str, Any], system: str, realization: str, output
         for source, target in zip(staged, outputs):
             os.replace(source, target)
         shutil.rmtree(stage, ignore_errors=True)
-        stage.with_name(stage.name + ".lock").unlink(missing_ok=True)  # still held: no other process waits on it
+        lock.unlink(missing_ok=True)  # still held: no other process waits on it
         log.info("published %d snapshots (%.2f CPU-hours over all sessions)", len(outputs), cpu_seconds / 3600)
         if cost_path is not None:
             from forcenet.datasets import read_snapshot

@@ -46,6 +46,8 @@ SIM_DIR = "sim"
 STAGING_DIR = ".partial"
 #: the DEM state a run in progress resumes from (in its staging folder)
 CHECKPOINT = "checkpoint.npz"
+#: the lock a run in progress holds (beside its staging folder, holding its pid; `forcenet.pipeline.exclusive_stage`)
+STAGE_LOCK = STAGING_DIR + ".lock"
 #: the validation campaign's committed tables (in the repository): validation_report writes them, every other
 #: config reads them (config key ``paper_size_tables``)
 VALIDATION_DIR = "docs/validation"
