@@ -853,9 +853,9 @@ def test_every_explanation_says_measured_with_its_command_or_hypothesis():
                            p2_explanations.HYPOTHESIS_ONLY), claim_id
     assert table.loc["IV.A-11a", "explanation_basis"] == f"measured: {p2_explanations.THIS_TABLE}"
     assert table.loc["V-2", "explanation_basis"] == f"measured: {p2_explanations.SAMPLING}"
-    # V-1 fails with 2, 3 and 5 paper-size realizations: not explained away as "few realizations"
+    # V-1 fails with 2, 3, 5 and 20 paper-size realizations: not explained away as "few realizations"
     v1 = p2_explanations.EXPLANATIONS["V-1"][0]
-    assert "Few realizations" not in v1 and "2, 3 and 5 paper-size realizations" in v1
+    assert "Few realizations" not in v1 and "2, 3, 5 and 20 paper-size realizations" in v1
     few = [claim_id for claim_id, (cause, _, _) in p2_explanations.EXPLANATIONS.items()
            if cause.startswith("Few realizations")]
     assert few and all(p2_explanations.EXPLANATIONS[c][1] == p2_explanations.HYPOTHESIS_ONLY for c in few)

@@ -202,7 +202,8 @@ EXPLANATIONS: dict[str, tuple[str, str, tuple[Callable[[Context], str], ...]]] =
                "as P2 says (forcenet.report.p2.diagram_point_counts on the campaign's diagrams.nc).", CAMPAIGN, ()),
     "IV.C-9": (_NEVER_DYING + " The d_B part of both quotients sits on that floor; not measured further.",
                HYPOTHESIS_ONLY, ()),
-    "V-1": ("Not a few-realization effect: it fails with 2, 3 and 5 paper-size realizations (robustness 0.2 with 5); "
+    "V-1": ("Not a few-realization effect: it fails with 2, 3, 5 and 20 paper-size realizations (robustness 0.2 with 5, "
+            "0.01 with P2's 20); "
             "the d_B and d_W2 peaks before jamming are as high or higher without friction (docs/validation/p2.md); "
             "no cause measured.", CAMPAIGN, ()),
     "V-2": ("Not a small-system effect: after jamming the frictionless packing keeps changing 2-4x more (d_W1, "
