@@ -223,6 +223,26 @@ def test_progress_counts_the_remaining_work_of_the_whole_run():
     assert relaxation == 400 - 100 and to_snapshot == pytest.approx(shifts[-1] / step + 300)
 
 
+def test_a_resumed_run_estimates_its_relaxations_from_the_snapshots_already_written(tmp_path, monkeypatch):
+    """After a resume the time left counts the relaxation steps the written snapshots record, not one window per
+    grid point (which had a paper-size run promise minutes for an hour's work)."""
+    system = tiny(rho_grid=(0.70, 0.72, 0.74))
+    run_killed_at_second_snapshot(system, tmp_path, monkeypatch)
+    written = sorted(tmp_path.glob("*.nc"))
+    assert len(written) == 1
+    with xr.open_dataset(written[0]) as snapshot:
+        first_relaxation = int(snapshot.relaxation_steps)
+    assert first_relaxation > system.relaxation.window_steps, "the case must tell the two estimates apart"
+    seen = []
+    original = protocol._Progress.remaining_steps
+    monkeypatch.setattr(protocol, "LOG_INTERVAL_S", 0.0)
+    monkeypatch.setattr(protocol._Progress, "remaining_steps",
+                        lambda self, *args, **kwargs: seen.append(list(self.relaxation_steps_done))
+                        or original(self, *args, **kwargs))
+    run(system, tmp_path)
+    assert seen and seen[0] == [first_relaxation]
+
+
 @pytest.mark.parametrize("changes, key", [
     (dict(time_step=0.3), "time_step"),                         # the overlap grows within a couple of steps
     (dict(time_step=0.8), "time_step"),                         # a particle jumps out of the box

@@ -166,8 +166,8 @@ def load_checkpoint(path: Path, fingerprint: str, snapshot_paths: Sequence[Path]
 class _Progress:
     """Progress lines, at most every LOG_INTERVAL_S seconds: snapshot k of n, step, ρ, Z, E_kin, steps/s and the
     time left until the snapshot in work and for the whole run, with the protocol's remaining work in steps
-    (compression to the last grid value; relaxation estimated from the grid points relaxed so far, one window
-    before the first).
+    (compression to the last grid value; relaxation estimated from the grid points relaxed so far, counting
+    those a resumed run wrote before, one window before the first).
 
     The rate is measured from the end of the first chunk of steps, which pays for loading or compiling the numba
     kernels; no line is logged before it. Nothing here touches the simulation's state."""
@@ -210,6 +210,18 @@ class _Progress:
                       2.0 * sim.contact_count() / sim.n_mobile, kinetic_energy, rate, _duration(to_snapshot, rate),
                       _duration(compression + relaxation, rate), compression, relaxation)
         self.last_clock, self.last_step = now, sim.step
+
+
+def _relaxation_steps_written(paths: Sequence[Path]) -> list[int]:
+    """The relaxation steps recorded in snapshots already written (those with a relaxation), so that a resumed
+    run estimates its time left from what its relaxations took, not from one window per grid point."""
+    steps = []
+    for path in paths:
+        with datasets.read_snapshot(path) as snapshot:
+            value = int(snapshot["relaxation_steps"])
+        if value >= 0:
+            steps.append(value)
+    return steps
 
 
 def _duration(steps: float, rate: float) -> str:
@@ -389,6 +401,7 @@ def run_compression(system: SystemSpec, *, seed: int, snapshot_paths: Sequence[s
     file_attrs = dict(attrs)
     file_attrs.setdefault("dem_normal_damping", float(sim.law[2]))
     progress = _Progress(log, system, sim, start)
+    progress.relaxation_steps_done += _relaxation_steps_written(paths[:start])
     cpu_start = time.process_time()
     for index in range(start, len(paths)):
         rho = system.rho_grid[index]
