@@ -243,6 +243,18 @@ def test_a_resumed_run_estimates_its_relaxations_from_the_snapshots_already_writ
     assert seen and seen[0] == [first_relaxation]
 
 
+def test_an_unreadable_written_snapshot_leaves_the_estimate_to_the_window_and_the_run_going(tmp_path):
+    """The estimate reads the written snapshots; one it cannot read (here a truncated file) is skipped."""
+    good = tmp_path / "good.nc"
+    run(tiny(rho_grid=(0.70,)), tmp_path / "run")
+    good.write_bytes(next((tmp_path / "run").glob("*.nc")).read_bytes())
+    broken = tmp_path / "broken.nc"
+    broken.write_bytes(good.read_bytes()[:100])
+    with xr.open_dataset(good) as snapshot:
+        expected = [int(snapshot.relaxation_steps)]
+    assert protocol._relaxation_steps_written([broken, good]) == expected
+
+
 @pytest.mark.parametrize("changes, key", [
     (dict(time_step=0.3), "time_step"),                         # the overlap grows within a couple of steps
     (dict(time_step=0.8), "time_step"),                         # a particle jumps out of the box

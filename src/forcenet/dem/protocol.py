@@ -214,11 +214,15 @@ class _Progress:
 
 def _relaxation_steps_written(paths: Sequence[Path]) -> list[int]:
     """The relaxation steps recorded in snapshots already written (those with a relaxation), so that a resumed
-    run estimates its time left from what its relaxations took, not from one window per grid point."""
+    run estimates its time left from what its relaxations took, not from one window per grid point. A snapshot
+    that cannot be read adds nothing: the estimate must never stop a run."""
     steps = []
     for path in paths:
-        with datasets.read_snapshot(path) as snapshot:
-            value = int(snapshot["relaxation_steps"])
+        try:
+            with datasets.read_snapshot(path) as snapshot:
+                value = int(snapshot["relaxation_steps"])
+        except (datasets.DatasetError, OSError, KeyError, ValueError):
+            continue
         if value >= 0:
             steps.append(value)
     return steps
