@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import atexit
 import copy
+import fcntl
 import os
 import shutil
 import subprocess
@@ -56,10 +57,43 @@ def snakemake(workdir: Path, *args: str, config: Path = REPO / "config/smoke.yam
     return subprocess.run(command, capture_output=True, text=True, timeout=900, preexec_fn=lambda: os.umask(0o022))
 
 
-@pytest.fixture(scope="session")
-def smoke_run(tmp_path_factory) -> Path:
-    """A scratch directory holding a complete smoke build (results/), made once per test session."""
-    workdir = tmp_path_factory.mktemp("smoke")
+def _build_smoke(workdir: Path) -> Path:
     result = snakemake(workdir)
     assert result.returncode == 0, result.stderr[-6000:]
     return workdir
+
+
+@pytest.fixture(scope="session")
+def smoke_run(tmp_path_factory) -> Path:
+    """A scratch directory holding a complete smoke build (results/), made once per test session.
+
+    Under pytest-xdist each worker is its own session; the workers of one run share the folder above their own
+    base temporary folders (unique to the run), so the first worker to ask builds the smoke there under a lock and
+    the others wait for it and read it, instead of each building its own."""
+    if "PYTEST_XDIST_WORKER" not in os.environ:
+        return _build_smoke(tmp_path_factory.mktemp("smoke"))
+    shared = tmp_path_factory.getbasetemp().parent
+    workdir, built = shared / "smoke", shared / "smoke.built"
+    with open(shared / "smoke.lock", "w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)  # released when the file closes
+        if not built.exists():
+            if workdir.exists():  # a build that failed in another worker: start again, not on top of it
+                shutil.rmtree(workdir)
+            workdir.mkdir()
+            _build_smoke(workdir)
+            built.touch()
+    return workdir
+
+
+# The two modules that build a whole pipeline before their first test (the smoke build, about two minutes; the
+# import example, about one): collected first, so that pytest-xdist's per-file distribution (`--dist loadfile` in
+# pyproject.toml) starts each at once on a worker of its own instead of leaving the longest file to run last alone.
+_BUILDING_MODULES = ("test_workflow.py", "test_workflow_import.py")
+
+
+def pytest_collection_modifyitems(config, items):
+    """Stable reorder: the tests of `_BUILDING_MODULES` first, in that order; every other test keeps its place."""
+    def rank(item) -> int:
+        name = item.path.name
+        return _BUILDING_MODULES.index(name) if name in _BUILDING_MODULES else len(_BUILDING_MODULES)
+    items.sort(key=rank)
