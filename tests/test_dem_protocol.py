@@ -218,9 +218,26 @@ def test_progress_counts_the_remaining_work_of_the_whole_run():
     to_snapshot, compression, relaxation = progress.remaining_steps(sim, 0, None)
     assert to_snapshot == pytest.approx(shifts[0] / step + window)
     assert compression == pytest.approx(shifts[-1] / step) and relaxation == 3 * window
-    progress.relaxation_steps_done += [300, 500]
+    progress.relaxation_steps_done += [1000, 2000]
     to_snapshot, compression, relaxation = progress.remaining_steps(sim, 2, relaxed=100)
-    assert relaxation == 400 - 100 and to_snapshot == pytest.approx(shifts[-1] / step + 300)
+    assert relaxation == 1500 - 100 and to_snapshot == pytest.approx(shifts[-1] / step + 1400)
+
+
+def test_a_relaxation_past_the_mean_has_the_rest_of_its_window_left():
+    """A relaxation ends only at the end of a window (P1 §3: the window's E_kin fluctuation) or at the cap, so one
+    that has run past the mean of the earlier ones still has its window to finish: the log said "~0h00m00s to this
+    snapshot" for every relaxation near jamming, which runs many times the mean."""
+    system = tiny(rho_grid=(0.70, 0.75, 0.80), relaxation=Relaxation(window_steps=500, tolerance=0.1, max_steps=2800))
+    sim, _ = protocol.build_simulation(system, 1)
+    progress = protocol._Progress(logging.getLogger("dem-test"), system, sim, 0)
+    progress.relaxation_steps_done += [1200, 1600]  # mean 1400
+
+    def left(relaxed):  # relaxation steps left at the last grid point: this relaxation's, nothing later
+        return progress.remaining_steps(sim, 2, relaxed=relaxed)[2]
+    assert left(650) == 750  # the mean is ahead, beyond this window's end (1000): 1400 - 650
+    assert left(1450) == 50  # past it: to the window's end at 1500
+    assert left(1500) == 500  # a window just ended unmet: the next one
+    assert left(2600) == 200  # the cap (2800) comes before the window's end (3000)
 
 
 def test_a_resumed_run_estimates_its_relaxations_from_the_snapshots_already_written(tmp_path, monkeypatch):

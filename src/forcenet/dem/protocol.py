@@ -167,7 +167,8 @@ class _Progress:
     """Progress lines, at most every LOG_INTERVAL_S seconds: snapshot k of n, step, ρ, Z, E_kin, steps/s and the
     time left until the snapshot in work and for the whole run, with the protocol's remaining work in steps
     (compression to the last grid value; relaxation estimated from the grid points relaxed so far, counting
-    those a resumed run wrote before, one window before the first).
+    those a resumed run wrote before, one window before the first; a relaxation past that estimate at least to
+    the end of its window).
 
     The rate is measured from the end of the first chunk of steps, which pays for loading or compiling the numba
     kernels; no line is logged before it. Nothing here touches the simulation's state."""
@@ -187,9 +188,15 @@ class _Progress:
         compression = [max(0.0, later - earlier) / step_length for earlier, later in zip(shifts, shifts[1:])]
         relax_now = relax_later = 0.0
         if self.system.protocol == "quasistatic":
+            rule = self.system.relaxation
             per_point = (float(np.mean(self.relaxation_steps_done)) if self.relaxation_steps_done
-                         else float(self.system.relaxation.window_steps))
-            relax_now = max(per_point - relaxed, 0.0) if relaxed is not None else per_point
+                         else float(rule.window_steps))
+            relax_now = per_point
+            if relaxed is not None:
+                # a relaxation ends only where a window ends (or at the cap): one that has run past the mean still
+                # has the rest of its window ahead, never "0 s to this snapshot"
+                to_window_end = min(rule.window_steps - relaxed % rule.window_steps, rule.max_steps - relaxed)
+                relax_now = max(per_point - relaxed, float(to_window_end), 0.0)
             relax_later = per_point * (len(grid) - index - 1)
         return compression[0] + relax_now, sum(compression), relax_now + relax_later
 
