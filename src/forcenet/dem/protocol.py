@@ -196,7 +196,7 @@ class _Progress:
                 # a relaxation ends only where a window ends (or at the cap): one that has run past the mean still
                 # has the rest of its window ahead, never "0 s to this snapshot"
                 to_window_end = min(rule.window_steps - relaxed % rule.window_steps, rule.max_steps - relaxed)
-                relax_now = max(per_point - relaxed, float(to_window_end), 0.0)
+                relax_now = max(per_point - relaxed, float(to_window_end))
             relax_later = per_point * (len(grid) - index - 1)
         return compression[0] + relax_now, sum(compression), relax_now + relax_later
 
