@@ -18,6 +18,9 @@ REPO = Path(__file__).resolve().parents[1]
 CONFIG_DIR = REPO / "config"
 
 
+SCONTROL_STUB_PREFIX = "forcenet-tests-no-scontrol-"
+
+
 def _without_slurm_controller_query() -> str:
     """Put an `scontrol` that fails at once first on this process's PATH (inherited by every Snakemake it starts);
     the folder holding it.
@@ -27,7 +30,7 @@ def _without_slurm_controller_query() -> str:
     answers, as after tests/test_slurm.py stopped the cluster it started (it installs Slurm on a fresh CI machine),
     every later Snakemake process of the suite waited those 10 s. Where no scontrol exists the plugin gets the same
     answer, none. tests/test_slurm.py runs with `REAL_PATH`."""
-    folder = tempfile.mkdtemp(prefix="forcenet-tests-no-scontrol-")
+    folder = tempfile.mkdtemp(prefix=SCONTROL_STUB_PREFIX)
     stub = Path(folder) / "scontrol"
     stub.write_text("#!/bin/sh\necho 'scontrol is off for the tests that do not use Slurm' >&2\nexit 1\n")
     stub.chmod(0o755)
@@ -36,7 +39,11 @@ def _without_slurm_controller_query() -> str:
     return folder
 
 
-REAL_PATH = os.environ.get("PATH", "")
+# The PATH before any stub: pytest-xdist's workers inherit the controller's PATH, stub included, and import this
+# file again, so the PATH they see is not the real one. The first process to import this file records it for all.
+# (A stub on tests/test_slurm.py's PATH makes the Slurm plugin find no MinJobAge and poll an accounting database
+# the test cluster does not have: its jobs never finish.)
+REAL_PATH = os.environ.setdefault("FORCENET_TESTS_REAL_PATH", os.environ.get("PATH", ""))
 SCONTROL_STUB_DIR = _without_slurm_controller_query()
 
 

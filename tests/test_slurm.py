@@ -23,7 +23,7 @@ import pytest
 import xarray as xr
 import yaml
 
-from conftest import REAL_PATH, REPO
+from conftest import REAL_PATH, REPO, SCONTROL_STUB_PREFIX
 from forcenet.datasets import open_dataset, paths
 from forcenet.systems import validate_config
 
@@ -36,6 +36,16 @@ SMOKE = REPO / "config/smoke.yaml"
 VOLATILE_ATTRS = {"git_commit"}
 # the real Slurm commands: conftest puts an scontrol that fails at once first on the suite's PATH
 SLURM_ENV = {**os.environ, "PATH": REAL_PATH}
+
+
+def test_slurm_runs_see_the_real_scontrol():
+    """No folder of the suite's scontrol stub (conftest) on the Slurm runs' PATH, in one process or under xdist.
+
+    With the stub, the executor plugin reads no MinJobAge, polls `sacct` instead of `squeue`, and the one-node
+    cluster (no accounting database) never reports a job finished: the run waits until its timeout."""
+    stub_folders = [folder for folder in SLURM_ENV["PATH"].split(os.pathsep)
+                    if Path(folder).name.startswith(SCONTROL_STUB_PREFIX)]
+    assert stub_folders == []
 
 
 def _node_takes_jobs() -> bool:
