@@ -3,7 +3,10 @@ column of paper-size values read from the validation campaign's committed tables
 from __future__ import annotations
 
 import math
+import subprocess
+import sys
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 import pandas as pd
@@ -253,3 +256,96 @@ def test_bootstrap_draws_keep_a_single_realization_in_every_draw():
     beside = bootstrap_draws({"five": runs(5), "one": runs(1), "another five": runs(5), "a": runs(3)}, 20, seed=3)
     assert [list(d["five"]) for d in beside] == [list(d["five"]) for d in draws]
     assert [list(d["another five"]) for d in beside] != [list(d["five"]) for d in beside]
+
+
+# --- two tables of one paper, verdict by verdict ------------------------------------------------------------------
+def campaign_rows(changed: dict | None = None) -> list[dict]:
+    """A P1 campaign table's rows: a value row (no verdict), a claim judged on two systems, one judged under a
+    reading beside; `changed` maps (id, system, reading) to the fields that differ."""
+    rows = [dict(table="P1 validation table", kind="value", id="rho_J", system="2d_hertz", reading="",
+                 measured="0.817", verdict="", marker="", robustness=""),
+            dict(table="P1 validation table", kind="claim", id="p1-4-x", system="2d_hertz", reading="",
+                 measured="0.5", verdict=claims.HOLDS, marker="", robustness="1.0"),
+            dict(table="P1 validation table", kind="claim", id="p1-4-x", system="3d_hertz", reading="",
+                 measured="0.1", verdict=claims.FAILS, marker=claims.MARGINAL, robustness="0.2"),
+            dict(table="P1 validation table", kind="claim", id="p1-4-x", system="3d_hertz", reading="other",
+                 measured="0.3", verdict=claims.HOLDS, marker="", robustness="0.9")]
+    for row in rows:
+        row.update((changed or {}).get((row["id"], row["system"], row["reading"]), {}))
+    return [row for row in rows if row.get("drop") is None]
+
+
+def test_verdict_changes_lists_each_changed_verdict_marker_or_robustness_and_nothing_else():
+    before = pd.DataFrame(campaign_rows())
+    # only the measured values move: no change (a new realization moves every number)
+    moved = pd.DataFrame(campaign_rows({("p1-4-x", "2d_hertz", ""): dict(measured="0.51"),
+                                          ("rho_J", "2d_hertz", ""): dict(measured="0.819")}))
+    assert claims.verdict_changes(before, moved).empty
+    after = pd.DataFrame(campaign_rows({("p1-4-x", "2d_hertz", ""): dict(verdict=claims.FAILS, robustness="0.4",
+                                                                            measured="0.45"),
+                                          ("p1-4-x", "3d_hertz", ""): dict(marker=""),
+                                          ("p1-4-x", "3d_hertz", "other"): dict(robustness="0.8")}))
+    changes = claims.verdict_changes(before, after)
+    assert list(changes["change"]) == ["verdict, robustness", "marker", "robustness"]
+    assert list(changes["system"]) == ["2d_hertz", "3d_hertz", "3d_hertz"]
+    assert list(changes["reading"]) == ["", "", "other"]  # the reading beside is its own row
+    first = changes.iloc[0]
+    assert (first["verdict before"], first["verdict after"]) == (claims.HOLDS, claims.FAILS)
+    assert (first["measured before"], first["measured after"]) == ("0.5", "0.45")
+    assert (first["robustness before"], first["robustness after"]) == ("1.0", "0.4")
+
+
+def test_verdict_changes_names_the_rows_only_one_table_has():
+    before = pd.DataFrame(campaign_rows({("p1-4-x", "3d_hertz", "other"): dict(drop=True)}))
+    after = pd.DataFrame(campaign_rows({("p1-4-x", "2d_hertz", ""): dict(drop=True)}))
+    changes = claims.verdict_changes(before, after)
+    assert list(zip(changes["system"], changes["reading"], changes["change"])) == [
+        ("3d_hertz", "other", "only after"), ("2d_hertz", "", "only before")]
+    only_after = changes.iloc[0]
+    assert (only_after["verdict before"], only_after["verdict after"]) == ("", claims.HOLDS)
+    assert claims.verdict_changes(before, before).empty
+
+
+def test_verdict_changes_refuses_a_table_of_the_other_paper_or_with_a_repeated_row():
+    p1 = pd.DataFrame(campaign_rows())
+    p2 = p1.rename(columns={"id": "claim_id"})
+    with pytest.raises(ValueError, match="no column 'id'"):
+        claims.verdict_changes(p1, p2)
+    doubled = pd.concat([p1, p1.iloc[[1]]])
+    with pytest.raises(ValueError, match="rows with the same"):
+        claims.verdict_changes(p1, doubled)
+    # P2's tables: the claim id is `claim_id`, and Tables I–III rows (no verdict) are not compared
+    p2_rows = p2.assign(table="P2 validation table")
+    p2_rows.loc[len(p2_rows)] = dict(table="Table I", kind="", claim_id="", system="", reading="", measured="",
+                                     verdict="", marker="", robustness="")
+    assert claims.verdict_changes(p2_rows, p2_rows.iloc[:-1], id_column="claim_id").empty
+
+
+def test_a_campaign_table_is_read_as_text_without_its_provenance(tmp_path):
+    path = campaign_csv(tmp_path / "p1.csv", campaign_rows())
+    table = claims.read_validation_csv(path)
+    assert list(table["id"]) == ["rho_J", "p1-4-x", "p1-4-x", "p1-4-x"]
+    assert table.loc[0, "verdict"] == "" and table.loc[1, "robustness"] == "1.0"  # text, empty cells ""
+
+
+def test_compare_verdicts_script_prints_both_tables_counts_and_the_changed_rows(tmp_path):
+    script = Path(__file__).resolve().parents[1] / "scripts/compare_verdicts.py"
+    before = campaign_csv(tmp_path / "before.csv", campaign_rows())
+    after = campaign_csv(tmp_path / "after.csv", campaign_rows({("p1-4-x", "2d_hertz", ""): dict(verdict=claims.FAILS)}))
+    shown = subprocess.run([sys.executable, str(script), before, after, "--csv", str(tmp_path / "changes.csv")],
+                           capture_output=True, text=True)
+    assert shown.returncode == 0, shown.stderr
+    assert "- git_commit: abc" in shown.stdout  # each table's provenance
+    # the claim rows of the table's own reading (the reading beside is not counted)
+    assert "2 rows: 1 hold, 1 do not hold, 0 not evaluated; of the 2 judged, 1 fair, 1 marginal" in shown.stdout
+    assert "2 rows: 0 hold, 2 do not hold, 0 not evaluated" in shown.stdout  # after
+    assert "## 1 rows changed (1 verdict)" in shown.stdout
+    assert "| p1-4-x | P1 validation table | 2d_hertz |  | 0.5 | 0.5 | holds | does not hold |" in shown.stdout
+    assert list(pd.read_csv(tmp_path / "changes.csv")["change"]) == ["verdict"]
+    # the committed campaign table against itself at HEAD (REV:PATH read through git): nothing changed
+    same = subprocess.run([sys.executable, str(script), "HEAD:docs/validation/p1.csv", "HEAD:docs/validation/p1.csv"],
+                          capture_output=True, text=True)
+    assert same.returncode == 0 and "No verdict, marker or robustness changed" in same.stdout, same.stderr
+    missing = subprocess.run([sys.executable, str(script), str(tmp_path / "none.csv"), after],
+                             capture_output=True, text=True)
+    assert missing.returncode == 2 and "none.csv" in missing.stderr

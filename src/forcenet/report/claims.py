@@ -35,7 +35,8 @@ __all__ = ["HOLDS", "FAILS", "NOT_EVALUATED", "IMPORTED_NOT_EVALUATED", "MARGINA
            "contrast_margin", "smallest_margin", "ratio_margin", "Claim", "claim_register", "Explanation",
            "JudgedClaim", "holds_share", "judge_claim", "rows_beside", "verdict_counts", "verdict_summary",
            "VERDICT_COLUMNS", "TableLayout", "TableSection", "claims_frame", "markdown_table", "validation_markdown",
-           "write_validation_table", "PAPER_SIZE", "PAPER_SIZE_HEADER", "with_paper_size", "paper_size_placeholder"]
+           "write_validation_table", "PAPER_SIZE", "PAPER_SIZE_HEADER", "with_paper_size", "paper_size_placeholder",
+           "read_validation_csv", "verdict_changes", "printed_value"]
 
 HOLDS, FAILS, NOT_EVALUATED = "holds", "does not hold", "not evaluated"
 
@@ -529,7 +530,7 @@ def with_paper_size(frame: pd.DataFrame, layout: TableLayout, campaign_csv: str 
     path = Path(campaign_csv)
     out = frame.copy()
     if path.exists():
-        campaign = pd.read_csv(path, comment="#", dtype=str, keep_default_na=False)
+        campaign = read_validation_csv(path)
         missing = {layout.id_column, layout.system_column, layout.measured_column} - set(campaign)
         if missing:
             raise ValueError(f"{path}: no column(s) {sorted(missing)}: not a validation table of the campaign")
@@ -548,12 +549,80 @@ def with_paper_size(frame: pd.DataFrame, layout: TableLayout, campaign_csv: str 
     return out
 
 
-def _paper_size_text(measured: str, verdict: str) -> str:
-    """A campaign row's value as the paper-size cell: numbers to 4 significant digits, the verdict in brackets."""
+def read_validation_csv(source: str | os.PathLike | Any) -> pd.DataFrame:
+    """A validation table's CSV (a path or an open text stream) as written by `write_validation_table` or the
+    campaign (`forcenet.report.validation`): the ``# `` provenance lines skipped, every cell text, empty cells ""."""
+    return pd.read_csv(source, comment="#", dtype=str, keep_default_na=False)
+
+
+# =============================================================================================================
+# Two tables of one paper, verdict by verdict (a campaign regenerated, a setting changed)
+# =============================================================================================================
+#: the columns that, where a table has them, tell its rows apart beside the claim id (P2's Tables I–III rows
+#: differ by pair and quadrant, P1's and P2's claims by system and reading)
+ROW_KEY_COLUMNS = ("table", "system", "reading", "pair", "quadrant")
+#: what is compared row by row: a change in any of these is reported; `measured` is shown beside, not compared
+#: (it moves with every new realization)
+COMPARED_COLUMNS = ("verdict", "marker", "robustness")
+
+
+def verdict_changes(before: pd.DataFrame, after: pd.DataFrame, id_column: str = "id") -> pd.DataFrame:
+    """The judged rows (a verdict) of two validation tables of one paper that differ in verdict, marker or
+    robustness, and the rows only one table has.
+
+    before, after : tables read by `read_validation_csv`; rows are matched by `id_column` and whichever of
+    `ROW_KEY_COLUMNS` both tables have. Returns one row per change, in `after`'s order (rows only `before` has
+    last): the key columns, ``<column> before`` and ``<column> after`` for measured, verdict, marker and
+    robustness ("" where the table has no such row), and ``change``: the compared columns that differ, joined
+    by ", ", or "only before" / "only after"."""
+    keys = [id_column] + [c for c in ROW_KEY_COLUMNS if c in before and c in after]
+    shown = ["measured", *COMPARED_COLUMNS]
+
+    def judged(table: pd.DataFrame, name: str) -> pd.DataFrame:
+        """The rows with a verdict, indexed by the key; every shown column (missing ones empty)."""
+        if id_column not in table:
+            raise ValueError(f"the {name} table has no column {id_column!r}: not a validation table of this paper")
+        rows = table[table["verdict"].fillna("") != ""] if "verdict" in table else table.iloc[:0]
+        rows = rows.reindex(columns=keys + shown, fill_value="").fillna("").astype(str)
+        duplicated = rows.duplicated(keys)
+        if duplicated.any():
+            raise ValueError(f"the {name} table has rows with the same {keys}: "
+                             f"{rows.loc[duplicated, keys].iloc[0].tolist()}")
+        return rows.set_index(keys)
+
+    old, new = judged(before, "before"), judged(after, "after")
+    changes = []
+    for key in [*new.index, *(k for k in old.index if k not in new.index)]:
+        in_old, in_new = key in old.index, key in new.index
+        if in_old and in_new:
+            differs = [c for c in COMPARED_COLUMNS if old.at[key, c] != new.at[key, c]]
+            if not differs:
+                continue
+            change = ", ".join(differs)
+        else:
+            change = "only after" if in_new else "only before"
+        row = dict(zip(keys, key if isinstance(key, tuple) else (key,)))
+        for column in shown:
+            row[f"{column} before"] = old.at[key, column] if in_old else ""
+            row[f"{column} after"] = new.at[key, column] if in_new else ""
+        row["change"] = change
+        changes.append(row)
+    columns = keys + [f"{c} {when}" for c in shown for when in ("before", "after")] + ["change"]
+    return pd.DataFrame(changes, columns=columns)
+
+
+def printed_value(measured: str) -> str:
+    """A table cell's value as the tables print it: a number to 4 significant digits ("–" when not finite or
+    empty), words unchanged."""
     try:
         number = float(measured)
         measured = "–" if not np.isfinite(number) else f"{number:.4g}"
     except ValueError:
         pass
-    measured = measured or "–"
+    return measured or "–"
+
+
+def _paper_size_text(measured: str, verdict: str) -> str:
+    """A campaign row's value as the paper-size cell: `printed_value`, the verdict in brackets."""
+    measured = printed_value(measured)
     return f"{measured} ({verdict})" if verdict else measured
