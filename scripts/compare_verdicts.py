@@ -8,8 +8,9 @@ Each table is a CSV path, or REV:PATH for the table as committed at a git revisi
 repository). Prints each table's provenance (commit, date, realizations per system, where it has them) and its
 verdict counts on the table's own reading, then one Markdown row per claim row whose verdict, marker or
 robustness (share of bootstrap resamples under which it holds) changed, or that only one table has; our measured
-value is shown beside. `--csv FILE` also writes those rows. Exit status 0 whatever changed (2: a table cannot be
-read).
+value is shown beside (`--measured`: a change of it is listed too, e.g. to check that runs made again from the same
+settings and seeds give the same table). `--csv FILE` also writes those rows. Exit status 0 whatever changed
+(2: a table cannot be read).
 """
 from __future__ import annotations
 
@@ -22,8 +23,8 @@ from pathlib import Path
 REPO = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(REPO / "src"))
 
-from forcenet.report.claims import (markdown_table, printed_value, read_validation_csv, verdict_changes,  # noqa: E402
-                                    verdict_summary)
+from forcenet.report.claims import (COMPARED_COLUMNS, markdown_table, printed_value,  # noqa: E402
+                                    read_validation_csv, verdict_changes, verdict_summary)
 from forcenet.report.p1_validation import P1_LAYOUT  # noqa: E402
 from forcenet.report.p2_validation import P2_LAYOUT  # noqa: E402
 
@@ -52,6 +53,9 @@ def main() -> int:
     parser.add_argument("before", help="a table's CSV, or REV:PATH")
     parser.add_argument("after", help="a table's CSV, or REV:PATH")
     parser.add_argument("--csv", type=Path, help="also write the changed rows here")
+    parser.add_argument("--measured", action="store_true",
+                        help="also list the rows whose measured value changed (as written: the same runs give the "
+                             "same text)")
     args = parser.parse_args()
     tables = {}
     for when, source in (("before", args.before), ("after", args.after)):
@@ -69,9 +73,10 @@ def main() -> int:
         print("compare_verdicts: the two tables are not validation tables of one paper (no common claim id column)",
               file=sys.stderr)
         return 2
-    changes = verdict_changes(tables["before"], tables["after"], layouts[0].id_column)
+    compared = ("measured", *COMPARED_COLUMNS) if args.measured else COMPARED_COLUMNS
+    changes = verdict_changes(tables["before"], tables["after"], layouts[0].id_column, compared)
     if changes.empty:
-        print("No verdict, marker or robustness changed; both tables judge the same rows.")
+        print(f"No {', '.join(compared[:-1])} or {compared[-1]} changed; both tables judge the same rows.")
     else:
         counts = changes["change"].value_counts()
         print(f"## {len(changes)} rows changed (" + ", ".join(f"{n} {what}" for what, n in counts.items()) + ")\n")

@@ -281,6 +281,11 @@ def test_verdict_changes_lists_each_changed_verdict_marker_or_robustness_and_not
     moved = pd.DataFrame(campaign_rows({("p1-4-x", "2d_hertz", ""): dict(measured="0.51"),
                                           ("rho_J", "2d_hertz", ""): dict(measured="0.819")}))
     assert claims.verdict_changes(before, moved).empty
+    # unless the measured values are compared too (the same runs made again must give the same text)
+    measured = claims.verdict_changes(before, moved, compared=("measured", *claims.COMPARED_COLUMNS))
+    assert list(zip(measured["id"], measured["change"])) == [("p1-4-x", "measured")]  # value rows have no verdict
+    with pytest.raises(ValueError, match="cannot compare"):
+        claims.verdict_changes(before, moved, compared=("evidence",))
     after = pd.DataFrame(campaign_rows({("p1-4-x", "2d_hertz", ""): dict(verdict=claims.FAILS, robustness="0.4",
                                                                             measured="0.45"),
                                           ("p1-4-x", "3d_hertz", ""): dict(marker=""),
@@ -343,9 +348,9 @@ def test_compare_verdicts_script_prints_both_tables_counts_and_the_changed_rows(
     assert "| p1-4-x | P1 validation table | 2d_hertz |  | 0.5 | 0.5 | holds | does not hold |" in shown.stdout
     assert list(pd.read_csv(tmp_path / "changes.csv")["change"]) == ["verdict"]
     # the committed campaign table against itself at HEAD (REV:PATH read through git): nothing changed
-    same = subprocess.run([sys.executable, str(script), "HEAD:docs/validation/p1.csv", "HEAD:docs/validation/p1.csv"],
-                          capture_output=True, text=True)
-    assert same.returncode == 0 and "No verdict, marker or robustness changed" in same.stdout, same.stderr
+    same = subprocess.run([sys.executable, str(script), "--measured", "HEAD:docs/validation/p1.csv",
+                           "HEAD:docs/validation/p1.csv"], capture_output=True, text=True)
+    assert same.returncode == 0 and "No measured, verdict, marker or robustness changed" in same.stdout, same.stderr
     missing = subprocess.run([sys.executable, str(script), str(tmp_path / "none.csv"), after],
                              capture_output=True, text=True)
     assert missing.returncode == 2 and "none.csv" in missing.stderr

@@ -36,7 +36,7 @@ __all__ = ["HOLDS", "FAILS", "NOT_EVALUATED", "IMPORTED_NOT_EVALUATED", "MARGINA
            "JudgedClaim", "holds_share", "judge_claim", "rows_beside", "verdict_counts", "verdict_summary",
            "VERDICT_COLUMNS", "TableLayout", "TableSection", "claims_frame", "markdown_table", "validation_markdown",
            "write_validation_table", "PAPER_SIZE", "PAPER_SIZE_HEADER", "with_paper_size", "paper_size_placeholder",
-           "read_validation_csv", "verdict_changes", "printed_value"]
+           "read_validation_csv", "verdict_changes", "printed_value", "ROW_KEY_COLUMNS", "COMPARED_COLUMNS"]
 
 HOLDS, FAILS, NOT_EVALUATED = "holds", "does not hold", "not evaluated"
 
@@ -566,9 +566,11 @@ ROW_KEY_COLUMNS = ("table", "system", "reading", "pair", "quadrant")
 COMPARED_COLUMNS = ("verdict", "marker", "robustness")
 
 
-def verdict_changes(before: pd.DataFrame, after: pd.DataFrame, id_column: str = "id") -> pd.DataFrame:
+def verdict_changes(before: pd.DataFrame, after: pd.DataFrame, id_column: str = "id",
+                    compared: Sequence[str] = COMPARED_COLUMNS) -> pd.DataFrame:
     """The judged rows (a verdict) of two validation tables of one paper that differ in verdict, marker or
-    robustness, and the rows only one table has.
+    robustness (or whichever `compared` columns; add "measured" to see every value that moved, as text), and the
+    rows only one table has.
 
     before, after : tables read by `read_validation_csv`; rows are matched by `id_column` and whichever of
     `ROW_KEY_COLUMNS` both tables have. Returns one row per change, in `after`'s order (rows only `before` has
@@ -577,6 +579,9 @@ def verdict_changes(before: pd.DataFrame, after: pd.DataFrame, id_column: str = 
     by ", ", or "only before" / "only after"."""
     keys = [id_column] + [c for c in ROW_KEY_COLUMNS if c in before and c in after]
     shown = ["measured", *COMPARED_COLUMNS]
+    unknown = set(compared) - set(shown)
+    if unknown:
+        raise ValueError(f"cannot compare {sorted(unknown)}: only {shown}")
 
     def judged(table: pd.DataFrame, name: str) -> pd.DataFrame:
         """The rows with a verdict, indexed by the key; every shown column (missing ones empty)."""
@@ -595,7 +600,7 @@ def verdict_changes(before: pd.DataFrame, after: pd.DataFrame, id_column: str = 
     for key in [*new.index, *(k for k in old.index if k not in new.index)]:
         in_old, in_new = key in old.index, key in new.index
         if in_old and in_new:
-            differs = [c for c in COMPARED_COLUMNS if old.at[key, c] != new.at[key, c]]
+            differs = [c for c in shown if c in compared and old.at[key, c] != new.at[key, c]]
             if not differs:
                 continue
             change = ", ".join(differs)
