@@ -23,7 +23,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "src"))
 
 import pandas as pd  # noqa: E402
 
-from forcenet.report.claims import markdown_table  # noqa: E402
+from forcenet.report.claims import markdown_table, read_validation_csv  # noqa: E402
 from forcenet.damping_series import SeriesRun, network_readings, series_row  # noqa: E402
 
 COLUMNS = [
@@ -67,7 +67,7 @@ def verdict_rows(folders: list[tuple[Path, str]]) -> pd.DataFrame:
         path = folder / "tables" / "p1_validation.csv"
         if not path.exists():
             continue
-        table = pd.read_csv(path, comment="#")
+        table = read_validation_csv(path, as_text=False)
         claims = table[(table["kind"] == "claim") & table["reading"].isna() & table["system"].isin([system, "all"])]
         counts = claims["verdict"].value_counts()
         row = {"run": str(folder), "system": system, "holds": int(counts.get("holds", 0)),

@@ -331,12 +331,20 @@ def test_a_campaign_table_is_read_as_text_without_its_provenance(tmp_path):
     table = claims.read_validation_csv(path)
     assert list(table["id"]) == ["rho_J", "p1-4-x", "p1-4-x", "p1-4-x"]
     assert table.loc[0, "verdict"] == "" and table.loc[1, "robustness"] == "1.0"  # text, empty cells ""
+    # a "#" inside a cell is text, not a comment: only the leading provenance lines are skipped
+    with_hash = campaign_csv(tmp_path / "hash.csv", campaign_rows({("p1-4-x", "2d_hertz", ""): dict(
+        marker="see issue #24", measured="0.5")}))
+    kept = claims.read_validation_csv(with_hash)
+    assert kept.loc[1, "marker"] == "see issue #24" and kept.loc[1, "robustness"] == "1.0"
+    typed = claims.read_validation_csv(with_hash, as_text=False)
+    assert typed.loc[1, "measured"] == 0.5 and math.isnan(typed.loc[0, "robustness"])
 
 
 def test_compare_verdicts_script_prints_both_tables_counts_and_the_changed_rows(tmp_path):
     script = Path(__file__).resolve().parents[1] / "scripts/compare_verdicts.py"
     before = campaign_csv(tmp_path / "before.csv", campaign_rows())
-    after = campaign_csv(tmp_path / "after.csv", campaign_rows({("p1-4-x", "2d_hertz", ""): dict(verdict=claims.FAILS)}))
+    after = campaign_csv(tmp_path / "after.csv",
+                         campaign_rows({("p1-4-x", "2d_hertz", ""): dict(verdict=claims.FAILS)}))
     shown = subprocess.run([sys.executable, str(script), before, after, "--csv", str(tmp_path / "changes.csv")],
                            capture_output=True, text=True)
     assert shown.returncode == 0, shown.stderr
@@ -354,3 +362,29 @@ def test_compare_verdicts_script_prints_both_tables_counts_and_the_changed_rows(
     missing = subprocess.run([sys.executable, str(script), str(tmp_path / "none.csv"), after],
                              capture_output=True, text=True)
     assert missing.returncode == 2 and "none.csv" in missing.stderr
+
+
+def test_the_campaign_report_stacks_each_table_unchanged_under_its_provenance(tmp_path):
+    from forcenet.report import validation
+
+    frame = pd.DataFrame(campaign_rows({("p1-4-x", "2d_hertz", ""): dict(marker="see issue #24")})).drop(
+        columns="table")
+    frame.to_csv(tmp_path / "p1_validation.csv", index=False)
+    (tmp_path / "p1_validation.md").write_text("| a |\n|---|\n| 1 |\n")
+    costs = [{"system": "2d_hertz", "realization": 0, "cpu_seconds": 1800.0, "particles": 2025, "snapshots": 21},
+             {"system": "2d_hertz", "realization": 1, "cpu_seconds": 1800.0, "particles": 2025, "snapshots": 21}]
+    info = validation.provenance(study="p1", config={"systems": {}}, systems=["2d_hertz"], costs=costs,
+                                 commit="abc", date="2026-11-27 17:00 UTC")
+    validation.write_validation_report(info=info, title="P1", md_path=tmp_path / "p1.md", csv_path=tmp_path / "p1.csv",
+                                       sections=[("P1 validation table", str(tmp_path / "p1_validation.md"),
+                                                  str(tmp_path / "p1_validation.csv"))])
+    text = (tmp_path / "p1.csv").read_text()
+    assert text.startswith("# study: p1\n# git_commit: abc\n")
+    assert "# system 2d_hertz: N=2025 realizations=2 cpu_hours=1.0\n" in text
+    back = claims.read_validation_csv(tmp_path / "p1.csv")
+    assert list(back.columns) == ["table", *frame.columns]
+    assert set(back["table"]) == {"P1 validation table"}
+    pd.testing.assert_frame_equal(back.drop(columns="table"), frame.astype(str).replace("nan", ""))
+    assert back.loc[1, "marker"] == "see issue #24"  # a "#" in a cell is kept
+    md = (tmp_path / "p1.md").read_text()
+    assert "| 1 |" in md and "| 2d_hertz | 2025 | 2 | 1.00 |" in md

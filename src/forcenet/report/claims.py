@@ -21,6 +21,7 @@ each paper value, our value at the papers' sizes from the committed tables of th
 """
 from __future__ import annotations
 
+import io
 import math
 import os
 from dataclasses import asdict, dataclass, field, is_dataclass
@@ -549,10 +550,17 @@ def with_paper_size(frame: pd.DataFrame, layout: TableLayout, campaign_csv: str 
     return out
 
 
-def read_validation_csv(source: str | os.PathLike | Any) -> pd.DataFrame:
+def read_validation_csv(source: str | os.PathLike | Any, as_text: bool = True) -> pd.DataFrame:
     """A validation table's CSV (a path or an open text stream) as written by `write_validation_table` or the
-    campaign (`forcenet.report.validation`): the ``# `` provenance lines skipped, every cell text, empty cells ""."""
-    return pd.read_csv(source, comment="#", dtype=str, keep_default_na=False)
+    campaign (`forcenet.report.validation`), its leading ``#`` provenance lines skipped: every cell text, empty
+    cells "" (`as_text`), else pandas' own types and NaN.
+
+    Only the leading lines are skipped, not every "#" (pandas' ``comment``): a cell may hold one ("issue #24")."""
+    text = source.read() if hasattr(source, "read") else Path(source).read_text()
+    lines = text.splitlines(keepends=True)
+    heading = next((i for i, line in enumerate(lines) if not line.startswith("#")), len(lines))
+    body = io.StringIO("".join(lines[heading:]))
+    return pd.read_csv(body, dtype=str, keep_default_na=False) if as_text else pd.read_csv(body)
 
 
 # =============================================================================================================

@@ -6,7 +6,8 @@ of every compression run (`results/sim/{system}/r{NN}/run_cost.json`). It writes
 provenance that is generated, never typed: git commit, config sha256, date, and per system N, realizations and the
 CPU-hours the runs took (summed over every session that resumed them).
 
-CSV files carry the provenance as leading ``# key: value`` lines (``pandas.read_csv(path, comment="#")`` skips them).
+CSV files carry the provenance as leading ``# key: value`` lines (`forcenet.report.claims.read_validation_csv` skips
+them; a "#" inside a cell stays).
 """
 from __future__ import annotations
 
@@ -17,6 +18,8 @@ from pathlib import Path
 from typing import Any, Mapping, Sequence
 
 import pandas as pd
+
+from forcenet.report.claims import read_validation_csv
 
 __all__ = ["RunCost", "read_run_costs", "provenance", "provenance_markdown", "provenance_csv_lines",
            "write_validation_report"]
@@ -89,7 +92,7 @@ def write_validation_report(*, info: Mapping[str, Any], title: str, sections: Se
     frames = []
     for heading, md_source, csv_source in sections:
         md += [f"## {heading}", "", Path(md_source).read_text().strip(), ""]
-        frame = pd.read_csv(csv_source, comment="#")
+        frame = read_validation_csv(csv_source, as_text=False)
         frame.insert(0, "table", heading)
         frames.append(frame)
     _write_text(md_path, "\n".join(md))
