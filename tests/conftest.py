@@ -39,11 +39,20 @@ def _without_slurm_controller_query() -> str:
     return folder
 
 
-# The PATH before any stub: pytest-xdist's workers inherit the controller's PATH, stub included, and import this
-# file again, so the PATH they see is not the real one. The first process to import this file records it for all.
-# (A stub on tests/test_slurm.py's PATH makes the Slurm plugin find no MinJobAge and poll an accounting database
-# the test cluster does not have: its jobs never finish.)
-REAL_PATH = os.environ.setdefault("FORCENET_TESTS_REAL_PATH", os.environ.get("PATH", ""))
+def _path_before_the_stub() -> str:
+    """The PATH before any stub. pytest-xdist's workers inherit the controller's PATH, stub included, and import
+    this file again, so a worker takes the PATH its controller recorded; the controller (or a run without xdist)
+    records its own, whatever an earlier run left in the environment. (A stub on tests/test_slurm.py's PATH makes
+    the Slurm plugin find no MinJobAge and poll an accounting database the test cluster does not have: its jobs
+    never finish.)"""
+    if "PYTEST_XDIST_WORKER" in os.environ and REAL_PATH_VARIABLE in os.environ:
+        return os.environ[REAL_PATH_VARIABLE]
+    os.environ[REAL_PATH_VARIABLE] = os.environ.get("PATH", "")
+    return os.environ[REAL_PATH_VARIABLE]
+
+
+REAL_PATH_VARIABLE = "FORCENET_TESTS_REAL_PATH"
+REAL_PATH = _path_before_the_stub()
 SCONTROL_STUB_DIR = _without_slurm_controller_query()
 
 

@@ -43,9 +43,12 @@ def test_slurm_runs_see_the_real_scontrol():
 
     With the stub, the executor plugin reads no MinJobAge, polls `sacct` instead of `squeue`, and the one-node
     cluster (no accounting database) never reports a job finished: the run waits until its timeout."""
-    stub_folders = [folder for folder in SLURM_ENV["PATH"].split(os.pathsep)
-                    if Path(folder).name.startswith(SCONTROL_STUB_PREFIX)]
-    assert stub_folders == []
+    def is_stub(folder: str) -> bool:
+        return Path(folder).name.startswith(SCONTROL_STUB_PREFIX)
+
+    assert [folder for folder in SLURM_ENV["PATH"].split(os.pathsep) if is_stub(folder)] == []
+    # and it is this run's PATH without the stubs, not one an earlier run left in the environment
+    assert SLURM_ENV["PATH"].split(os.pathsep) == [f for f in os.environ["PATH"].split(os.pathsep) if not is_stub(f)]
 
 
 def _node_takes_jobs() -> bool:
