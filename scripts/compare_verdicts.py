@@ -6,11 +6,11 @@
 
 Each table is a CSV path, or REV:PATH for the table as committed at a git revision (`git show REV:PATH`, run in the
 repository). Prints each table's provenance (commit, date, realizations per system, where it has them) and its
-verdict counts on the table's own reading, then one Markdown row per claim row whose verdict, marker or
-robustness (share of bootstrap resamples under which it holds) changed, or that only one table has; our measured
-value is shown beside (`--measured`: a change of it is listed too, e.g. to check that runs made again from the same
-settings and seeds give the same table). `--csv FILE` also writes those rows. Exit status 0 whatever changed
-(2: a table cannot be read).
+verdict counts on the table's own reading, then one Markdown row per row (a claim's, or one of P1's values such as
+rho_J) whose verdict, marker or robustness (share of bootstrap resamples under which it holds) changed, or that
+only one table has; our measured value is shown beside (`--measured`: a change of it is listed too, e.g. to check
+that runs made again from the same settings and seeds give the same table). `--csv FILE` also writes those rows.
+Exit status 0 whatever changed (2: a table cannot be read).
 """
 from __future__ import annotations
 

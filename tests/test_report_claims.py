@@ -283,7 +283,7 @@ def test_verdict_changes_lists_each_changed_verdict_marker_or_robustness_and_not
     assert claims.verdict_changes(before, moved).empty
     # unless the measured values are compared too (the same runs made again must give the same text)
     measured = claims.verdict_changes(before, moved, compared=("measured", *claims.COMPARED_COLUMNS))
-    assert list(zip(measured["id"], measured["change"])) == [("p1-4-x", "measured")]  # value rows have no verdict
+    assert list(zip(measured["id"], measured["change"])) == [("rho_J", "measured"), ("p1-4-x", "measured")]
     with pytest.raises(ValueError, match="cannot compare"):
         claims.verdict_changes(before, moved, compared=("evidence",))
     after = pd.DataFrame(campaign_rows({("p1-4-x", "2d_hertz", ""): dict(verdict=claims.FAILS, robustness="0.4",
@@ -319,7 +319,7 @@ def test_verdict_changes_refuses_a_table_of_the_other_paper_or_with_a_repeated_r
     doubled = pd.concat([p1, p1.iloc[[1]]])
     with pytest.raises(ValueError, match="rows with the same"):
         claims.verdict_changes(p1, doubled)
-    # P2's tables: the claim id is `claim_id`, and Tables I–III rows (no verdict) are not compared
+    # P2's tables: the claim id is `claim_id`, and Tables I–III rows (no claim id) are not compared
     p2_rows = p2.assign(table="P2 validation table")
     p2_rows.loc[len(p2_rows)] = dict(table="Table I", kind="", claim_id="", system="", reading="", measured="",
                                      verdict="", marker="", robustness="")

@@ -576,9 +576,9 @@ COMPARED_COLUMNS = ("verdict", "marker", "robustness")
 
 def verdict_changes(before: pd.DataFrame, after: pd.DataFrame, id_column: str = "id",
                     compared: Sequence[str] = COMPARED_COLUMNS) -> pd.DataFrame:
-    """The judged rows (a verdict) of two validation tables of one paper that differ in verdict, marker or
-    robustness (or whichever `compared` columns; add "measured" to see every value that moved, as text), and the
-    rows only one table has.
+    """The rows of two validation tables of one paper (claims and P1's values: every row with a claim id) that
+    differ in verdict, marker or robustness (or whichever `compared` columns; add "measured" to see every value
+    that moved, as text), and the rows only one table has.
 
     before, after : tables read by `read_validation_csv`; rows are matched by `id_column` and whichever of
     `ROW_KEY_COLUMNS` both tables have. Returns one row per change, in `after`'s order (rows only `before` has
@@ -592,11 +592,11 @@ def verdict_changes(before: pd.DataFrame, after: pd.DataFrame, id_column: str = 
         raise ValueError(f"cannot compare {sorted(unknown)}: only {shown}")
 
     def judged(table: pd.DataFrame, name: str) -> pd.DataFrame:
-        """The rows with a verdict, indexed by the key; every shown column (missing ones empty)."""
+        """The rows with a claim id, indexed by the key; every shown column (missing ones empty)."""
         if id_column not in table:
             raise ValueError(f"the {name} table has no column {id_column!r}: not a validation table of this paper")
-        rows = table[table["verdict"].fillna("") != ""] if "verdict" in table else table.iloc[:0]
-        rows = rows.reindex(columns=keys + shown, fill_value="").fillna("").astype(str)
+        rows = table.reindex(columns=keys + shown, fill_value="").fillna("").astype(str)
+        rows = rows[rows[id_column] != ""]  # P2's Tables I–III rows have none: they are not claims
         duplicated = rows.duplicated(keys)
         if duplicated.any():
             raise ValueError(f"the {name} table has rows with the same {keys}: "
