@@ -8,6 +8,7 @@ together) and checks that exactly those stop holding.
 from __future__ import annotations
 
 import json
+from dataclasses import replace
 import math
 import re
 from math import lgamma
@@ -1119,3 +1120,26 @@ def test_a_claim_that_does_not_hold_says_why_and_on_what_basis(monkeypatch):
                         ("a cause not measured", p1_explanations.HYPOTHESIS_ONLY))
     assert p1_explanations.explain("p1-4.3-contact-number-at-jamming", "3d_hertz").basis == framework.HYPOTHESIS
     assert p1_explanations.explain("p1-4.3-percolating-almost-all-2d", "2d_hertz") is None
+
+
+def test_a_system_computes_each_shared_curve_once_and_hands_it_out_read_only():
+    ds = make_p1_measures()["2d_linear"]
+    system = validation.system_data("2d_linear", ds)
+    b0 = system.mean("betti", homology_dim=0)
+    assert system.mean("betti", homology_dim=0) is b0
+    total = report.select_total(ds)
+    expected = total["betti"].sel(homology_dim=0) / total["n_particles"]
+    np.testing.assert_allclose(b0.values, expected.mean("realization").values)
+    with pytest.raises(ValueError, match="read-only"):
+        b0.values[0, 0] = 0.0  # a judge writing into a curve another judge reads
+    assert system.mean("betti", homology_dim=1) is not b0
+    assert system.percolating_size() is system.percolating_size()
+    assert system.shape_average()[0] is system.shape_average()[0]
+    # a selection that cannot be a key (an array of rho) is computed each time, right all the same
+    rho = ds["rho"].values[:3]
+    first = system.mean("betti", homology_dim=0, rho=rho)
+    assert system.mean("betti", homology_dim=0, rho=rho) is not first
+    np.testing.assert_array_equal(first.values, b0.sel(rho=rho).values)
+    # a copy made for another cut (`dataclasses.replace`) starts with nothing computed
+    other = replace(system, data=total.isel(rho=slice(0, 3)))
+    assert other.mean("betti", homology_dim=0).sizes["rho"] == 3

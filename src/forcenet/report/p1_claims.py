@@ -19,7 +19,7 @@ from forcenet.report.claims import (Claim, ClaimTolerances, Judgement, NotEvalua
 from forcenet.report.p1 import (HERTZ_2D, HERTZ_3D, LINEAR_2D, P1_HALF, P1_LARGE_THRESHOLD, P1_PERCOLATION_MAJORITY,
                                 P1_SMALL_THRESHOLD, PAPER_CLUSTER_SIZE_PEAK, PAPER_PHI_C, PAPER_RHO_MAX_BY_ROLE,
                                 PAPER_Z_AT_JAMMING, cut_at_rho_max, value_at, finite_max, force_bins, force_pdf_width,
-                                percolating_size_mean, percolation_fraction, select_total, system_friction,
+                                percolation_fraction, select_total, system_friction,
                                 system_particles, system_relaxation_criterion, system_relaxation_tolerance)
 from forcenet.report.p1_diagnostics import size_peak_threshold_per_rho
 from forcenet.report.p1_judging import (ALL_2D, ClaimContext, SystemData, expected_for_law, finite_values, fmt_values,
@@ -405,14 +405,11 @@ def cluster_size_peak_small_threshold(system: SystemData, tolerances: ClaimToler
 
 
 # --- §4.3 The percolating cluster -----------------------------------------------------------------------------
-def _percolating_share(system: SystemData) -> xr.DataArray:
-    """N_per/N (ρ, F_th) where ≥ 50 % of the realizations percolate (P1 §4.3), NaN elsewhere."""
-    return percolating_size_mean(system.data)[0].transpose("rho", "threshold")
 
 
 def _onset_share(system: SystemData) -> tuple[float, float]:
     """(ρ, N_per/N) at the first ρ where N_per/N is shown at F_th = min."""
-    share = _percolating_share(system).sel(threshold=system.lowest_threshold).values
+    share = system.percolating_size().sel(threshold=system.lowest_threshold).values
     shown = np.isfinite(share)
     if not shown.any():
         raise NotEvaluated(f"{system.name} never percolates in >= 50 % of the realizations")
@@ -426,7 +423,7 @@ def _onset_share(system: SystemData) -> tuple[float, float]:
 def percolating_almost_all(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
     """Judge of claim p1-4.3-percolating-almost-all-2d (per system)."""
     beyond = require(system.beyond, "rho beyond rho_J")
-    share = _percolating_share(system).sel(threshold=system.lowest_threshold).values[beyond]
+    share = system.percolating_size().sel(threshold=system.lowest_threshold).values[beyond]
     values = finite_values(share, "N_per/N beyond rho_J")
     median = float(np.median(values))
     evidence = f"N_per/N at F_th={system.lowest_threshold:.3g} beyond rho_J: {fmt_values(values)} ({system.label()})"
@@ -439,7 +436,7 @@ def percolating_almost_all(system: SystemData, tolerances: ClaimTolerances) -> J
        "median of N_per/N over every shown (rho, F_th) >= 0.5 (P1: 'often at least half')", scope=ALL_2D)
 def percolating_significant(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
     """Judge of claim p1-4.3-percolating-significant-2d (per system)."""
-    values = finite_values(_percolating_share(system).values, "N_per/N")
+    values = finite_values(system.percolating_size().values, "N_per/N")
     median = float(np.median(values))
     evidence = (f"N_per/N over {values.size} shown (rho, F_th): min {values.min():.3g}, median {median:.3g}, "
                 f"max {values.max():.3g} ({system.label()})")
@@ -464,7 +461,7 @@ def percolating_small_near_jamming(system: SystemData, tolerances: ClaimToleranc
 def percolating_small_large_threshold(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
     """Judge of claim p1-4.3-percolating-small-3d-large-threshold (per system)."""
     large = system.thresholds > P1_LARGE_THRESHOLD + 1e-12
-    values = finite_values(_percolating_share(system).values[:, large], "N_per/N at F_th > 2 (no percolation shown)")
+    values = finite_values(system.percolating_size().values[:, large], "N_per/N at F_th > 2 (no percolation shown)")
     median = float(np.median(values))
     evidence = f"N_per/N at F_th > 2 over {values.size} shown (rho, F_th): median {median:.3g}, max {values.max():.3g}"
     return Judgement(median, evidence, median <= tolerances.small_share)
@@ -529,7 +526,7 @@ def phi_c_lower_bound(system: SystemData, tolerances: ClaimTolerances) -> Judgem
     """Judge of claim p1-4.3-phi-c-lower-bound (per system). Eq. 6 bounds the network that percolates, so Z is
     averaged over the same realizations as N_per/N: at a ρ where one realization has jammed and another has not,
     the mean Z over all of them would set a bound (1/(Z - 1) > 1 for Z < 2) that no percolating network can meet."""
-    share = _percolating_share(system).sel(threshold=system.lowest_threshold).values
+    share = system.percolating_size().sel(threshold=system.lowest_threshold).values
     percolates = select_total(system.data)["percolates"].sel(threshold=system.lowest_threshold) > 0
     z = realization_mean(system.data["Z"].where(percolates)).transpose("rho").values
     shown = np.isfinite(share) & np.isfinite(z)

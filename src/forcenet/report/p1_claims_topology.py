@@ -14,8 +14,7 @@ import xarray as xr
 from forcenet.report.claims import (Claim, ClaimTolerances, Judgement, NotEvaluated, claim_register, contrast_margin,
                                     ratio_margin, relative_margin, smallest_margin)
 from forcenet.report.p1 import (HERTZ_2D, HERTZ_3D, LINEAR_2D, P1_LARGE_THRESHOLD, P1_OPEN_PATH_MIN, P1_SHAPE_BOUNDS,
-                                P1_SMALL_THRESHOLD, finite_max, finite_min, first_max_index, rho_values,
-                                shape_parameter_average)
+                                P1_SMALL_THRESHOLD, finite_max, finite_min, first_max_index, rho_values)
 from forcenet.report.p1_judging import (ALL_2D, ClaimContext, Peak, SystemData, betti_curve, bin_curve,
                                         expected_for_law, find_peak, finite_values, fmt_values, grows_beyond, interp_at,
                                         near_by_one_step, peak_near, peak_verdict, persistence_curve, require,
@@ -216,7 +215,7 @@ _claim_absent_then_growing(
 # --- §5.2 Shape of the clusters ----------------------------------------------------------------------------------
 def _shape(system: SystemData, rho_mask: np.ndarray, threshold_mask: np.ndarray, what: str) -> np.ndarray:
     """The nonzero S_p (P1's averaging rule) in the selected (ρ, F_th) cells."""
-    shape, _ = shape_parameter_average(system.data["shape_parameter"])
+    shape, _ = system.shape_average()
     values = shape.transpose("rho", "threshold").values[np.ix_(rho_mask, threshold_mask)]
     values = values[np.isfinite(values) & (values != 0)]
     if values.size == 0:
@@ -329,7 +328,7 @@ def shape_linear_above_3d(context: ClaimContext) -> Judgement:
 
 def _relative_shape_spread(system: SystemData) -> float:
     """Mean over ρ > ρ_J + tol and F_th < 1 of (spread over realizations / S_p) of one system."""
-    shape, spread = shape_parameter_average(system.data["shape_parameter"])
+    shape, spread = system.shape_average()
     beyond = require(system.beyond, f"rho beyond rho_J ({system.name})")
     small = system.thresholds < 1.0
     s = shape.transpose("rho", "threshold").values[np.ix_(beyond, small)]

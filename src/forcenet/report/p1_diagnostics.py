@@ -32,7 +32,7 @@ import xarray as xr
 
 from forcenet.measures.persistence_stats import STRONG_BIRTH
 from forcenet.report.p1 import (P1_PERCOLATION_MAJORITY, first_max_index, per_particle, percolation_fraction,
-                                rho_values, shape_parameter_average)
+                                rho_values)
 from forcenet.report.p1_judging import SystemData, bin_curve
 from forcenet.report.realizations import realization_mean
 
@@ -74,7 +74,7 @@ def size_peak_threshold_per_rho(system: SystemData) -> xr.DataArray:
 def shape_readings(system: SystemData) -> dict[str, tuple[xr.DataArray, xr.DataArray]]:
     """{reading: (S_p, spread)} over (rho, threshold) for each of `SHAPE_READINGS`, averaged over the
     realizations by P1 §5.2's rule (`shape_parameter_average`)."""
-    return {reading: shape_parameter_average(system.data[name]) for reading, name in SHAPE_READINGS.items()
+    return {reading: system.shape_average(name) for reading, name in SHAPE_READINGS.items()
             if name in system.data}
 
 

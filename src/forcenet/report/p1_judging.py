@@ -7,16 +7,16 @@
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
-from typing import Mapping
+from dataclasses import dataclass, field
+from typing import Callable, Mapping
 
 import numpy as np
 import xarray as xr
 
 from forcenet.report.claims import (BELOW_BEFORE_JUMP, BELOW_TOLERANCE, ClaimTolerances, Judgement, NotEvaluated,
                                     relative_margin, smallest_margin)
-from forcenet.report.p1 import (HERTZ_2D, HERTZ_3D, LINEAR_2D, finite_max, first_max_index, per_particle, rho_values,
-                                system_order)
+from forcenet.report.p1 import (HERTZ_2D, HERTZ_3D, LINEAR_2D, finite_max, first_max_index, per_particle,
+                                percolating_size_mean, rho_values, shape_parameter_average, system_order)
 from forcenet.report.realizations import realization_mean
 
 @dataclass(frozen=True)
@@ -28,6 +28,9 @@ class SystemData:
     ρ_max under the table's force unit; tolerance, window : `ClaimTolerances.rho_tolerance`/`rho_window` resolved
     for this system; below_cut : `ClaimTolerances.below_cut`; overlap : the largest overlap of two particles
     relative to the sum of their radii at the system's largest ρ, from its snapshots (NaN when not given).
+
+    The curves the judges share (`mean`, `percolating_size`, `shape_average`) are computed once per SystemData and
+    handed out read-only: one table asks for the same curve of a system many times, in every bootstrap resample.
     """
 
     name: str
@@ -41,6 +44,7 @@ class SystemData:
     window: float
     below_cut: str = BELOW_BEFORE_JUMP
     overlap: float = math.nan
+    _computed: dict = field(default_factory=dict, init=False, repr=False, compare=False)
 
     @property
     def role(self) -> tuple[int, str]:
@@ -98,15 +102,48 @@ class SystemData:
         """The smallest F_th of the grid [⟨F⟩] (P1's "F_th = min", the whole network)."""
         return float(self.thresholds.min())
 
+    def computed(self, key: tuple, compute: Callable[[], object]):
+        """`compute()` the first time `key` is asked for, the same (read-only) value after that; a key that cannot
+        be hashed is computed every time."""
+        try:
+            return self._computed[key]
+        except KeyError:
+            value = self._computed[key] = read_only(compute())
+            return value
+        except TypeError:  # an unhashable selection (an array of ρ): nothing to share
+            return read_only(compute())
+
     def mean(self, name: str, per_n: bool = True, full: bool = False, **selection) -> xr.DataArray:
         """Realization mean of ``name`` (divided by N when `per_n`), with `selection` applied."""
-        ds = self.full if full else self.data
-        values = per_particle(ds, name) if per_n else ds[name]
-        return realization_mean(values.sel(**selection))
+        def compute() -> xr.DataArray:
+            ds = self.full if full else self.data
+            values = per_particle(ds, name) if per_n else ds[name]
+            return realization_mean(values.sel(**selection))
+        return self.computed(("mean", name, per_n, full, tuple(sorted(selection.items()))), compute)
+
+    def percolating_size(self) -> xr.DataArray:
+        """N_per/N (ρ, F_th) where ≥ 50 % of the realizations percolate (P1 §4.3, `percolating_size_mean`), NaN
+        elsewhere."""
+        return self.computed(("percolating_size",),
+                             lambda: percolating_size_mean(self.data)[0].transpose("rho", "threshold"))
+
+    def shape_average(self, name: str = "shape_parameter") -> tuple[xr.DataArray, xr.DataArray]:
+        """(S_p, spread) of the shape-parameter variable `name` over (ρ, F_th), averaged over the realizations by
+        P1 §5.2's rule (`shape_parameter_average`)."""
+        return self.computed(("shape_average", name), lambda: shape_parameter_average(self.data[name]))
 
     def label(self) -> str:
         """``name (rho_J=…)`` for the evidence texts."""
         return f"{self.name} (rho_J={self.rho_j:.3f})"
+
+
+def read_only(value):
+    """`value` with the arrays of its DataArrays (also inside a tuple) made read-only, so that a judge that writes
+    into a shared curve fails instead of changing what the next judge reads."""
+    for item in value if isinstance(value, tuple) else (value,):
+        if isinstance(item, xr.DataArray):
+            item.values.flags.writeable = False  # numpy-backed: the DataArray's own array
+    return value
 
 
 @dataclass(frozen=True)
