@@ -1135,6 +1135,10 @@ def test_a_system_computes_each_shared_curve_once_and_hands_it_out_read_only():
     assert system.mean("betti", homology_dim=1) is not b0
     assert system.percolating_size() is system.percolating_size()
     assert system.shape_average()[0] is system.shape_average()[0]
+    assert system.pdf_width(full=True) is system.pdf_width(full=True)
+    np.testing.assert_array_equal(system.pdf_width().values, report.force_pdf_width(ds).values)
+    assert system.rho is system.rho and not system.rho.flags.writeable
+    assert not np.shares_memory(system.rho, ds["rho"].values)  # the coordinate itself is left as it was
     # a selection that cannot be a key (an array of rho) is computed each time, right all the same
     rho = ds["rho"].values[:3]
     first = system.mean("betti", homology_dim=0, rho=rho)
@@ -1143,3 +1147,12 @@ def test_a_system_computes_each_shared_curve_once_and_hands_it_out_read_only():
     # a copy made for another cut (`dataclasses.replace`) starts with nothing computed
     other = replace(system, data=total.isel(rho=slice(0, 3)))
     assert other.mean("betti", homology_dim=0).sizes["rho"] == 3
+    assert other.pdf_width().sizes["rho"] == 3 and other.pdf_width(full=True).sizes["rho"] == ds.sizes["rho"]
+
+
+def test_the_states_up_to_rho_max():
+    rho = np.array([0.80, 0.81, 0.82, 0.83])
+    np.testing.assert_array_equal(report.up_to_rho_max(rho, 0.82), [True, True, True, False])
+    assert report.up_to_rho_max(rho, 0.82 - 1e-13).sum() == 3  # a ρ_max read back from the grid keeps its state
+    assert report.up_to_rho_max(rho, math.nan).all() and report.up_to_rho_max(rho, None).all()
+    assert report.cut_at_rho_max(xr.Dataset(coords={"rho": rho}), 0.81)["rho"].size == 2

@@ -264,12 +264,18 @@ def f_max_cut(measures: Mapping[str, xr.Dataset], unit: str = DEFAULT_P1_FORCE_U
                    mean_force=curves)
 
 
+def up_to_rho_max(rho: np.ndarray, rho_max: float) -> np.ndarray:
+    """Mask of the packing fractions `rho` ≤ ρ_max (all of them when ρ_max is NaN or None)."""
+    if rho_max is None or not np.isfinite(rho_max):
+        return np.ones(np.shape(rho), dtype=bool)
+    return np.asarray(rho) <= rho_max + 1e-12
+
+
 def cut_at_rho_max(ds: xr.Dataset, rho_max: float) -> xr.Dataset:
     """The packing fractions ρ ≤ ρ_max (all of them when ρ_max is NaN)."""
     if rho_max is None or not np.isfinite(rho_max):
         return ds
-    keep = rho_values(ds) <= rho_max + 1e-12
-    return ds.isel(rho=np.flatnonzero(keep))
+    return ds.isel(rho=np.flatnonzero(up_to_rho_max(rho_values(ds), rho_max)))
 
 
 # =============================================================================================================

@@ -18,9 +18,10 @@ from forcenet.report.claims import (Claim, ClaimTolerances, Judgement, NotEvalua
                                     relative_margin, smallest_margin)
 from forcenet.report.p1 import (HERTZ_2D, HERTZ_3D, LINEAR_2D, P1_HALF, P1_LARGE_THRESHOLD, P1_PERCOLATION_MAJORITY,
                                 P1_SMALL_THRESHOLD, PAPER_CLUSTER_SIZE_PEAK, PAPER_PHI_C, PAPER_RHO_MAX_BY_ROLE,
-                                PAPER_Z_AT_JAMMING, cut_at_rho_max, value_at, finite_max, force_bins, force_pdf_width,
+                                PAPER_Z_AT_JAMMING, value_at, finite_max, force_bins,
                                 percolation_fraction, select_total, system_friction,
-                                system_particles, system_relaxation_criterion, system_relaxation_tolerance)
+                                rho_values, system_particles, system_relaxation_criterion, system_relaxation_tolerance,
+                                up_to_rho_max)
 from forcenet.report.p1_diagnostics import size_peak_threshold_per_rho
 from forcenet.report.p1_judging import (ALL_2D, ClaimContext, SystemData, expected_for_law, finite_values, fmt_values,
                                         peak_verdict, require, strongest_peak)
@@ -239,12 +240,13 @@ def _pdf_order(context: ClaimContext, rho_max_of, what: str) -> Judgement:
         rho_max = rho_max_of(system)
         if not np.isfinite(rho_max):
             raise NotEvaluated(f"{what} of {system.name} undefined")
-        top = cut_at_rho_max(system.full, rho_max)
-        reached = float(top["rho"].values[-1])
+        every_width = system.pdf_width(full=True)
+        top = np.flatnonzero(up_to_rho_max(rho_values(every_width), rho_max))[-1]  # the largest rho <= rho_max
+        reached = float(every_width["rho"].values[top])
         if rho_max - reached > system.step + 1e-9:
             raise NotEvaluated(f"{system.name}'s grid ends at rho={reached:.3f}, more than one step below {what} "
                                f"{rho_max:.3f}")
-        width = float(realization_mean(force_pdf_width(top).isel(rho=-1)))
+        width = float(realization_mean(every_width.isel(rho=top)))
         widths.append((system.name, reached, width))
     if not all(np.isfinite(w) for _, _, w in widths):
         raise NotEvaluated("PDF width undefined (empty PDF)")
@@ -277,7 +279,7 @@ def pdf_order_at_paper_rho_max(context: ClaimContext) -> Judgement:
 def _jammed_pdf_width(system: SystemData) -> float:
     """Mean over ρ > ρ_J + tol of the realization-mean std of F/⟨F⟩ of one system."""
     beyond = require(system.beyond, f"rho beyond rho_J for {system.name}")
-    width = realization_mean(force_pdf_width(system.data)).values
+    width = realization_mean(system.pdf_width()).values
     return float(np.nanmean(finite_values(width[beyond], f"PDF width of {system.name} beyond rho_J")))
 
 

@@ -15,8 +15,9 @@ import xarray as xr
 
 from forcenet.report.claims import (BELOW_BEFORE_JUMP, BELOW_TOLERANCE, ClaimTolerances, Judgement, NotEvaluated,
                                     relative_margin, smallest_margin)
-from forcenet.report.p1 import (HERTZ_2D, HERTZ_3D, LINEAR_2D, finite_max, first_max_index, per_particle,
-                                percolating_size_mean, rho_values, shape_parameter_average, system_order)
+from forcenet.report.p1 import (HERTZ_2D, HERTZ_3D, LINEAR_2D, finite_max, first_max_index, force_pdf_width,
+                                per_particle, percolating_size_mean, rho_values, shape_parameter_average,
+                                system_order)
 from forcenet.report.realizations import realization_mean
 
 @dataclass(frozen=True)
@@ -29,8 +30,9 @@ class SystemData:
     for this system; below_cut : `ClaimTolerances.below_cut`; overlap : the largest overlap of two particles
     relative to the sum of their radii at the system's largest ρ, from its snapshots (NaN when not given).
 
-    The curves the judges share (`mean`, `percolating_size`, `shape_average`) are computed once per SystemData and
-    handed out read-only: one table asks for the same curve of a system many times, in every bootstrap resample.
+    The curves the judges share (`mean`, `percolating_size`, `shape_average`, `pdf_width`) are computed once per
+    SystemData and handed out read-only: one table asks for the same curve of a system many times, in every
+    bootstrap resample.
     """
 
     name: str
@@ -54,7 +56,7 @@ class SystemData:
     @property
     def rho(self) -> np.ndarray:
         """The judged packing fractions ρ, (n_rho,)."""
-        return rho_values(self.data)
+        return self.computed(("rho",), lambda: rho_values(self.data).copy())  # a copy: the dataset is left as it is
 
     @property
     def below(self) -> np.ndarray:
@@ -127,6 +129,12 @@ class SystemData:
         return self.computed(("percolating_size",),
                              lambda: percolating_size_mean(self.data)[0].transpose("rho", "threshold"))
 
+    def pdf_width(self, full: bool = False) -> xr.DataArray:
+        """Std of F/⟨F⟩ of each snapshot (`force_pdf_width`) [⟨F⟩], dims (realization, rho), over the judged ρ
+        (`full`: every simulated ρ)."""
+        widths = self.computed(("pdf_width",), lambda: force_pdf_width(self.full))
+        return widths if full else widths.sel(rho=self.data["rho"])
+
     def shape_average(self, name: str = "shape_parameter") -> tuple[xr.DataArray, xr.DataArray]:
         """(S_p, spread) of the shape-parameter variable `name` over (ρ, F_th), averaged over the realizations by
         P1 §5.2's rule (`shape_parameter_average`)."""
@@ -138,11 +146,13 @@ class SystemData:
 
 
 def read_only(value):
-    """`value` with the arrays of its DataArrays (also inside a tuple) made read-only, so that a judge that writes
-    into a shared curve fails instead of changing what the next judge reads."""
+    """`value` with its arrays and the arrays of its DataArrays (also inside a tuple) made read-only, so that a
+    judge that writes into a shared curve fails instead of changing what the next judge reads."""
     for item in value if isinstance(value, tuple) else (value,):
         if isinstance(item, xr.DataArray):
             item.values.flags.writeable = False  # numpy-backed: the DataArray's own array
+        elif isinstance(item, np.ndarray):
+            item.flags.writeable = False
     return value
 
 

@@ -1,0 +1,83 @@
+"""Benchmark (not a test): the cost of judging P1's claims, the work of the `p1_validation_table` job.
+
+Reads the aggregated measures and diagrams a build left (``RESULTS/<system>/network_measures.nc`` and
+``diagrams.nc`` of every system found there, P1's systems and their counterparts; the main job's
+``results/`` by default) and times `forcenet.report.p1_validation.p1_validation` on them:
+
+- pass_s: one judging pass, no bootstrap (every claim, every system, the readings beside not included);
+- resample_s: the extra cost of one bootstrap resample of the realizations, from a run with ``--resamples``
+  resamples (the job makes `ROBUSTNESS_RESAMPLES` = 100 of them).
+
+Medians over ``--repeat`` runs after one warm-up pass. To A/B a change, run this file from both trees on the same
+results, alternately, pinned to one core (``taskset -c 1``), with ``PYTHONPATH=<tree>/src``. The last line printed
+is one JSON object. Run: ``.venv/bin/python bench/p1_table.py [--results results]``.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import statistics
+import time
+from pathlib import Path
+
+from forcenet.datasets import read_dataset
+from forcenet.report.p1 import P1_SYSTEMS
+from forcenet.report.p1_validation import p1_validation
+from forcenet.report.realizations import ROBUSTNESS_RESAMPLES
+
+
+def counterparts_of(ds) -> list[str]:
+    """``studies.p1.counterparts`` of the config a measures file records."""
+    return list(json.loads(ds.attrs["config"]).get("studies", {}).get("p1", {}).get("counterparts", []))
+
+
+def read_results(results: Path) -> tuple[dict, dict, list]:
+    """({system: network measures}, {system: diagrams}, counterparts) of every system under `results` that has
+    both files; the counterparts (``studies.p1.counterparts``) from the config the measures record."""
+    measures, diagrams, counterparts = {}, {}, set()
+    for path in sorted(results.glob("*/network_measures.nc")):
+        diagram_path = path.with_name("diagrams.nc")
+        if not diagram_path.exists():
+            continue
+        ds = read_dataset(path, "network_measures")
+        if ds.attrs["system"] not in P1_SYSTEMS and ds.attrs["system"] not in counterparts_of(ds):
+            continue  # P2's systems: not P1's table
+        measures[ds.attrs["system"]] = ds.load()
+        diagrams[ds.attrs["system"]] = read_dataset(diagram_path, "diagrams").load()
+        counterparts |= set(counterparts_of(ds))
+    return measures, diagrams, sorted(counterparts & set(measures))
+
+
+def timed(measures: dict, diagrams: dict, counterparts: list, resamples: int) -> float:
+    """Seconds of one `p1_validation` call."""
+    start = time.perf_counter()
+    p1_validation(measures, diagrams=diagrams, counterparts=counterparts, resamples=resamples, seed=0)
+    return time.perf_counter() - start
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--results", type=Path, default=Path("results"), help="a build's results folder")
+    parser.add_argument("--resamples", type=int, default=20, help="bootstrap resamples of the timed run")
+    parser.add_argument("--repeat", type=int, default=3)
+    args = parser.parse_args()
+    measures, diagrams, counterparts = read_results(args.results)
+    if not measures:
+        raise SystemExit(f"no <system>/network_measures.nc with its diagrams.nc under {args.results}: build first "
+                         f"(.venv/bin/snakemake --cores 2)")
+    timed(measures, diagrams, counterparts, 0)  # warm-up: imports, first-touch caches
+    passes = [timed(measures, diagrams, counterparts, 0) for _ in range(args.repeat)]
+    with_resamples = [timed(measures, diagrams, counterparts, args.resamples) for _ in range(args.repeat)]
+    pass_s = statistics.median(passes)
+    resample_s = (statistics.median(with_resamples) - pass_s) / max(args.resamples, 1)
+    result = {"systems": sorted(measures), "realizations": {name: int(ds.sizes.get("realization", 1))
+                                                            for name, ds in sorted(measures.items())},
+              "pass_s": round(pass_s, 3), "resample_s": round(resample_s, 3),
+              "job_estimate_s": round(pass_s + ROBUSTNESS_RESAMPLES * resample_s, 1)}
+    print(f"one pass {pass_s:.2f} s, one resample {resample_s:.3f} s, so about "
+          f"{result['job_estimate_s']:.0f} s for {ROBUSTNESS_RESAMPLES} resamples")
+    print(json.dumps(result))
+
+
+if __name__ == "__main__":
+    main()
