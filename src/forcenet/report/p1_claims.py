@@ -18,10 +18,9 @@ from forcenet.report.claims import (Claim, ClaimTolerances, Judgement, NotEvalua
                                     relative_margin, smallest_margin)
 from forcenet.report.p1 import (HERTZ_2D, HERTZ_3D, LINEAR_2D, P1_HALF, P1_LARGE_THRESHOLD, P1_PERCOLATION_MAJORITY,
                                 P1_SMALL_THRESHOLD, PAPER_CLUSTER_SIZE_PEAK, PAPER_PHI_C, PAPER_RHO_MAX_BY_ROLE,
-                                PAPER_Z_AT_JAMMING, value_at, finite_max, force_bins,
-                                percolation_fraction, select_total, system_friction,
-                                rho_values, system_particles, system_relaxation_criterion, system_relaxation_tolerance,
-                                up_to_rho_max)
+                                PAPER_Z_AT_JAMMING, value_at, finite_max, force_bins, percolation_fraction,
+                                rho_values, select_total, system_friction, system_particles,
+                                system_relaxation_criterion, system_relaxation_tolerance, up_to_rho_max)
 from forcenet.report.p1_diagnostics import size_peak_threshold_per_rho
 from forcenet.report.p1_judging import (ALL_2D, ClaimContext, SystemData, expected_for_law, finite_values, fmt_values,
                                         peak_verdict, require, strongest_peak)
@@ -407,8 +406,6 @@ def cluster_size_peak_small_threshold(system: SystemData, tolerances: ClaimToler
 
 
 # --- §4.3 The percolating cluster -----------------------------------------------------------------------------
-
-
 def _onset_share(system: SystemData) -> tuple[float, float]:
     """(ρ, N_per/N) at the first ρ where N_per/N is shown at F_th = min."""
     share = system.percolating_size().sel(threshold=system.lowest_threshold).values

@@ -108,12 +108,12 @@ class SystemData:
         """`compute()` the first time `key` is asked for, the same (read-only) value after that; a key that cannot
         be hashed is computed every time."""
         try:
-            return self._computed[key]
-        except KeyError:
-            value = self._computed[key] = read_only(compute())
-            return value
+            hash(key)
         except TypeError:  # an unhashable selection (an array of ρ): nothing to share
             return read_only(compute())
+        if key not in self._computed:
+            self._computed[key] = read_only(compute())
+        return self._computed[key]
 
     def mean(self, name: str, per_n: bool = True, full: bool = False, **selection) -> xr.DataArray:
         """Realization mean of ``name`` (divided by N when `per_n`), with `selection` applied."""
