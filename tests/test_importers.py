@@ -16,6 +16,7 @@ from forcenet.datasets import read_dataset, read_snapshot
 from forcenet.datasets.runs import run_expectation
 from forcenet.importers import SourceError, import_run, source_states
 from forcenet.importers import lammps, table
+from forcenet.plotting.networks import prepare_p1_fig01_networks
 from forcenet.systems import ConfigError, ImportedSystem, system_from_config
 
 REPO = Path(__file__).resolve().parents[1]
@@ -263,6 +264,73 @@ def test_a_3d_lammps_dump_reads(tmp_path):
     np.testing.assert_allclose(state.force_normal, [[0, 0, -3.0]])
     np.testing.assert_allclose(state.force_tangential, [[-0.5, 0, 0]])
 
+
+
+def periodic_dumps(tmp_path, bounds: str, wall: bool = False) -> tuple[Path, Path]:
+    """Two disks of radius 0.5 touching across the x faces of a 10 × 4 box (x = 0.2 and 9.4: 0.8 apart through the
+    face), a third 0.1 from the x_lo face and 0.9 from y_lo (with a wall force with `wall`); the pair's normal force
+    given as a magnitude, 2.0."""
+    atoms, pairs = tmp_path / "a.dump", tmp_path / "p.dump"
+    head = "ITEM: TIMESTEP\n7\nITEM: NUMBER OF {}\n{}\nITEM: BOX BOUNDS " + bounds + "\n0 10\n0 4\n-0.5 0.5\n"
+    extra = " fx" if wall else ""
+    atoms.write_text(head.format("ATOMS", 3) + f"ITEM: ATOMS id x y z radius{extra}\n"
+                     + f"1 0.2 2.0 0 0.5{' 0' if wall else ''}\n2 9.4 2.0 0 0.5{' 0' if wall else ''}\n"
+                     + f"3 0.1 0.9 0 0.5{' 1.5' if wall else ''}\n")
+    pairs.write_text(head.format("ENTRIES", 1) + "ITEM: ENTRIES c_pid[1] c_pid[2] c_pf[1] c_pf[2] c_pf[3] c_pf[4]\n"
+                     "1 2 2.0 0 0 0\n")
+    return atoms, pairs
+
+
+def test_a_periodic_lammps_box_joins_a_pair_across_its_face(tmp_path):
+    atoms, pairs = periodic_dumps(tmp_path, "pp ff pp")  # a 2D run: z is periodic by LAMMPS's rule and not counted
+    (state,) = lammps.read_run({"atoms": atoms, "pairs": pairs}, 2, {"format": "lammps"})
+    assert state.periodic_axes == "x"
+    np.testing.assert_allclose(state.period, [10.0, 0.0])
+    # atom 1 at x = 0.2 is pushed by atom 2's image at x = -0.6, so in +x (a bounded box would say -x)
+    np.testing.assert_allclose(state.force_normal, [[2.0, 0.0]])
+    atoms, pairs = periodic_dumps(tmp_path, "ff ff pp")
+    (bounded,) = lammps.read_run({"atoms": atoms, "pairs": pairs}, 2, {"format": "lammps"})
+    assert bounded.periodic_axes == "" and not bounded.period.any()
+    np.testing.assert_allclose(bounded.force_normal, [[-2.0, 0.0]])
+
+
+def test_a_periodic_import_records_its_axes_and_its_overlaps_go_through_the_face(tmp_path):
+    from forcenet.datasets.schema import PERIODIC_AXES_ATTR
+    from forcenet.report.p1 import relative_overlaps
+
+    atoms, pairs = periodic_dumps(tmp_path, "pp pp pp")
+    entry = {"dimension": 2, "source": {"format": "lammps", "runs": [{"atoms": str(atoms), "pairs": str(pairs)}]}}
+    out = tmp_path / "rho.nc"
+    import_run(config={"systems": {"p": entry}}, system="p", realization=0, outputs=[str(out)])
+    with read_snapshot(out) as snapshot:
+        assert snapshot.attrs[PERIODIC_AXES_ATTR] == "xy"
+        overlaps, _ = relative_overlaps(snapshot)
+        drawn = prepare_p1_fig01_networks({"p": snapshot}, rattler_rule=False).table
+    np.testing.assert_allclose(overlaps, [(1.0 - 0.8) / 1.0])  # 0.8 apart through the face, not 9.2
+    # P1 Fig. 1 draws the contact from atom 1 to atom 2's image beyond the x_lo face, not across the box
+    edge = drawn[drawn["element"] == "contact"].iloc[0]
+    assert (edge["x_i [d_ave]"], edge["x_j [d_ave]"]) == pytest.approx((0.2, -0.6))
+    atoms, pairs = periodic_dumps(tmp_path, "ff ff pp")
+    import_run(config={"systems": {"p": entry}}, system="p", realization=0, outputs=[str(out)])
+    with read_snapshot(out) as snapshot:
+        assert PERIODIC_AXES_ATTR not in snapshot.attrs
+        overlaps, _ = relative_overlaps(snapshot)
+    np.testing.assert_allclose(overlaps, [(1.0 - 9.2) / 1.0])
+
+
+def test_walls_only_on_the_bounded_faces_of_a_periodic_box(tmp_path):
+    atoms, pairs = periodic_dumps(tmp_path, "pp ff pp", wall=True)
+    source = {"format": "lammps", "wall_columns": ["fx", "fx"]}
+    (state,) = lammps.read_run({"atoms": atoms, "pairs": pairs}, 2, source)
+    # atom 3 (index 2) at x = 0.1, y = 0.9: x has no faces, so its wall is y_lo (wall id 2)
+    np.testing.assert_array_equal(state.wall_particle, [2])
+    np.testing.assert_array_equal(state.wall_id, [2])
+    atoms, pairs = periodic_dumps(tmp_path, "ff ff pp", wall=True)
+    (bounded,) = lammps.read_run({"atoms": atoms, "pairs": pairs}, 2, source)
+    np.testing.assert_array_equal(bounded.wall_id, [0])  # in a bounded box the nearest face, x_lo
+    atoms, pairs = periodic_dumps(tmp_path, "pp pp pp", wall=True)
+    with pytest.raises(SourceError, match="every axis of the box is periodic: no walls"):
+        lammps.read_run({"atoms": atoms, "pairs": pairs}, 2, source)
 
 # --- the config: schema and checks of a `source:` entry -----------------------------------------------------------
 def checked(config):

@@ -170,3 +170,20 @@ def test_stacking_refuses_an_analysis_of_another_run(tmp_path):
     assert not out.exists()
     pipeline.aggregate(analyses=[analyses[0]], **{**job, "realizations": [0], "rhos": [0.80]})  # its own: stacked
     assert (out / "m.nc").exists()
+
+
+def test_branch_vectors_take_the_nearest_image_on_periodic_axes_only():
+    from forcenet.boxes import box_periods, branch_vectors, image_shifts
+
+    position = np.array([[0.2, 0.5], [9.4, 3.5], [5.0, 2.0]])
+    i, j = np.array([0, 0, 2]), np.array([1, 2, 1])
+    bounded = branch_vectors(position, i, j)
+    np.testing.assert_array_equal(bounded, position[i] - position[j])  # bit for bit: our engine's snapshots
+    period = box_periods("x", [0, 0], [10, 4])
+    np.testing.assert_array_equal(period, [10.0, 0.0])
+    # 0 → 1: x through the face (0.2 − (9.4 − 10) = 0.8), y not periodic (0.5 − 3.5 = −3); 0 → 2 and 2 → 1 inside
+    np.testing.assert_allclose(branch_vectors(position, i, j, period), [[0.8, -3.0], [-4.8, -1.5], [-4.4, -1.5]])
+    np.testing.assert_allclose(image_shifts(position, i, j, period), [[-10.0, 0.0], [0.0, 0.0], [0.0, 0.0]])
+    both = box_periods("xy", [0, 0], [10, 4])
+    np.testing.assert_allclose(branch_vectors(position, i, j, both)[0], [0.8, 1.0])  # 0.5 − (3.5 − 4)
+    assert image_shifts(position, i[:0], j[:0], both).shape == (0, 2)

@@ -83,6 +83,10 @@ ENGINE_SOURCE_FORMAT = "forcenet-dem"
 #: provenance of an imported snapshot (source_format other than ENGINE_SOURCE_FORMAT): the source files (JSON list),
 #: their sha256 (JSON list, same order) and the timestep (LAMMPS) or state index (tables) the snapshot holds
 SNAPSHOT_SOURCE_ATTRS = ("source_files", "source_sha256", "source_timestep")
+#: global attribute of a snapshot whose box is periodic along some axes (an import of a LAMMPS dump whose box bounds
+#: are "pp"): their letters, e.g. "xy"; absent where every axis is bounded (our engine: walls). A contact across a
+#: periodic face joins particle i to the image of j nearest to it (`forcenet.boxes.image_shifts`)
+PERIODIC_AXES_ATTR = "periodic_axes"
 #: variables that must hold finite values (issue 27: a NaN position or force is refused, never analysed)
 SNAPSHOT_FINITE_VARIABLES = ("position", "radius", "force_normal", "force_tangential", "wall_contact_force",
                              "box_lo", "box_hi", "rho", "Z")

@@ -17,11 +17,19 @@ from typing import Any, Mapping
 import numpy as np
 import xarray as xr
 
+from forcenet.boxes import AXIS_LABELS, box_periods
 from forcenet.datasets.io import dataset_from_specs, read_dataset, write_netcdf
-from forcenet.datasets.schema import SNAPSHOT_DYNAMICS, SNAPSHOT_VARIABLES
+from forcenet.datasets.schema import PERIODIC_AXES_ATTR, SNAPSHOT_DYNAMICS, SNAPSHOT_VARIABLES
 
-SPATIAL_LABELS = ("x", "y", "z")
+SPATIAL_LABELS = AXIS_LABELS  # the `spatial` coordinate
 ROTATION_LABELS_2D = ("z",)
+
+
+def periodic_lengths(snapshot: xr.Dataset) -> np.ndarray | None:
+    """The box length on each periodic axis of a snapshot (`PERIODIC_AXES_ATTR`), 0 on the bounded ones, (d,)
+    [d_ave]; None for a bounded box (our engine's snapshots, whose boxes have walls), as `forcenet.boxes` takes it."""
+    axes = str(snapshot.attrs.get(PERIODIC_AXES_ATTR, ""))
+    return box_periods(axes, snapshot["box_lo"].values, snapshot["box_hi"].values) if axes else None
 
 
 def snapshot_dataset(*, attrs: Mapping[str, Any], **arrays: Any) -> xr.Dataset:

@@ -10,6 +10,7 @@ from typing import Any, Mapping
 
 import numpy as np
 
+from forcenet.boxes import box_periods, branch_vectors
 from forcenet.errors import ForcenetError
 
 #: wall ids of the contract (`forcenet.datasets.schema`: wall_contact_wall), by name as a contacts table writes them
@@ -32,7 +33,7 @@ class SourceState:
     position (N, d), radius (N,); contact_i < contact_j (C,) indices into the particles; force_normal,
     force_tangential (C, d): forces on particle i from j; wall_particle, wall_id (W,), wall_force (W, d); box_lo,
     box_hi (d,); files: the source files this state was read from; timestep: the LAMMPS timestep or the state's
-    index in its run's table list."""
+    index in its run's table list; periodic_axes: the letters of the box's periodic axes ("" for a bounded box)."""
 
     position: np.ndarray
     radius: np.ndarray
@@ -47,10 +48,16 @@ class SourceState:
     wall_particle: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
     wall_id: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
     wall_force: np.ndarray | None = None
+    periodic_axes: str = ""
 
     @property
     def dimension(self) -> int:
         return int(self.position.shape[1])
+
+    @property
+    def period(self) -> np.ndarray:
+        """The box length on each periodic axis, 0 on the bounded ones, (d,)."""
+        return box_periods(self.periodic_axes, self.box_lo, self.box_hi)
 
     @property
     def rho(self) -> float:
@@ -83,9 +90,11 @@ def file_sha256(path: str | Path) -> str:
     return digest.hexdigest()
 
 
-def normal_unit_vectors(position: np.ndarray, i: np.ndarray, j: np.ndarray) -> np.ndarray:
-    """Unit vectors from particle j to particle i (the direction of a repulsive normal force on i)."""
-    delta = position[i] - position[j]
+def normal_unit_vectors(position: np.ndarray, i: np.ndarray, j: np.ndarray,
+                        period: np.ndarray | None = None) -> np.ndarray:
+    """Unit vectors from particle j (its image nearest to i where `period`, (d,), gives periodic axes) to particle i:
+    the direction of a repulsive normal force on i."""
+    delta = branch_vectors(position, i, j, period)
     return delta / np.linalg.norm(delta, axis=1)[:, None]
 
 

@@ -25,6 +25,7 @@ from typing import Any, Iterator, Mapping, Sequence
 
 import numpy as np
 
+from forcenet.boxes import box_periods
 from forcenet.importers.common import (SourceError, SourceState, normal_unit_vectors, order_pairs,
                                        perpendicular_unit_vectors)
 
@@ -35,8 +36,8 @@ DEFAULT_PAIR_COLUMNS = {"i": "c_pid[1]", "j": "c_pid[2]", "normal": ["c_pf[1]"],
 
 @dataclass
 class Frame:
-    """One timestep of a dump: its timestep, box bounds (3, 2), column names, rows (n, columns) and the line number
-    of its first row."""
+    """One timestep of a dump: its timestep, box bounds (3, 2), column names, rows (n, columns), the line number
+    of its first row, and which of x, y, z are periodic (boundary flags "pp" on the BOX BOUNDS line)."""
 
     timestep: int
     line: int
@@ -44,6 +45,7 @@ class Frame:
     columns: list[str]
     rows: np.ndarray
     first_row_line: int
+    periodic: tuple[bool, ...] = (False, False, False)
 
 
 def read_frames(path: str | Path, kind: str) -> Iterator[Frame]:
@@ -93,6 +95,8 @@ def read_frames(path: str | Path, kind: str) -> Iterator[Frame]:
         except (IndexError, ValueError):
             raise SourceError(path, f"line {k + 1}", "expected three lines of box bounds 'lo hi'") from None
         k += 3
+        flags = bounds.split()  # "pp ff pp": per axis, LAMMPS's boundary style at its lo and hi faces
+        periodic = tuple(a < len(flags) and flags[a] == "pp" for a in range(3))
         columns = expect(kind).split()
         first = k + 1
         if k + count > len(lines):
@@ -109,7 +113,7 @@ def read_frames(path: str | Path, kind: str) -> Iterator[Frame]:
             except ValueError:
                 raise SourceError(path, f"line {k + r + 1}", f"not a number in {lines[k + r]!r}") from None
         k += count
-        yield Frame(timestep, start, box, columns, rows, first)
+        yield Frame(timestep, start, box, columns, rows, first, periodic)
 
 
 def _column(path, frame: Frame, name: str, what: str) -> np.ndarray:
@@ -162,8 +166,10 @@ def atom_state(path, frame: Frame, dimension: int, wall_columns: Sequence[str] |
 
 
 def pair_forces(path, frame: Frame, ids: np.ndarray, position: np.ndarray, columns: Mapping[str, Any],
-                atoms_path) -> tuple[np.ndarray, ...]:
-    """(i, j, F_n (C, d), F_t (C, d)) of one pairs frame, i < j indices into the atoms of the same timestep."""
+                atoms_path, period: np.ndarray | None = None) -> tuple[np.ndarray, ...]:
+    """(i, j, F_n (C, d), F_t (C, d)) of one pairs frame, i < j indices into the atoms of the same timestep; a
+    force given as a magnitude points along the line from j's image nearest to i (`period`: the box length on
+    each periodic axis, 0 on the others) to i."""
     dimension = position.shape[1]
     names = {key: ([columns[key]] if isinstance(columns[key], str) else list(columns[key]))
              for key in ("i", "j", "normal", "tangential")}
@@ -191,7 +197,7 @@ def pair_forces(path, frame: Frame, ids: np.ndarray, position: np.ndarray, colum
     same = i == j
     if same.any():
         raise SourceError(path, f"line {frame.first_row_line + rows[np.argmax(same)]}", "an atom paired with itself")
-    n = normal_unit_vectors(position, i, j)
+    n = normal_unit_vectors(position, i, j, period)
     fn = values["normal"][rows]
     fn = fn[:, :1] * n if fn.shape[1] == 1 else fn[:, :dimension]
     ft = values["tangential"][rows]
@@ -208,12 +214,15 @@ def pair_forces(path, frame: Frame, ids: np.ndarray, position: np.ndarray, colum
     return i[order], j[order], fn[order], ft[order]
 
 
-def wall_contacts(position, radius, box_lo, box_hi, wall_force):
-    """One wall contact per atom with a non-zero wall force, at the box face nearest to it."""
+def wall_contacts(position, radius, box_lo, box_hi, wall_force, bounded=None):
+    """One wall contact per atom with a non-zero wall force, at the box face nearest to it among those of the
+    `bounded` axes ((d,) bool; default all: a periodic axis has no walls)."""
     if wall_force is None:
         return np.zeros(0, np.int64), np.zeros(0, np.int64), None
     atoms = np.flatnonzero(np.any(wall_force != 0, axis=1))
+    bounded = np.ones(position.shape[1], bool) if bounded is None else np.asarray(bounded, bool)
     gaps = np.concatenate([position[atoms] - box_lo, box_hi - position[atoms]], axis=1)  # (W, 2d): lo faces, hi faces
+    gaps[:, ~np.concatenate([bounded, bounded])] = np.inf
     face = np.argmin(gaps, axis=1)
     d = position.shape[1]
     wall = np.where(face < d, 2 * face, 2 * (face - d) + 1)
@@ -247,9 +256,16 @@ def read_run(run: Mapping[str, Any], dimension: int, source: Mapping[str, Any]) 
         ids, position, radius, lo, hi, wall_force = atom_state(atoms_path, a, dimension, source.get("wall_columns"))
         if "box" in source:
             lo, hi = np.asarray(source["box"]["lo"], float), np.asarray(source["box"]["hi"], float)
-        i, j, fn, ft = pair_forces(pairs_path, p, ids, position, columns, atoms_path)
-        wall_atoms, wall_id, wall_f = wall_contacts(position, radius, lo, hi, wall_force)
+        # a 2D LAMMPS run is periodic in z by rule: only the system's own axes count
+        periodic = np.asarray(a.periodic[:dimension], bool)
+        if wall_force is not None and periodic.all() and np.any(wall_force != 0):
+            raise SourceError(atoms_path, f"timestep {a.timestep} (line {a.line})",
+                              "wall forces in source.wall_columns, but every axis of the box is periodic: no walls")
+        axes = "".join(label for label, wrap in zip("xyz", periodic) if wrap)
+        i, j, fn, ft = pair_forces(pairs_path, p, ids, position, columns, atoms_path, box_periods(axes, lo, hi))
+        wall_atoms, wall_id, wall_f = wall_contacts(position, radius, lo, hi, wall_force, ~periodic)
         states.append(SourceState(position=position, radius=radius, contact_i=i, contact_j=j, force_normal=fn,
                                   force_tangential=ft, box_lo=lo, box_hi=hi, files=(str(atoms_path), str(pairs_path)),
-                                  timestep=a.timestep, wall_particle=wall_atoms, wall_id=wall_id, wall_force=wall_f))
+                                  timestep=a.timestep, wall_particle=wall_atoms, wall_id=wall_id, wall_force=wall_f,
+                                  periodic_axes=axes))
     return states

@@ -14,7 +14,7 @@ def import_run(*, config: Mapping[str, Any], system: str, realization: int, outp
     contract before the first file is written: a malformed source writes nothing."""
     from forcenet.datasets import provenance_attrs
     from forcenet.datasets.io import DatasetError, schema_problems, write_netcdf
-    from forcenet.datasets.schema import SOURCE_FORMAT_ATTR
+    from forcenet.datasets.schema import PERIODIC_AXES_ATTR, SOURCE_FORMAT_ATTR
     from forcenet.datasets.snapshot import snapshot_dataset
 
     entry = config["systems"][system]
@@ -32,6 +32,8 @@ def import_run(*, config: Mapping[str, Any], system: str, realization: int, outp
                       "source_files": json.dumps(list(state.files)),
                       "source_sha256": json.dumps([hashes.setdefault(f, file_sha256(f)) for f in state.files]),
                       "source_timestep": int(state.timestep)})
+        if state.periodic_axes:  # absent for a bounded box, as in our engine's snapshots
+            attrs[PERIODIC_AXES_ATTR] = state.periodic_axes
         ds = snapshot_dataset(attrs=attrs, **state.snapshot_arrays())
         problems = schema_problems(ds, "snapshot")
         if problems:

@@ -13,6 +13,8 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
+from forcenet.boxes import image_shifts
+from forcenet.datasets.snapshot import periodic_lengths
 from forcenet.network import snapshot_network
 from forcenet.plotting import figure_data as cols
 from forcenet.plotting.figure_data import FigureData, concat
@@ -56,6 +58,7 @@ def prepare_p1_fig01_networks(snapshots: Mapping[str, xr.Dataset], *, rattler_ru
         dim = network.dim
         i, j = network.edge_i, network.edge_j
         position = network.position
+        end_j = position[j] + image_shifts(position, i, j, periodic_lengths(ds))  # across a periodic face: out of it
         rho = float(ds["rho"]) if "rho" in ds else float("nan")
         common = {cols.PANEL: panel, cols.SYSTEM: name, "dimension": dim, cols.RHO: rho}
         contacts = pd.DataFrame({**common, "element": "contact", "i": i, "j": j, cols.FORCE: network.force})
@@ -63,7 +66,7 @@ def prepare_p1_fig01_networks(snapshots: Mapping[str, xr.Dataset], *, rattler_ru
                                   RADIUS: ds["radius"].values})
         for k in range(dim):
             contacts[END_I[k]] = position[i, k]
-            contacts[END_J[k]] = position[j, k]
+            contacts[END_J[k]] = end_j[:, k]
             particles[CENTRE[k]] = position[:, k]
         blocks += [contacts, particles]
         boxes[panel] = (ds["box_lo"].values, ds["box_hi"].values)
@@ -138,11 +141,12 @@ def prepare_p2_fig01_snapshots_differences(snapshots: Sequence[xr.Dataset], *, r
     blocks = []
     for panel, (snap, edges) in enumerate(zip([*snapshots, snapshots[0], snapshots[0]], [*networks, *diffs])):
         position = snap["position"].values
+        end_j = position[edges.j] + image_shifts(position, edges.i, edges.j, periodic_lengths(snap))
         quantity = "F/<F>" if panel < 3 else "|F_%s - F_a|/<F>" % "bc"[panel - 3]
         blocks.append(pd.DataFrame({cols.PANEL: panel, cols.SYSTEM: system, "force_kind": kind,
                                     cols.RHO: float(snap["rho"]), cols.QUANTITY: quantity, "i": edges.i, "j": edges.j,
                                     EDGE_ENDS[0]: position[edges.i, 0], EDGE_ENDS[1]: position[edges.i, 1],
-                                    EDGE_ENDS[2]: position[edges.j, 0], EDGE_ENDS[3]: position[edges.j, 1],
+                                    EDGE_ENDS[2]: end_j[:, 0], EDGE_ENDS[3]: end_j[:, 1],
                                     cols.VALUE: edges.force}))
     return FigureData(concat(blocks), {
         "box": [(s["box_lo"].values[:2], s["box_hi"].values[:2]) for s in snapshots],

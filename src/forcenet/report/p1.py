@@ -36,6 +36,8 @@ from typing import Mapping
 import numpy as np
 import xarray as xr
 
+from forcenet.boxes import branch_vectors
+from forcenet.datasets.snapshot import periodic_lengths
 from forcenet.report.realizations import mean_and_spread, realization_mean
 from forcenet.systems import KINETIC_ENERGY_FLUCTUATION
 
@@ -149,14 +151,15 @@ def system_particles(ds: xr.Dataset) -> int:
 
 def relative_overlaps(snapshot: xr.Dataset) -> tuple[np.ndarray, np.ndarray]:
     """Per particle contact of one snapshot: the overlap relative to the sum of the radii, (r_i + r_j − |x_i −
-    x_j|) / (r_i + r_j) (shape (n_contacts,), dimensionless), and whether either particle also touches a wall
+    x_j|) / (r_i + r_j) (x_j the image of j nearest to i in a periodic box) (shape (n_contacts,), dimensionless), and whether either particle also touches a wall
     (bool, same shape; from ``wall_contact_particle``, all False in a snapshot without walls)."""
     i = np.asarray(snapshot["contact_i"].values, dtype=int)
     j = np.asarray(snapshot["contact_j"].values, dtype=int)
     position = np.asarray(snapshot["position"].values, dtype=float)
     radius = np.asarray(snapshot["radius"].values, dtype=float)
     reach = radius[i] + radius[j]
-    gap = np.linalg.norm(position[i] - position[j], axis=1)  # shape (0,) without contacts
+    # shape (0,) without contacts; across a periodic face (an imported box) to the nearest image
+    gap = np.linalg.norm(branch_vectors(position, i, j, periodic_lengths(snapshot)), axis=1)
     touching = snapshot["wall_contact_particle"].values if "wall_contact_particle" in snapshot else np.empty(0, int)
     return (reach - gap) / reach, np.isin(i, touching) | np.isin(j, touching)
 
