@@ -332,6 +332,28 @@ def test_walls_only_on_the_bounded_faces_of_a_periodic_box(tmp_path):
     with pytest.raises(SourceError, match="every axis of the box is periodic: no walls"):
         lammps.read_run({"atoms": atoms, "pairs": pairs}, 2, source)
 
+
+def test_a_periodic_table_joins_a_pair_across_its_face_and_names_what_it_cannot_read(tmp_path):
+    particles, contacts = tmp_path / "p.csv", tmp_path / "c.csv"
+    particles.write_text("id,x,y,radius\n1,0.2,2.0,0.5\n2,9.4,2.0,0.5\n3,0.1,0.9,0.5\n")
+    contacts.write_text("i,j,fn,ft\n1,2,2.0,0.0\n")
+    box = {"lo": [0, 0], "hi": [10, 4]}
+    state = table.read_state(particles, contacts, 2, "magnitudes", box=box, periodic=["x"])
+    assert state.periodic_axes == "x"
+    np.testing.assert_allclose(state.force_normal, [[2.0, 0.0]])  # from 2's image at x = -0.6, through the face
+    bounded = table.read_state(particles, contacts, 2, "magnitudes", box=box)
+    assert bounded.periodic_axes == ""
+    np.testing.assert_allclose(bounded.force_normal, [[-2.0, 0.0]])
+    with pytest.raises(SourceError, match="p.csv, box: a periodic box must be given"):
+        table.read_state(particles, contacts, 2, "magnitudes", periodic=["x"])
+    with pytest.raises(SourceError, match="source.periodic: axis 'z' is not an axis of a 2D system"):
+        table.read_state(particles, contacts, 2, "magnitudes", box=box, periodic=["z"])
+    contacts.write_text("i,j,fn,ft\n1,2,2.0,0.0\n3,x_lo,1.0,0.0\n")
+    with pytest.raises(SourceError, match="c.csv, line 3, column 'j': wall x_lo on an axis the box is periodic on"):
+        table.read_state(particles, contacts, 2, "magnitudes", box=box, periodic=["x"])
+    assert table.read_state(particles, contacts, 2, "magnitudes", box=box, periodic=["y"]).wall_id.tolist() == [0]
+
+
 # --- the config: schema and checks of a `source:` entry -----------------------------------------------------------
 def checked(config):
     from forcenet.workflow_io import CONFIG_SCHEMA, checked_config
@@ -358,6 +380,19 @@ def test_the_example_config_passes_and_a_bad_source_entry_names_its_key():
     with pytest.raises(ConfigError, match="config key 'systems.lammps_2d.source.runs': lists 1 run\\(s\\), but "
                                           "realizations is 2: one run per realization"):
         checked({**EXAMPLE, "realizations": 2})
+    # a LAMMPS dump says its own periodic axes (BOX BOUNDS); a table names them, known axes only
+    lammps_periodic = {**EXAMPLE["systems"]["lammps_2d"],
+                       "source": {**EXAMPLE["systems"]["lammps_2d"]["source"], "periodic": ["x"]}}
+    with pytest.raises(ConfigError, match="config key 'systems.lammps_2d.source.periodic': not allowed in this entry"):
+        checked({**EXAMPLE, "systems": {**EXAMPLE["systems"], "lammps_2d": lammps_periodic}})
+    lammps_forces = {**EXAMPLE["systems"]["lammps_2d"],
+                     "source": {**EXAMPLE["systems"]["lammps_2d"]["source"], "forces": "vectors"}}
+    with pytest.raises(ConfigError, match="config key 'systems.lammps_2d.source.forces': not allowed in this entry"):
+        checked({**EXAMPLE, "systems": {**EXAMPLE["systems"], "lammps_2d": lammps_forces}})
+    table_w = {**EXAMPLE["systems"]["table_2d"], "source": {**EXAMPLE["systems"]["table_2d"]["source"],
+                                                             "periodic": ["w"]}}
+    with pytest.raises(ConfigError, match="config key 'systems.table_2d.source.periodic"):
+        checked({**EXAMPLE, "systems": {**EXAMPLE["systems"], "table_2d": table_w}})
 
 
 def test_a_3d_lammps_state_is_imported_and_analysed(tmp_path):

@@ -126,6 +126,25 @@ def resolve_results_dir(value: str | None, working_dir: str | Path) -> tuple[str
     return normalised, working_dir / normalised
 
 
+def _forbidden_key(error, schema: Mapping[str, Any], config: Mapping[str, Any]) -> str | None:
+    """The key a schema error is about when the schema forbids that key here (``key: false``, e.g. a table's
+    setting under ``format: lammps``): jsonschema reports it at the enclosing entry, without the key; else None."""
+    if error.validator is not None or not error.schema_path or error.schema_path[-1] != "properties":
+        return None
+    properties: Any = schema
+    for part in error.schema_path:  # the path does not show the (local) $refs it went through: follow them
+        while isinstance(properties, dict) and part not in properties and "$ref" in properties:
+            target: Any = schema
+            for name in properties["$ref"].lstrip("#/").split("/"):
+                target = target[name]
+            properties = target
+        properties = properties[part]
+    entry: Any = config
+    for part in error.absolute_path:
+        entry = entry[part]
+    return next((name for name, rule in properties.items() if rule is False and name in entry), None)
+
+
 def schema_problem(config: Mapping[str, Any], schema_path: str | Path) -> ConfigError | None:
     """The most relevant way `config` breaks the JSON schema (jsonschema's best match), as a `ConfigError` naming the
     key, with the number of further problems; None when it validates."""
@@ -137,8 +156,12 @@ def schema_problem(config: Mapping[str, Any], schema_path: str | Path) -> Config
     if not errors:
         return None
     error = best_match(errors)
-    key = ".".join(str(part) for part in error.absolute_path) or "(top level)"
-    message = error.message if len(error.message) <= 300 else error.message[:300] + " …"
+    path, message = list(error.absolute_path), error.message
+    forbidden = _forbidden_key(error, schema, config)
+    if forbidden:
+        path, message = path + [forbidden], "not allowed in this entry (its other settings exclude it)"
+    key = ".".join(str(part) for part in path) or "(top level)"
+    message = message if len(message) <= 300 else message[:300] + " …"
     if len(errors) > 1:
         message += f" (and {len(errors) - 1} more schema problem{'s' if len(errors) > 2 else ''})"
     return ConfigError(key, message)

@@ -17,7 +17,9 @@ drawings use it; forces are analysed in units of each network's mean, so their u
 ``z_hi``) for a particle–wall contact (then the forces are the wall's on particle i; a magnitude's normal points
 into the box). A pair given as (j, i) is stored as (i, j) with its forces reversed. Rows starting with ``#`` are
 comments. Box: the state's ``box: {lo: [...], hi: [...]}`` in the config, else ``source.box``, else the particles'
-bounding box (min x − r to max x + r on each axis).
+bounding box (min x − r to max x + r on each axis). ``source.periodic`` (e.g. ``[x, y]``) names the axes on which
+the box is periodic (it must then be given): a contact across a periodic face joins i to the image of j nearest to
+it (`forcenet.boxes`), which directs a magnitude's normal force, and no wall lies on those axes.
 """
 from __future__ import annotations
 
@@ -28,6 +30,7 @@ from typing import Any, Mapping, Sequence
 
 import numpy as np
 
+from forcenet.boxes import box_periods
 from forcenet.importers.common import (WALL_NAMES, SourceError, SourceState, normal_unit_vectors, order_pairs,
                                        perpendicular_unit_vectors)
 
@@ -39,7 +42,8 @@ FORCE_CONVENTIONS = ("magnitudes", "vectors")
 def read_run(run: Sequence[Mapping[str, Any]], dimension: int, source: Mapping[str, Any]) -> list[SourceState]:
     """The states of one run: a list of {particles, contacts[, box]} (paths relative to where snakemake runs)."""
     return [read_state(state["particles"], state["contacts"], dimension, source.get("forces", "vectors"),
-                       box=state.get("box", source.get("box")), index=k) for k, state in enumerate(run)]
+                       box=state.get("box", source.get("box")), index=k, periodic=source.get("periodic", ()))
+            for k, state in enumerate(run)]
 
 
 def _rows(path: str | Path) -> tuple[list[str], list[tuple[int, list[str]]]]:
@@ -122,10 +126,18 @@ def read_particles(path: str | Path, dimension: int) -> tuple[dict[int, int], np
 
 
 def read_state(particles: str | Path, contacts: str | Path, dimension: int, forces: str = "vectors", *,
-               box: Mapping[str, Sequence[float]] | None = None, index: int = 0) -> SourceState:
-    """One state from its particles and contacts CSV files (module docstring)."""
+               box: Mapping[str, Sequence[float]] | None = None, index: int = 0,
+               periodic: Sequence[str] = ()) -> SourceState:
+    """One state from its particles and contacts CSV files (module docstring); `periodic`: the box's periodic axes."""
     if forces not in FORCE_CONVENTIONS:
         raise SourceError(contacts, "", f"unknown force convention {forces!r}: one of {FORCE_CONVENTIONS}")
+    wrong = [axis for axis in periodic if axis not in AXES[:dimension]]
+    if wrong:
+        raise SourceError("source.periodic", "", f"axis {wrong[0]!r} is not an axis of a {dimension}D system")
+    if periodic and box is None:
+        raise SourceError(particles, "box", "a periodic box must be given (the state's box or source.box): the "
+                                            "particles' bounding box is not the period")
+    periodic_axes = "".join(axis for axis in AXES if axis in periodic)
     ids, position, radius = read_particles(particles, dimension)
     header, body = _rows(contacts)
     axes = AXES[:dimension]
@@ -148,6 +160,9 @@ def read_state(particles: str | Path, contacts: str | Path, dimension: int, forc
             wall = WALL_NAMES.index(other)
             if wall >= 2 * dimension:
                 raise SourceError(contacts, f"line {number}, column 'j'", f"wall {other} in a 2D system")
+            if AXES[wall // 2] in periodic_axes:
+                raise SourceError(contacts, f"line {number}, column 'j'", f"wall {other} on an axis the box is "
+                                                                          "periodic on (source.periodic)")
             walls.append((ids[first], wall, values))
             continue
         try:
@@ -169,14 +184,15 @@ def read_state(particles: str | Path, contacts: str | Path, dimension: int, forc
     i = np.array([p[0] for p in pairs], dtype=np.int64)
     j = np.array([p[1] for p in pairs], dtype=np.int64)
     values = np.array([p[2] for p in pairs]).reshape(len(pairs), len(force_columns))
+    lo, hi = _box(box, position, radius, particles)
     if forces == "magnitudes":
-        n = normal_unit_vectors(position, i, j) if len(pairs) else np.zeros((0, dimension))
+        period = box_periods(periodic_axes, lo, hi)
+        n = normal_unit_vectors(position, i, j, period) if len(pairs) else np.zeros((0, dimension))
         fn, ft = values[:, :1] * n, values[:, 1:2] * perpendicular_unit_vectors(n)
     else:
         fn, ft = values[:, :dimension], values[:, dimension:]
     i, j, fn, ft = order_pairs(i, j, fn, ft)
     order = np.lexsort((j, i))
-    lo, hi = _box(box, position, radius, particles)
     wall_particle = np.array([w[0] for w in walls], dtype=np.int64)
     wall_id = np.array([w[1] for w in walls], dtype=np.int64)
     wall_values = np.array([w[2] for w in walls]).reshape(len(walls), len(force_columns))
@@ -189,7 +205,7 @@ def read_state(particles: str | Path, contacts: str | Path, dimension: int, forc
     return SourceState(position=position, radius=radius, contact_i=i[order], contact_j=j[order],
                        force_normal=fn[order], force_tangential=ft[order], box_lo=lo, box_hi=hi,
                        files=(str(particles), str(contacts)), timestep=index, wall_particle=wall_particle,
-                       wall_id=wall_id, wall_force=wall_force)
+                       wall_id=wall_id, wall_force=wall_force, periodic_axes=periodic_axes)
 
 
 def _box(box, position, radius, where) -> tuple[np.ndarray, np.ndarray]:
