@@ -4,6 +4,8 @@ many timesteps (README "Your own data"; the shipped example and how it was made:
 Atoms dump (``dump custom``): columns ``id``, ``x``, ``y``, ``z`` (a 2D dump may leave z out or hold it constant),
 ``radius`` (``type`` and any others are ignored); the box of each timestep is the dump's BOX BOUNDS (orthogonal
 boxes only) unless the config gives ``source.box``; ρ is the particles' area (2D) or volume (3D) over the box's.
+An axis of the system whose boundary flags are ``pp`` is periodic (a 2D run's z does not count): a pair touching
+through that face joins i to the image of j nearest to it (`forcenet.boxes`), and no wall lies on it.
 Optional wall forces: ``source.wall_columns`` names the atom columns holding the force of the walls on each atom
 (e.g. ``[f_walls[2], f_walls[3], f_walls[4]]`` of ``fix wall/gran/region … contacts``); an atom with a non-zero wall
 force gets one wall contact, at the box face nearest to it (fix wall/gran/region's per-atom output holds one contact
