@@ -10,7 +10,7 @@ from typing import Any, Mapping
 
 import numpy as np
 
-from forcenet.boxes import box_periods, branch_vectors
+from forcenet.boxes import branch_vectors
 from forcenet.errors import ForcenetError
 
 #: wall ids of the contract (`forcenet.datasets.schema`: wall_contact_wall), by name as a contacts table writes them
@@ -53,11 +53,6 @@ class SourceState:
     @property
     def dimension(self) -> int:
         return int(self.position.shape[1])
-
-    @property
-    def period(self) -> np.ndarray:
-        """The box length on each periodic axis, 0 on the bounded ones, (d,)."""
-        return box_periods(self.periodic_axes, self.box_lo, self.box_hi)
 
     @property
     def rho(self) -> float:

@@ -30,11 +30,11 @@ from typing import Any, Mapping, Sequence
 
 import numpy as np
 
-from forcenet.boxes import box_periods
+from forcenet.boxes import AXIS_LABELS, box_periods
 from forcenet.importers.common import (WALL_NAMES, SourceError, SourceState, normal_unit_vectors, order_pairs,
                                        perpendicular_unit_vectors)
 
-AXES = ("x", "y", "z")
+AXES = AXIS_LABELS
 #: the two conventions of the contacts' forces (`source.forces`)
 FORCE_CONVENTIONS = ("magnitudes", "vectors")
 

@@ -151,7 +151,8 @@ def system_particles(ds: xr.Dataset) -> int:
 
 def relative_overlaps(snapshot: xr.Dataset) -> tuple[np.ndarray, np.ndarray]:
     """Per particle contact of one snapshot: the overlap relative to the sum of the radii, (r_i + r_j − |x_i −
-    x_j|) / (r_i + r_j) (x_j the image of j nearest to i in a periodic box) (shape (n_contacts,), dimensionless), and whether either particle also touches a wall
+    x_j|) / (r_i + r_j), x_j the image of j nearest to i in a periodic box (shape (n_contacts,), dimensionless),
+    and whether either particle also touches a wall
     (bool, same shape; from ``wall_contact_particle``, all False in a snapshot without walls)."""
     i = np.asarray(snapshot["contact_i"].values, dtype=int)
     j = np.asarray(snapshot["contact_j"].values, dtype=int)
