@@ -2,7 +2,8 @@
 
 Everything here works on small graphs given as an edge list with forces, with plain Python: cliques by
 itertools, homology ranks over GF(2) by Gaussian elimination on Python-int bit rows, components by
-breadth-first search, optimal matchings by enumerating permutations.
+breadth-first search (with the loops that wind around a periodic box), nearest images by trying every
+neighbouring image, optimal matchings by enumerating permutations.
 """
 from __future__ import annotations
 
@@ -124,6 +125,46 @@ def components(n_vertices, edges, force, threshold):
                     group.add(w)
                     queue.append(w)
         result.append(group)
+    return result
+
+
+def nearest_image_counts(position, i, j, period):
+    """For each pair, the whole box lengths (one of −1, 0, +1 per periodic axis) that take particle j to its image
+    nearest to particle i, found by trying all 3^d neighbouring images (ties go to the first tried)."""
+    dim = len(period)
+    trials = [np.array(t) * np.array([1 if p > 0 else 0 for p in period])
+              for t in itertools.product((-1, 0, 1), repeat=dim)]
+    counts = []
+    for a, b in zip(i, j):
+        distance = [np.linalg.norm(position[a] - (position[b] + t * np.asarray(period))) for t in trials]
+        counts.append(trials[int(np.argmin(distance))])
+    return np.array(counts, dtype=np.int64).reshape(len(i), dim)
+
+
+def winding_axes(n_vertices, edges, images, force, threshold):
+    """For each component of `components` (same order), the set of axes some loop of it winds around: a breadth-first
+    search places every particle at an image (whole box lengths per axis) that its tree edges agree with; an edge
+    (a, b) with image count s that then disagrees, U(a) + s ≠ U(b), closes a loop winding by that difference."""
+    adjacency = {v: [] for v in range(n_vertices)}
+    for (a, b), s, f in zip(edges, images, force):
+        if f >= threshold:
+            adjacency[a].append((b, np.asarray(s)))
+            adjacency[b].append((a, -np.asarray(s)))
+    result = []
+    for group in components(n_vertices, edges, force, threshold):
+        start = min(group)
+        place, queue = {start: np.zeros(len(images[0]), dtype=np.int64)}, deque([start])
+        while queue:
+            v = queue.popleft()
+            for w, s in adjacency[v]:
+                if w not in place:
+                    place[w] = place[v] + s
+                    queue.append(w)
+        axes = set()
+        for (a, b), s, f in zip(edges, images, force):
+            if f >= threshold and a in group:
+                axes |= set(np.flatnonzero(place[a] + np.asarray(s) != place[b]).tolist())
+        result.append(axes)
     return result
 
 

@@ -19,7 +19,7 @@ from forcenet.measures import (
 )
 from forcenet.network import build_force_network, network_from_edge_forces
 from forcenet.topology import PersistenceDiagrams, betti_curves, persistence_diagrams
-from naive_topology import components
+from naive_topology import components, nearest_image_counts, winding_axes
 
 X_LO, X_HI, Y_LO, Y_HI = range(4)
 
@@ -63,6 +63,87 @@ def test_clusters_at_one_threshold():
     np.testing.assert_array_equal(clusters.particle_label, [0, 0, 0, 1, 1, 1])
     assert clusters_at(network, 0.5).percolating.tolist() == [True]
     assert (clusters_at(network, 5.0).particle_label == -1).all()
+
+
+def ring_across_x(force, period):
+    """Four particles in a row at x = 0.5 … 3.5, y = 1, each touching the next, the last touching the first
+    through the x face of a box 4 wide when that axis is periodic (`period`)."""
+    return network_from_edge_forces([0, 1, 2, 0], [1, 2, 3, 3], force, position=[[0.5, 1], [1.5, 1], [2.5, 1],
+                                                                               [3.5, 1]], period=period)
+
+
+def test_a_ring_around_a_periodic_axis_percolates_and_the_same_ring_in_a_bounded_box_does_not():
+    force = [2.0, 2.0, 2.0, 1.0]  # the face-crossing contact 0–3 is the weakest: the ring closes at F_th ≤ 1
+    thresholds = np.array([0.0, 1.0, 1.5, 3.0])
+    periodic = cluster_curves(ring_across_x(force, [4.0, 0.0]), thresholds)
+    np.testing.assert_array_equal(periodic.percolates, [True, True, False, False])
+    np.testing.assert_array_equal(periodic.percolating_size, [4, 4, 0, 0])
+    np.testing.assert_allclose(periodic.cluster_mean_size, [0.0, 0.0, 4.0, 0.0])  # the ring is left out of ⟨S⟩
+    bounded = cluster_curves(ring_across_x(force, None), thresholds)
+    assert not bounded.percolates.any()
+    np.testing.assert_array_equal(bounded.cluster_count, periodic.cluster_count)
+    assert clusters_at(ring_across_x(force, [4.0, 0.0]), 1.0).percolating.tolist() == [True]
+    assert clusters_at(ring_across_x(force, [4.0, 0.0]), 1.0).wall_mask.tolist() == [(1 << X_LO) | (1 << X_HI)]
+    assert clusters_at(ring_across_x(force, None), 1.0).percolating.tolist() == [False]
+    # only the axes asked for count: winding around x is x's percolation
+    assert not cluster_curves(ring_across_x(force, [4.0, 0.0]), thresholds, percolation_axes=[1]).percolates.any()
+
+
+def test_crossing_a_periodic_face_without_winding_around_it_is_not_percolation():
+    # a triangle that straddles the x face (x = 0.3, 3.7, 3.7 in a box 4 wide): its loop is contractible
+    position = [[0.3, 1.0], [3.7, 0.6], [3.7, 1.4]]
+    triangle = network_from_edge_forces([0, 0, 1], [1, 2, 2], [1.0, 1.0, 1.0], position=position, period=[4.0, 0.0])
+    assert not cluster_curves(triangle, np.array([0.0])).percolates[0]
+    assert not clusters_at(triangle, 0.0).percolating[0]
+    # an open chain through the face
+    chain_through = network_from_edge_forces([0, 1], [1, 2], [1.0, 1.0], position=[[3.2, 1], [0.1, 1], [1.0, 1]],
+                                             period=[4.0, 0.0])
+    assert not cluster_curves(chain_through, np.array([0.0])).percolates[0]
+
+
+def test_a_box_periodic_in_x_with_walls_in_y_percolates_either_way():
+    # the ring of `ring_across_x` winds around x; a separate chain 4–5–6 touches both y walls
+    position = [[0.5, 1], [1.5, 1], [2.5, 1], [3.5, 1], [1.0, 3.0], [1.0, 4.0], [1.0, 5.0]]
+    network = network_from_edge_forces([0, 1, 2, 0, 4, 5], [1, 2, 3, 3, 5, 6], [1.0, 1.0, 1.0, 0.5, 2.0, 2.0],
+                                       position=position, period=[4.0, 0.0], wall_particle=[4, 6],
+                                       wall_id=[Y_LO, Y_HI])
+    curves = cluster_curves(network, np.array([0.0, 0.75]))
+    np.testing.assert_array_equal(curves.percolating_count, [2, 1])
+    np.testing.assert_array_equal(curves.percolating_size, [7, 3])
+    np.testing.assert_array_equal(cluster_curves(network, np.array([0.0]), percolation_axes=[0]).percolating_size,
+                                  [4])
+
+
+@pytest.mark.parametrize("seed", range(6))
+@pytest.mark.parametrize("period", [[6.0, 6.0], [6.0, 0.0], [4.0, 4.0, 4.0]])
+def test_winding_percolation_matches_breadth_first_search(seed, period):
+    rng = np.random.default_rng(seed)
+    dim, n = len(period), 40 if len(period) == 2 else 45
+    extent = np.where(np.array(period) > 0, period, 6.0)
+    position = rng.random((n, dim)) * extent
+    pairs = np.array(list(itertools.combinations(range(n), 2)))
+    images = nearest_image_counts(position, pairs[:, 0], pairs[:, 1], period)
+    gap = np.linalg.norm(position[pairs[:, 0]] - position[pairs[:, 1]] - images * np.array(period), axis=1)
+    near = gap < (1.4 if dim == 2 else 1.35)
+    edges, images = pairs[near], images[near]
+    force = rng.exponential(1.0, len(edges))
+    network = network_from_edge_forces(edges[:, 0], edges[:, 1], force, n_particles=n, position=position,
+                                       dim=dim, period=period)
+    thresholds = np.linspace(0.0, 2.5, 26)
+    curves = cluster_curves(network, thresholds)
+    edge_list = [tuple(e) for e in edges.tolist()]
+    periodic_axes = set(np.flatnonzero(np.array(period) > 0).tolist())
+    wound = []
+    for t, theta in enumerate(thresholds):
+        groups = components(n, edge_list, list(force), theta)
+        winds = [bool(axes & periodic_axes) for axes in winding_axes(n, edge_list, images, list(force), theta)]
+        wound.append(any(winds))
+        assert curves.percolating_count[t] == sum(winds)
+        assert curves.percolating_size[t] == sum(len(g) for g, w in zip(groups, winds) if w)
+        at = clusters_at(network, theta)
+        assert at.percolating.sum() == sum(winds)
+        assert at.size[at.percolating].sum() == curves.percolating_size[t]
+    assert wound[0] and not wound[-1]  # the case holds both: a network that winds at small F_th, not at large
 
 
 @pytest.mark.parametrize("seed", range(8))

@@ -18,17 +18,24 @@ def box_periods(periodic_axes: str, box_lo, box_hi) -> np.ndarray:
     return np.where([label in periodic_axes for label in AXIS_LABELS[:lo.size]], hi - lo, 0.0)
 
 
-def image_shifts(position: np.ndarray, i: np.ndarray, j: np.ndarray, period: np.ndarray | None = None) -> np.ndarray:
-    """The shift (C, d) [length] that takes particle j of each pair (i, j) to its image nearest to particle i: a
-    whole number of box lengths on each axis where `period` (d,) is positive, 0 on the others and everywhere when
+def image_counts(position: np.ndarray, i: np.ndarray, j: np.ndarray, period: np.ndarray | None = None) -> np.ndarray:
+    """The whole number of box lengths (C, d), int64, that takes particle j of each pair (i, j) to its image
+    nearest to particle i, on each axis where `period` (d,) is positive; 0 on the others and everywhere when
     `period` is None (a bounded box)."""
-    shift = np.zeros((len(i), position.shape[1]))
+    count = np.zeros((len(i), position.shape[1]), dtype=np.int64)
     period = np.zeros(position.shape[1]) if period is None else np.asarray(period, dtype=float)
     wrap = period > 0
     if wrap.any() and len(i):
         delta = position[i][:, wrap] - position[j][:, wrap]
-        shift[:, wrap] = period[wrap] * np.round(delta / period[wrap])
-    return shift
+        count[:, wrap] = np.round(delta / period[wrap])
+    return count
+
+
+def image_shifts(position: np.ndarray, i: np.ndarray, j: np.ndarray, period: np.ndarray | None = None) -> np.ndarray:
+    """The shift (C, d) [length] that takes particle j of each pair (i, j) to its image nearest to particle i:
+    `image_counts` box lengths on each periodic axis, 0 on the others and everywhere in a bounded box."""
+    period = np.zeros(position.shape[1]) if period is None else np.asarray(period, dtype=float)
+    return image_counts(position, i, j, period) * period
 
 
 def branch_vectors(position: np.ndarray, i: np.ndarray, j: np.ndarray, period: np.ndarray | None = None) -> np.ndarray:

@@ -9,7 +9,10 @@ kept) is a one-particle cluster at F_th ≤ 0, as in B0.
   no other cluster (P1 Fig. 4: "⟨S⟩ may vanish in the case no clusters are found").
 - Percolating cluster (P1 §4): a cluster containing particles that touch two opposite walls (through the
   network's wall contacts, whatever their force). N_per counts the particles of all percolating clusters
-  (normally there is one).
+  (normally there is one). Along a periodic axis of an imported box (`ForceNetwork.period`), which has no
+  walls, a cluster percolates when it winds around the box: one of its loops, followed from particle to
+  nearest image, ends on the particle's own image one box length away (the cluster joins itself across the
+  face, as a wall-to-wall cluster joins the two walls). A cluster that only crosses the face does not.
 - Shape parameter S̄_p (P1 §5.2): edges / particles, pooled over the clusters of one network ("the number
   of edges in the clusters divided by the number of participating particles"): a path of N_L particles
   gives (N_L − 1)/N_L, a loop 1, denser clusters more; 0 when there are no clusters. The mean of the
@@ -22,6 +25,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from forcenet.boxes import image_counts
 from forcenet.measures import _kernels
 from forcenet.network.force_network import ForceNetwork
 from forcenet.topology.betti import default_thresholds
@@ -38,7 +42,7 @@ class ClusterCurves:
     cluster_particle_count : particles in clusters.
     edge_count : edges in clusters (edges with force ≥ F_th).
     cluster_mean_size : ⟨S⟩ [particles], percolating clusters excluded.
-    percolates : bool — some cluster touches two opposite walls.
+    percolates : bool — some cluster touches two opposite walls (or winds around a periodic axis).
     percolating_count : number of percolating clusters.
     percolating_size : N_per [particles], particles in percolating clusters.
     largest_cluster_size : [particles].
@@ -95,6 +99,21 @@ def _vertex_walls(network: ForceNetwork) -> np.ndarray:
     return walls
 
 
+def _winding_inputs(network: ForceNetwork, edges: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """What the kernels need to follow images: each compact edge's image count (E, d), int64 (the box lengths
+    that take its second particle to the image nearest to its first, `forcenet.boxes.image_counts`), and the
+    wall-pair bits of each periodic axis (d,), int64, 0 on the bounded ones. A bounded box gets all-0 bits and
+    no image counts (0, d): the kernels then never read them."""
+    period = network.period
+    axis_pairs = np.zeros(network.dim, dtype=np.int64)
+    if period is None or not np.any(period > 0):
+        return np.zeros((0, network.dim), dtype=np.int64), axis_pairs
+    particle = network.compact.particle
+    periodic_axes = np.flatnonzero(period > 0)
+    axis_pairs[periodic_axes] = opposite_wall_masks(network.dim, periodic_axes)
+    return image_counts(network.position, particle[edges[:, 0]], particle[edges[:, 1]], period), axis_pairs
+
+
 def _percolating(wall_mask: np.ndarray, opposite_pairs: np.ndarray) -> np.ndarray:
     """Whether each wall mask holds both walls of some opposite pair, shape of `wall_mask`, bool."""
     pairs = np.asarray(opposite_pairs, dtype=np.int64)
@@ -108,16 +127,19 @@ def cluster_curves(network: ForceNetwork, thresholds=None, *, percolation_axes=N
     ----------
     network : ForceNetwork (forces in ⟨F⟩).
     thresholds : array, shape (T,) [⟨F⟩]; default `default_thresholds()` (0 to 3 by 0.05).
-    percolation_axes : axes whose two walls count for percolation (default: all d axes).
+    percolation_axes : axes whose two walls (or, on a periodic axis, winding around it) count for percolation
+        (default: all d axes).
     """
     thresholds = default_thresholds() if thresholds is None else np.asarray(thresholds, dtype=np.float64)
     graph = network.compact
     force = graph.force
     by_force = np.argsort(-force, kind="stable")
     by_threshold = np.argsort(-thresholds, kind="stable")
+    images, axis_pairs = _winding_inputs(network, graph.edges[by_force])
     counts_sorted, ratio_sorted = _kernels.cluster_sweep(
         graph.vertex_value, graph.edges[by_force, 0], graph.edges[by_force, 1], force[by_force],
-        _vertex_walls(network), opposite_wall_masks(network.dim, percolation_axes), thresholds[by_threshold])
+        _vertex_walls(network), opposite_wall_masks(network.dim, percolation_axes), thresholds[by_threshold],
+        images, axis_pairs)
     counts = np.empty_like(counts_sorted)
     counts[by_threshold] = counts_sorted
     ratio_sum = np.empty_like(ratio_sorted)
@@ -143,13 +165,16 @@ def _ratio_or_zero(numerator, denominator) -> np.ndarray:
 
 
 def clusters_at(network: ForceNetwork, threshold: float, *, percolation_axes=None) -> ClusterSet:
-    """The individual clusters at one threshold (sizes, edges, walls, percolation); see module docstring."""
+    """The individual clusters at one threshold (sizes, edges, walls, percolation); see module docstring. A
+    cluster that winds around a periodic axis has both wall bits of that axis set in its `wall_mask`."""
     graph = network.compact
     particle, walls = graph.particle, _vertex_walls(network)
     edge_a, edge_b = graph.edges[:, 0], graph.edges[:, 1]
     present = graph.vertex_value >= threshold
     strong = graph.force >= threshold
     labels = _kernels.component_labels(particle.size, edge_a[strong], edge_b[strong])
+    images, axis_pairs = _winding_inputs(network, graph.edges[strong])
+    walls = walls | _kernels.winding_walls(particle.size, edge_a[strong], edge_b[strong], images, axis_pairs)
     # relabel the present vertices' components 0..K−1
     _, labels_present = np.unique(labels[present], return_inverse=True)
     n_clusters = int(labels_present.max(initial=-1)) + 1

@@ -66,6 +66,9 @@ class ForceNetwork:
     contact_i, contact_j : ndarray, shape (C,), int64 — every particle–particle contact (total force > 0),
         rattlers' included: the contact network behind the coordination number Z.
     rattler_rule : "once", "iterative" or "none" (see module docstring).
+    period : ndarray, shape (d,), or None — the box length on each periodic axis, 0 on the bounded ones [d_ave];
+        None for a bounded box (our engine's). An edge then joins nearest images (`forcenet.boxes`), and a
+        cluster percolates along a periodic axis by winding around it (`forcenet.measures.clusters`).
     """
 
     dim: int
@@ -83,6 +86,7 @@ class ForceNetwork:
     contact_i: np.ndarray
     contact_j: np.ndarray
     rattler_rule: str
+    period: np.ndarray | None = None
 
     @property
     def n_edges(self) -> int:
@@ -250,7 +254,7 @@ def rattler_free_mask(n_particles: int, contact_i: np.ndarray, contact_j: np.nda
 def build_force_network(position, contact_i, contact_j, force_normal, force_tangential=None, *,
                         kind: str = "total", remove_rattlers: bool | str = True, wall_particle=None,
                         wall_id=None, wall_force=None, n_particles: int | None = None,
-                        count_wall_contacts: bool = False) -> ForceNetwork:
+                        count_wall_contacts: bool = False, period=None) -> ForceNetwork:
     """The force network of one snapshot (P1 §3, P2 §III A).
 
     Parameters
@@ -267,6 +271,8 @@ def build_force_network(position, contact_i, contact_j, force_normal, force_tang
         dropped when given.
     n_particles : N (default ``len(position)``).
     count_wall_contacts : whether wall contacts count toward the rattler rule (default False).
+    period : array, shape (d,), optional — box lengths of the periodic axes, 0 on the bounded ones [d_ave]
+        (`forcenet.datasets.snapshot.periodic_lengths`); None (default) for a bounded box.
 
     Returns
     -------
@@ -285,12 +291,13 @@ def build_force_network(position, contact_i, contact_j, force_normal, force_tang
     magnitude = total if kind == "total" else force_magnitude(force_normal, force_tangential, kind)
     wall_particle, wall_id = _wall_contacts(wall_particle, wall_id, wall_force, n_particles, dim)
     return _assemble(dim, n_particles, position, contact_i, contact_j, total, magnitude, kind,
-                     resolve_rattler_rule(remove_rattlers), wall_particle, wall_id, count_wall_contacts)
+                     resolve_rattler_rule(remove_rattlers), wall_particle, wall_id, count_wall_contacts,
+                     period=_period(period, dim))
 
 
 def network_from_edge_forces(edge_i, edge_j, force, *, dim: int = 2, n_particles: int | None = None,
                              position=None, wall_particle=None, wall_id=None, remove_rattlers: bool | str = False,
-                             normalise: bool = False) -> ForceNetwork:
+                             normalise: bool = False, period=None) -> ForceNetwork:
     """A force network from scalar edge forces (hand-built test networks, synthetic benchmarks).
 
     Parameters
@@ -303,6 +310,7 @@ def network_from_edge_forces(edge_i, edge_j, force, *, dim: int = 2, n_particles
     wall_particle, wall_id : wall contacts as in `build_force_network`.
     remove_rattlers : as in `build_force_network`; default False keeps the graph exactly as given.
     normalise : divide by the mean positive force (default False: forces used as given, ⟨F⟩ reported).
+    period : periodic box lengths as in `build_force_network` (default None: bounded).
     """
     edge_i = np.asarray(edge_i, dtype=np.int64).reshape(-1)
     edge_j = np.asarray(edge_j, dtype=np.int64).reshape(-1)
@@ -317,7 +325,18 @@ def network_from_edge_forces(edge_i, edge_j, force, *, dim: int = 2, n_particles
         raise ValueError("force must have one value per edge")
     wall_particle, wall_id = _wall_contacts(wall_particle, wall_id, None, n_particles, dim)
     return _assemble(dim, n_particles, position, edge_i, edge_j, force, force, "total",
-                     resolve_rattler_rule(remove_rattlers), wall_particle, wall_id, False, normalise=normalise)
+                     resolve_rattler_rule(remove_rattlers), wall_particle, wall_id, False, normalise=normalise,
+                     period=_period(period, dim))
+
+
+def _period(period, dim: int) -> np.ndarray | None:
+    """A periodic box's lengths as a (d,) float array (None stays None: bounded)."""
+    if period is None:
+        return None
+    period = np.asarray(period, dtype=np.float64).reshape(-1)
+    if period.shape != (dim,) or np.any(period < 0):
+        raise ValueError(f"period must hold {dim} box lengths >= 0 (0 on a bounded axis), got {period}")
+    return period
 
 
 def _contact_pairs(contact_i, contact_j, n_particles: int) -> tuple[np.ndarray, np.ndarray]:
@@ -359,7 +378,8 @@ def _wall_contacts(wall_particle, wall_id, wall_force, n_particles: int, dim: in
 
 
 def _assemble(dim, n_particles, position, contact_i, contact_j, total, magnitude, kind, rule,
-              wall_particle, wall_id, count_wall_contacts, *, normalise: bool = True) -> ForceNetwork:
+              wall_particle, wall_id, count_wall_contacts, *, normalise: bool = True,
+              period: np.ndarray | None = None) -> ForceNetwork:
     """Rattlers, edges, normalisation (the decisions of the module docstring)."""
     is_contact = total > 0
     ci, cj = contact_i[is_contact], contact_j[is_contact]
@@ -381,4 +401,4 @@ def _assemble(dim, n_particles, position, contact_i, contact_j, total, magnitude
         dim=dim, n_particles=n_particles, position=position, particle_mask=keep, non_rattler=non_rattler,
         edge_i=low[order], edge_j=high[order], force=force, mean_force=mean_force, kind=kind,
         wall_particle=wall_particle[on_network_wall], wall_id=wall_id[on_network_wall],
-        contact_i=ci, contact_j=cj, rattler_rule=rule)
+        contact_i=ci, contact_j=cj, rattler_rule=rule, period=period)

@@ -16,6 +16,7 @@ Wall contacts (`WALL_CONTACTS`) never are edges (walls are not vertices); they c
 """
 from __future__ import annotations
 
+from forcenet.datasets.snapshot import periodic_lengths
 from forcenet.network.force_network import ForceNetwork, build_force_network
 
 #: what the wall contacts of a snapshot do in its network (module docstring)
@@ -29,7 +30,8 @@ def snapshot_network(snapshot, kind: str = "total", *, rattler_rule: bool | str,
     Parameters
     ----------
     snapshot : an opened snapshot dataset (`forcenet.datasets.read_snapshot`): position (N, d) [d_ave],
-        contact_i, contact_j (C,), force_normal, force_tangential (C, d) [m̄ d_ave τ_c⁻²] and, unless
+        contact_i, contact_j (C,), force_normal, force_tangential (C, d) [m̄ d_ave τ_c⁻²], box_lo, box_hi (d,) when
+        it records periodic axes (`forcenet.datasets.schema.PERIODIC_AXES_ATTR`), and, unless
         ``wall_contacts="ignored"``, wall_contact_particle, wall_contact_wall (W,), wall_contact_force (W, d).
     kind : "total" |F_n + F_t| (P1), "normal" or "tangential" (P2).
     rattler_rule : "once", "iterative" or "none" (True = "once", False = "none"; `forcenet.network.force_network`).
@@ -50,4 +52,4 @@ def snapshot_network(snapshot, kind: str = "total", *, rattler_rule: bool | str,
     return build_force_network(snapshot["position"].values, snapshot["contact_i"].values,
                                snapshot["contact_j"].values, snapshot["force_normal"].values,
                                snapshot["force_tangential"].values, kind=kind, remove_rattlers=rattler_rule,
-                               **walls)
+                               period=periodic_lengths(snapshot), **walls)
