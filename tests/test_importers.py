@@ -317,6 +317,32 @@ def test_a_periodic_import_records_its_axes_and_its_overlaps_go_through_the_face
     np.testing.assert_allclose(overlaps, [(1.0 - 9.2) / 1.0])
 
 
+def test_a_ring_of_contacts_around_a_periodic_import_percolates(tmp_path):
+    from forcenet.measures import cluster_curves
+    from forcenet.network import snapshot_network
+
+    # four touching disks along y = 2 at x = 0.5 … 3.5 in a box 4 wide; the fourth contact, 4–1, goes through
+    # the x face when x is periodic (in the bounded box it would join disks 3 apart: a loop, but no wall)
+    atoms, pairs = tmp_path / "a.dump", tmp_path / "p.dump"
+    for bounds in ("pp ff pp", "ff ff pp"):
+        head = "ITEM: TIMESTEP\n7\nITEM: NUMBER OF {}\n{}\nITEM: BOX BOUNDS " + bounds + "\n0 4\n0 4\n-0.5 0.5\n"
+        atoms.write_text(head.format("ATOMS", 4) + "ITEM: ATOMS id x y z radius\n"
+                         + "".join(f"{k + 1} {k + 0.5} 2.0 0 0.5\n" for k in range(4)))
+        pairs.write_text(head.format("ENTRIES", 4) + "ITEM: ENTRIES c_pid[1] c_pid[2] c_pf[1] c_pf[2] c_pf[3] "
+                         "c_pf[4]\n1 2 2.0 0 0 0\n2 3 2.0 0 0 0\n3 4 2.0 0 0 0\n4 1 1.0 0 0 0\n")
+        entry = {"dimension": 2, "source": {"format": "lammps", "runs": [{"atoms": str(atoms), "pairs": str(pairs)}]}}
+        out = tmp_path / f"{bounds[:2]}.nc"
+        import_run(config={"systems": {"p": entry}}, system="p", realization=0, outputs=[str(out)])
+        with read_snapshot(out) as snapshot:
+            network = snapshot_network(snapshot, rattler_rule="once")
+            attrs = pipeline.analysis_attrs(snapshot, str(out), {"remove_rattlers": "once", "fill_tetrahedra": True})
+        assert attrs.get("periodic_axes") == ("x" if bounds == "pp ff pp" else None)  # the analysis says so too
+        # F_th in <F> = 1.75: the ring closes at F_th <= 1/1.75
+        curves = cluster_curves(network, np.array([0.0, 0.5, 0.6]))
+        expected = [True, True, False] if bounds == "pp ff pp" else [False, False, False]
+        np.testing.assert_array_equal(curves.percolates, expected)
+
+
 def test_walls_only_on_the_bounded_faces_of_a_periodic_box(tmp_path):
     atoms, pairs = periodic_dumps(tmp_path, "pp ff pp", wall=True)
     source = {"format": "lammps", "wall_columns": ["fx", "fx"]}

@@ -85,7 +85,9 @@ ENGINE_SOURCE_FORMAT = "forcenet-dem"
 SNAPSHOT_SOURCE_ATTRS = ("source_files", "source_sha256", "source_timestep")
 #: global attribute of a snapshot whose box is periodic along some axes (an import of a LAMMPS dump whose box bounds
 #: are "pp"): their letters, e.g. "xy"; absent where every axis is bounded (our engine: walls). A contact across a
-#: periodic face joins particle i to the image of j nearest to it (`forcenet.boxes.image_shifts`)
+#: periodic face joins particle i to the image of j nearest to it (`forcenet.boxes.image_shifts`), and a cluster
+#: percolates along a periodic axis by winding around it (`forcenet.measures.clusters`); the snapshot's analysis
+#: files carry the attribute too
 PERIODIC_AXES_ATTR = "periodic_axes"
 #: variables that must hold finite values (issue 27: a NaN position or force is refused, never analysed)
 SNAPSHOT_FINITE_VARIABLES = ("position", "radius", "force_normal", "force_tangential", "wall_contact_force",
@@ -117,7 +119,8 @@ ANALYSIS_VARIABLES: dict[str, VariableSpec] = {
     "percolating_size": VariableSpec(("force_kind", "threshold"), "particles",
                                      "size N_per of the percolating cluster (0 if none)", dtype="int"),
     "percolates": VariableSpec(("force_kind", "threshold"), DIMENSIONLESS,
-                               "1 if a cluster touches two opposite walls", dtype="int"),
+                               "1 if a cluster touches two opposite walls (or winds around a periodic axis)",
+                               dtype="int"),
     "percolating_count": VariableSpec(("force_kind", "threshold"), DIMENSIONLESS,
                                       "number of percolating clusters", dtype="int"),
     "largest_cluster_size": VariableSpec(("force_kind", "threshold"), "particles", "size of the largest cluster",
