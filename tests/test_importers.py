@@ -317,6 +317,37 @@ def test_a_periodic_import_records_its_axes_and_its_overlaps_go_through_the_face
     np.testing.assert_allclose(overlaps, [(1.0 - 9.2) / 1.0])
 
 
+@pytest.mark.parametrize("columns, atom_rows", [
+    ("xs ys", ["0.02 0.5", "0.94 0.5", "0.01 0.225"]),  # scaled: fractions of the 10 x 4 box
+    ("xu yu", ["10.2 2.0", "-0.6 2.0", "0.1 0.9"]),  # unwrapped: atoms 1 and 2 one box length outside, in x
+    ("xsu ys", ["1.02 0.5", "-0.06 0.5", "0.01 0.225"]),
+])
+def test_scaled_and_unwrapped_lammps_positions_give_the_same_state(tmp_path, columns, atom_rows):
+    atoms, pairs = periodic_dumps(tmp_path, "pp ff pp")
+    (expected,) = lammps.read_run({"atoms": atoms, "pairs": pairs}, 2, {"format": "lammps"})
+    text = atoms.read_text().replace("id x y z radius", f"id {columns} z radius")
+    rows = text.splitlines()
+    first = rows.index(f"ITEM: ATOMS id {columns} z radius") + 1
+    for k, row in enumerate(atom_rows):
+        cells = rows[first + k].split()
+        rows[first + k] = " ".join([cells[0], *row.split(), *cells[3:]])
+    atoms.write_text("\n".join(rows) + "\n")
+    (state,) = lammps.read_run({"atoms": atoms, "pairs": pairs}, 2, {"format": "lammps"})
+    np.testing.assert_allclose(state.position, expected.position, atol=1e-12)  # folded back into the periodic x
+    np.testing.assert_allclose(state.force_normal, expected.force_normal)
+    assert state.periodic_axes == "x"
+
+
+def test_unwrapped_positions_stay_where_they_are_on_a_bounded_axis_and_a_dump_without_positions_is_named(tmp_path):
+    atoms, pairs = periodic_dumps(tmp_path, "ff ff pp")
+    atoms.write_text(atoms.read_text().replace("id x y z radius", "id xu y z radius").replace("9.4 2.0", "10.4 2.0"))
+    (state,) = lammps.read_run({"atoms": atoms, "pairs": pairs}, 2, {"format": "lammps"})
+    assert state.position[1, 0] == pytest.approx(10.4)
+    atoms.write_text(atoms.read_text().replace("id xu y z radius", "id q y z radius"))
+    with pytest.raises(SourceError, match=r"column 'x': missing \(the positions: one of x, xs, xu, xsu; the columns"):
+        lammps.read_run({"atoms": atoms, "pairs": pairs}, 2, {"format": "lammps"})
+
+
 def test_a_ring_of_contacts_around_a_periodic_import_percolates(tmp_path):
     from forcenet.measures import cluster_curves
     from forcenet.network import snapshot_network

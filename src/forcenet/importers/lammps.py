@@ -2,7 +2,9 @@
 many timesteps (README "Your own data"; the shipped example and how it was made: data/examples/lammps_2d/).
 
 Atoms dump (``dump custom``): columns ``id``, ``x``, ``y``, ``z`` (a 2D dump may leave z out or hold it constant),
-``radius`` (``type`` and any others are ignored); the box of each timestep is the dump's BOX BOUNDS (orthogonal
+``radius`` (``type`` and any others are ignored). Positions may also be LAMMPS's scaled ``xs ys zs`` (fractions of
+the dump's box), unwrapped ``xu yu zu`` (folded back into the box on its periodic axes) or scaled unwrapped
+``xsu ysu zsu``; per axis the first present of x, xs, xu, xsu is read. The box of each timestep is the dump's BOX BOUNDS (orthogonal
 boxes only) unless the config gives ``source.box``; ρ is the particles' area (2D) or volume (3D) over the box's.
 An axis of the system whose boundary flags are ``pp`` is periodic (a 2D run's z does not count): a pair touching
 through that face joins i to the image of j nearest to it (`forcenet.boxes`), and no wall lies on it.
@@ -132,22 +134,52 @@ def _finite(path, frame: Frame, values: np.ndarray, name: str) -> None:
                           "NaN or infinite value")
 
 
+#: LAMMPS's position columns of one axis, in the order they are looked for: unscaled, scaled (fractions of the box),
+#: unwrapped (image flags applied: outside the box on a periodic axis), scaled unwrapped
+POSITION_COLUMNS = ("{}", "{}s", "{}u", "{}su")
+
+
+def _positions(path, frame: Frame, axes: Sequence[str]) -> tuple[np.ndarray, dict[str, str]]:
+    """Position (N, len(axes)) in the dump's length unit, inside the box on its periodic axes when the dump gave
+    them unwrapped, and the column each axis was read from."""
+    position = np.empty((len(frame.rows), len(axes)))
+    read_from = {}
+    for a, axis in enumerate(axes):
+        names = [form.format(axis) for form in POSITION_COLUMNS]
+        name = next((n for n in names if n in frame.columns), None)
+        if name is None:
+            raise SourceError(path, f"column '{axis}'", f"missing (the positions: one of {', '.join(names)}; the "
+                                                        f"columns at line {frame.first_row_line - 1} are "
+                                                        f"{' '.join(frame.columns)})")
+        values = _column(path, frame, name, "")
+        _finite(path, frame, values, name)
+        lo, hi = frame.box[a]
+        if "s" in name[1:]:  # scaled: fractions of the dump's box
+            values = lo + values * (hi - lo)
+        if name.endswith("u") and frame.periodic[a]:  # unwrapped: back into the box, as LAMMPS's x
+            values = lo + np.mod(values - lo, hi - lo)
+        position[:, a] = values
+        read_from[axis] = name
+    return position, read_from
+
+
 def atom_state(path, frame: Frame, dimension: int, wall_columns: Sequence[str] | None = None):
     """(ids, position (N, d), radius, box_lo, box_hi, wall force (N, d) or None) of one atoms frame."""
     axes = ("x", "y", "z")[:dimension]
     ids = _column(path, frame, "id", "the atom ids")
-    if dimension == 3 and "z" not in frame.columns:
+    if dimension == 3 and not any(form.format("z") in frame.columns for form in POSITION_COLUMNS):
         raise SourceError(path, "column 'z'", "missing: the system is declared 3D (dimension: 3) but the dump has no z")
-    position = np.stack([_column(path, frame, a, "positions, unscaled") for a in axes], axis=1)
-    for a, axis in enumerate(axes):
-        _finite(path, frame, position[:, a], axis)
-    if "z" in frame.columns and len(frame.rows) > 1:
-        z = _column(path, frame, "z", "")
+    position, read_from = _positions(path, frame, axes)
+    z_column = next((form.format("z") for form in POSITION_COLUMNS if form.format("z") in frame.columns), None)
+    if z_column is not None and len(frame.rows) > 1:
+        z = position[:, 2] if dimension == 3 else _column(path, frame, z_column, "")
+        name = read_from.get("z", z_column)
         if dimension == 3 and np.ptp(z) == 0:
-            raise SourceError(path, f"column 'z' (timestep {frame.timestep}, line {frame.line})",
-                              f"every atom at z = {z[0]:g}: a 2D state, but the system is declared 3D (dimension: 3)")
+            raise SourceError(path, f"column '{name}' (timestep {frame.timestep}, line {frame.line})",
+                              f"every atom at {name} = {z[0]:g}: a 2D state, but the system is declared 3D "
+                              "(dimension: 3)")
         if dimension == 2 and np.ptp(z) > 0:
-            raise SourceError(path, f"column 'z' (timestep {frame.timestep}, line {frame.line})",
+            raise SourceError(path, f"column '{name}' (timestep {frame.timestep}, line {frame.line})",
                               "the atoms are spread in z: a 3D state, but the system is declared 2D (dimension: 2)")
     radius = _column(path, frame, "radius", "the atom radii")
     _finite(path, frame, radius, "radius")
