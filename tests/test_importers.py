@@ -232,7 +232,7 @@ def test_lammps_nan_missing_column_and_dimension_are_refused(tmp_path):
     edit_line(atoms, 11, lambda line: " ".join(["nan" if k == 2 else v for k, v in enumerate(line.split())]))
     assert lammps_import(tmp_path, atoms, pairs).startswith(f"{atoms}, line 11, column 'x': NaN or infinite value")
     atoms, pairs = copy_dumps(tmp_path)
-    edit_line(atoms, 9, lambda line: line.replace(" radius", " diameter"))
+    edit_line(atoms, 9, lambda line: line.replace(" radius", " size"))
     assert lammps_import(tmp_path, atoms, pairs).startswith(f"{atoms}, column 'radius': missing")
     atoms, pairs = copy_dumps(tmp_path)
     message = lammps_import(tmp_path, atoms, pairs, dimension=3)
@@ -336,6 +336,19 @@ def test_scaled_and_unwrapped_lammps_positions_give_the_same_state(tmp_path, col
     np.testing.assert_allclose(state.position, expected.position, atol=1e-12)  # folded back into the periodic x
     np.testing.assert_allclose(state.force_normal, expected.force_normal)
     assert state.periodic_axes == "x"
+
+
+def test_a_lammps_diameter_column_gives_the_radii(tmp_path):
+    atoms, pairs = periodic_dumps(tmp_path, "ff ff pp")
+    (expected,) = lammps.read_run({"atoms": atoms, "pairs": pairs}, 2, {"format": "lammps"})
+    text = atoms.read_text().replace("id x y z radius", "id x y z diameter").replace(" 0.5\n", " 1.0\n")
+    atoms.write_text(text.replace("3 0.1 0.9 0 1.0", "3 0.1 0.9 0 1.2"))
+    (state,) = lammps.read_run({"atoms": atoms, "pairs": pairs}, 2, {"format": "lammps"})
+    np.testing.assert_allclose(state.radius, [0.5, 0.5, 0.6])
+    np.testing.assert_allclose(state.position, expected.position)
+    atoms.write_text(text.replace("3 0.1 0.9 0 1.0", "3 0.1 0.9 0 0"))
+    with pytest.raises(SourceError, match="column 'diameter'.*diameter 0 is not positive"):
+        lammps.read_run({"atoms": atoms, "pairs": pairs}, 2, {"format": "lammps"})
 
 
 def test_unwrapped_positions_stay_where_they_are_on_a_bounded_axis_and_a_dump_without_positions_is_named(tmp_path):

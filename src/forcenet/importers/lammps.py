@@ -2,7 +2,7 @@
 many timesteps (README "Your own data"; the shipped example and how it was made: data/examples/lammps_2d/).
 
 Atoms dump (``dump custom``): columns ``id``, ``x``, ``y``, ``z`` (a 2D dump may leave z out or hold it constant),
-``radius`` (``type`` and any others are ignored). Positions may also be LAMMPS's scaled ``xs ys zs`` (fractions of
+``radius`` (or ``diameter``; ``type`` and any others are ignored). Positions may also be LAMMPS's scaled ``xs ys zs`` (fractions of
 the dump's box), unwrapped ``xu yu zu`` (folded back into the box on its periodic axes) or scaled unwrapped
 ``xsu ysu zsu``; per axis the first present of x, xs, xu, xsu is read. The box of each timestep is the dump's BOX BOUNDS (orthogonal
 boxes only) unless the config gives ``source.box``; ρ is the particles' area (2D) or volume (3D) over the box's.
@@ -181,11 +181,14 @@ def atom_state(path, frame: Frame, dimension: int, wall_columns: Sequence[str] |
         if dimension == 2 and np.ptp(z) > 0:
             raise SourceError(path, f"column '{name}' (timestep {frame.timestep}, line {frame.line})",
                               "the atoms are spread in z: a 3D state, but the system is declared 2D (dimension: 2)")
-    radius = _column(path, frame, "radius", "the atom radii")
-    _finite(path, frame, radius, "radius")
+    size_column = "radius" if "radius" in frame.columns or "diameter" not in frame.columns else "diameter"
+    radius = _column(path, frame, size_column, "the atom radii, or their diameters")
+    _finite(path, frame, radius, size_column)
     if np.any(radius <= 0):
-        raise SourceError(path, f"line {frame.first_row_line + int(np.argmax(radius <= 0))}, column 'radius'",
-                          f"radius {radius[np.argmax(radius <= 0)]:g} is not positive")
+        raise SourceError(path, f"line {frame.first_row_line + int(np.argmax(radius <= 0))}, column '{size_column}'",
+                          f"{size_column} {radius[np.argmax(radius <= 0)]:g} is not positive")
+    if size_column == "diameter":
+        radius = 0.5 * radius
     if len(np.unique(ids)) != len(ids):
         raise SourceError(path, f"column 'id' (timestep {frame.timestep}, line {frame.line})", "an atom id repeats")
     wall_force = None
