@@ -2,10 +2,11 @@
 many timesteps (README "Your own data"; the shipped example and how it was made: data/examples/lammps_2d/).
 
 Atoms dump (``dump custom``): columns ``id``, ``x``, ``y``, ``z`` (a 2D dump may leave z out or hold it constant),
-``radius`` (or ``diameter``; ``type`` and any others are ignored). Positions may also be LAMMPS's scaled ``xs ys zs`` (fractions of
-the dump's box), unwrapped ``xu yu zu`` (folded back into the box on its periodic axes) or scaled unwrapped
-``xsu ysu zsu``; per axis the first present of x, xs, xu, xsu is read. The box of each timestep is the dump's BOX BOUNDS (orthogonal
-boxes only) unless the config gives ``source.box``; ρ is the particles' area (2D) or volume (3D) over the box's.
+``radius`` (or ``diameter``; ``type`` and any others are ignored). Positions may also be LAMMPS's scaled ``xs ys
+zs`` (fractions of the dump's box), unwrapped ``xu yu zu`` (folded back into the box on its periodic axes) or scaled
+unwrapped ``xsu ysu zsu``; per axis the first present of x, xs, xu, xsu is read. The box of each timestep is the
+dump's BOX BOUNDS (orthogonal boxes only) unless the config gives ``source.box``; ρ is the particles' area (2D) or
+volume (3D) over the box's.
 An axis of the system whose boundary flags are ``pp`` is periodic (a 2D run's z does not count): a pair touching
 through that face joins i to the image of j nearest to it (`forcenet.boxes`), and no wall lies on it.
 Optional wall forces: ``source.wall_columns`` names the atom columns holding the force of the walls on each atom

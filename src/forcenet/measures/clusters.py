@@ -11,8 +11,8 @@ kept) is a one-particle cluster at F_th ≤ 0, as in B0.
   network's wall contacts, whatever their force). N_per counts the particles of all percolating clusters
   (normally there is one). Along a periodic axis of an imported box (`ForceNetwork.period`), which has no
   walls, a cluster percolates when it winds around the box: one of its loops, followed from particle to
-  nearest image, ends on the particle's own image one box length away (the cluster joins itself across the
-  face, as a wall-to-wall cluster joins the two walls). A cluster that only crosses the face does not.
+  nearest image, ends on the particle's own image a whole number of box lengths away (the cluster joins
+  itself across the face, as a wall-to-wall cluster joins the two walls). A cluster that only crosses the face does not.
 - Shape parameter S̄_p (P1 §5.2): edges / particles, pooled over the clusters of one network ("the number
   of edges in the clusters divided by the number of participating particles"): a path of N_L particles
   gives (N_L − 1)/N_L, a loop 1, denser clusters more; 0 when there are no clusters. The mean of the
