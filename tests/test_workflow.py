@@ -260,3 +260,29 @@ def test_each_reading_beside_is_built_with_the_other_convention_and_judged(smoke
     assert {readings["essential"].label, readings["table_states"].label} <= set(table["reading"])
     # apart: a pair whose numbers of never-dying classes differ is infinitely far apart, printed so
     assert "inf" in Path(paths.p2_table(folder["essential"], 1, "md")).read_text()
+
+
+def test_the_subset_table_script_judges_a_builds_systems_as_its_table_job_does(smoke_run, tmp_path):
+    # scripts/p1_subset_table.py (checking part of a campaign): the build's own rows for the systems it is given;
+    # a system left out has its rows "not evaluated" or none
+    results = smoke_run / "results"
+    built = pd.read_csv(paths.p1_validation_table(results, "csv"), comment="#", keep_default_na=False)
+    built = built[built["reading"] == ""]
+    key = ["kind", "id", "system"]
+    for systems in (["2d_linear", "2d_hertz", "3d_hertz"], ["2d_linear", "2d_hertz"]):
+        csv = tmp_path / f"{len(systems)}.csv"
+        subprocess.run([sys.executable, str(REPO / "scripts/p1_subset_table.py"), "--results", str(results),
+                        "--systems", *systems, "--realizations", "1", "--csv", str(csv), "--md", str(tmp_path / "t.md")],
+                       check=True, capture_output=True, text=True)
+        subset = pd.read_csv(csv, comment="#", keep_default_na=False)
+        merged = built.merge(subset[subset["reading"] == ""], on=key, how="left", suffixes=("_built", "_subset"))
+        judged = merged[merged["verdict_subset"].notna() & (merged["verdict_subset"] != "not evaluated")]
+        pd.testing.assert_series_equal(judged["measured_built"], judged["measured_subset"], check_names=False)
+        pd.testing.assert_series_equal(judged["verdict_built"], judged["verdict_subset"], check_names=False)
+        left_out = merged[merged["system"] == "3d_hertz"]
+        if "3d_hertz" in systems:
+            assert len(judged) == (built["verdict"] != "not evaluated").sum()
+        else:
+            assert (left_out["verdict_subset"].isna() | (left_out["verdict_subset"] == "not evaluated")).all()
+            assert (left_out["verdict_built"].isin(["holds", "does not hold"])).any()
+            assert judged["system"].isin(["2d_linear", "2d_hertz", "all"]).all() and len(judged) >= 10
