@@ -85,6 +85,8 @@ def test_a_ring_around_a_periodic_axis_percolates_and_the_same_ring_in_a_bounded
     assert clusters_at(ring_across_x(force, [4.0, 0.0]), 1.0).percolating.tolist() == [True]
     assert clusters_at(ring_across_x(force, [4.0, 0.0]), 1.0).wall_mask.tolist() == [(1 << X_LO) | (1 << X_HI)]
     assert clusters_at(ring_across_x(force, None), 1.0).percolating.tolist() == [False]
+    with pytest.raises(ValueError, match="period must hold 2 box lengths"):
+        ring_across_x(force, [4.0])
     # only the axes asked for count: winding around x is x's percolation
     assert not cluster_curves(ring_across_x(force, [4.0, 0.0]), thresholds, percolation_axes=[1]).percolates.any()
 

@@ -272,7 +272,8 @@ def test_the_subset_table_script_judges_a_builds_systems_as_its_table_job_does(s
     for systems in (["2d_linear", "2d_hertz", "3d_hertz"], ["2d_linear", "2d_hertz"]):
         csv = tmp_path / f"{len(systems)}.csv"
         subprocess.run([sys.executable, str(REPO / "scripts/p1_subset_table.py"), "--results", str(results),
-                        "--systems", *systems, "--realizations", "1", "--csv", str(csv), "--md", str(tmp_path / "t.md")],
+                        "--systems", *systems, "--realizations", "1", "--csv", str(csv),
+                        "--md", str(tmp_path / "t.md")],
                        check=True, capture_output=True, text=True)
         subset = pd.read_csv(csv, comment="#", keep_default_na=False)
         merged = built.merge(subset[subset["reading"] == ""], on=key, how="left", suffixes=("_built", "_subset"))
