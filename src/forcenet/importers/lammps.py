@@ -30,7 +30,7 @@ from typing import Any, Iterator, Mapping, Sequence
 
 import numpy as np
 
-from forcenet.boxes import box_periods
+from forcenet.boxes import AXIS_LABELS, box_periods
 from forcenet.importers.common import (SourceError, SourceState, normal_unit_vectors, order_pairs,
                                        perpendicular_unit_vectors)
 
@@ -140,15 +140,19 @@ def _finite(path, frame: Frame, values: np.ndarray, name: str) -> None:
 POSITION_COLUMNS = ("{}", "{}s", "{}u", "{}su")
 
 
-def _positions(path, frame: Frame, axes: Sequence[str]) -> tuple[np.ndarray, dict[str, str]]:
+def _position_column(frame: Frame, axis: str) -> str | None:
+    """The column an axis's positions are read from: the first of `POSITION_COLUMNS` the dump has, or None."""
+    return next((form.format(axis) for form in POSITION_COLUMNS if form.format(axis) in frame.columns), None)
+
+
+def _positions(path, frame: Frame, axes: Sequence[str]) -> np.ndarray:
     """Position (N, len(axes)) in the dump's length unit, inside the box on its periodic axes when the dump gave
-    them unwrapped, and the column each axis was read from."""
+    them unwrapped."""
     position = np.empty((len(frame.rows), len(axes)))
-    read_from = {}
     for a, axis in enumerate(axes):
-        names = [form.format(axis) for form in POSITION_COLUMNS]
-        name = next((n for n in names if n in frame.columns), None)
+        name = _position_column(frame, axis)
         if name is None:
+            names = [form.format(axis) for form in POSITION_COLUMNS]
             raise SourceError(path, f"column '{axis}'", f"missing (the positions: one of {', '.join(names)}; the "
                                                         f"columns at line {frame.first_row_line - 1} are "
                                                         f"{' '.join(frame.columns)})")
@@ -160,21 +164,18 @@ def _positions(path, frame: Frame, axes: Sequence[str]) -> tuple[np.ndarray, dic
         if name.endswith("u") and frame.periodic[a]:  # unwrapped: back into the box, as LAMMPS's x
             values = lo + np.mod(values - lo, hi - lo)
         position[:, a] = values
-        read_from[axis] = name
-    return position, read_from
+    return position
 
 
 def atom_state(path, frame: Frame, dimension: int, wall_columns: Sequence[str] | None = None):
     """(ids, position (N, d), radius, box_lo, box_hi, wall force (N, d) or None) of one atoms frame."""
-    axes = ("x", "y", "z")[:dimension]
     ids = _column(path, frame, "id", "the atom ids")
-    if dimension == 3 and not any(form.format("z") in frame.columns for form in POSITION_COLUMNS):
+    name = _position_column(frame, "z")
+    if dimension == 3 and name is None:
         raise SourceError(path, "column 'z'", "missing: the system is declared 3D (dimension: 3) but the dump has no z")
-    position, read_from = _positions(path, frame, axes)
-    z_column = next((form.format("z") for form in POSITION_COLUMNS if form.format("z") in frame.columns), None)
-    if z_column is not None and len(frame.rows) > 1:
-        z = position[:, 2] if dimension == 3 else _column(path, frame, z_column, "")
-        name = read_from.get("z", z_column)
+    position = _positions(path, frame, AXIS_LABELS[:dimension])
+    if name is not None and len(frame.rows) > 1:
+        z = position[:, 2] if dimension == 3 else _column(path, frame, name, "")
         if dimension == 3 and np.ptp(z) == 0:
             raise SourceError(path, f"column '{name}' (timestep {frame.timestep}, line {frame.line})",
                               f"every atom at {name} = {z[0]:g}: a 2D state, but the system is declared 3D "
@@ -299,7 +300,7 @@ def read_run(run: Mapping[str, Any], dimension: int, source: Mapping[str, Any]) 
         if wall_force is not None and periodic.all() and np.any(wall_force != 0):
             raise SourceError(atoms_path, f"timestep {a.timestep} (line {a.line})",
                               "wall forces in source.wall_columns, but every axis of the box is periodic: no walls")
-        axes = "".join(label for label, wrap in zip("xyz", periodic) if wrap)
+        axes = "".join(label for label, wrap in zip(AXIS_LABELS, periodic) if wrap)
         i, j, fn, ft = pair_forces(pairs_path, p, ids, position, columns, atoms_path, box_periods(axes, lo, hi))
         wall_atoms, wall_id, wall_f = wall_contacts(position, radius, lo, hi, wall_force, ~periodic)
         states.append(SourceState(position=position, radius=radius, contact_i=i, contact_j=j, force_normal=fn,
