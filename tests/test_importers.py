@@ -432,7 +432,12 @@ def checked(config):
 
 def test_the_example_config_passes_and_a_bad_source_entry_names_its_key():
     systems = checked(EXAMPLE)
-    assert sorted(systems) == ["lammps_2d", "lammps_2d_p2", "table_2d"] and "material" not in EXAMPLE
+    assert sorted(systems) == ["lammps_2d", "lammps_2d_p2", "lammps_sheared_2d", "table_2d"]
+    assert "material" not in EXAMPLE
+    tilted = {**EXAMPLE, "systems": {**EXAMPLE["systems"], "lammps_2d": {**EXAMPLE["systems"]["lammps_2d"], "source": {
+        **EXAMPLE["systems"]["lammps_2d"]["source"], "box": {"lo": [0, 0], "hi": [4, 4], "tilt": [1, 0, 0, 2]}}}}}
+    with pytest.raises(ConfigError, match="config key 'systems.lammps_2d.source.box.tilt'"):
+        checked(tilted)
     mixed = {**EXAMPLE, "systems": {**EXAMPLE["systems"], "table_2d": {**EXAMPLE["systems"]["table_2d"],
                                                                         "force_law": "hertz"}}}
     with pytest.raises(ConfigError, match="config key 'systems.table_2d': .*'force_law' was unexpected"):

@@ -180,7 +180,7 @@ def test_branch_vectors_take_the_nearest_image_on_periodic_axes_only():
     bounded = branch_vectors(position, i, j)
     np.testing.assert_array_equal(bounded, position[i] - position[j])  # bit for bit: our engine's snapshots
     period = box_periods("x", [0, 0], [10, 4])
-    np.testing.assert_array_equal(period, [10.0, 0.0])
+    np.testing.assert_array_equal(period, [[10.0, 0.0], [0.0, 0.0]])  # edge vectors: a's along x, none along y
     # 0 → 1: x through the face (0.2 − (9.4 − 10) = 0.8), y not periodic (0.5 − 3.5 = −3); 0 → 2 and 2 → 1 inside
     np.testing.assert_allclose(branch_vectors(position, i, j, period), [[0.8, -3.0], [-4.8, -1.5], [-4.4, -1.5]])
     np.testing.assert_allclose(image_shifts(position, i, j, period), [[-10.0, 0.0], [0.0, 0.0], [0.0, 0.0]])

@@ -43,6 +43,14 @@ def test_the_example_config_imports_analyses_and_draws_its_systems(example_run):
             read_dataset(paths.analysis(results, system, "r00", label), "analysis")
         measures = read_dataset(paths.network_measures(results, system), "network_measures")
         assert measures.attrs["force_law"] == "imported" and measures.sizes["rho"] == 3
+    # LAMMPS's sheared run: a periodic box tilted by xy = 3, 4, 5, recorded in the snapshots and their analyses, in
+    # which the force network winds around the box at F_th = 0
+    for label, tilt in zip(("0.825", "0.845", "0.864"), (3.0, 4.0, 5.0)):
+        snap = read_snapshot(paths.snapshot(results, "lammps_sheared_2d", "r00", label))
+        assert snap.attrs["periodic_axes"] == "xy" and float(snap.attrs["box_tilt"]) == tilt
+        analysis = read_dataset(paths.analysis(results, "lammps_sheared_2d", "r00", label), "analysis")
+        assert float(analysis.attrs["box_tilt"]) == tilt
+        assert analysis["percolates"].sel(force_kind="total").values[0] == 1
     read_dataset(paths.distances(results, "lammps_2d_p2"), "distances")
     for name in ("p1_fig01_networks", "p1_fig06_betti0", "p2_fig06_distances_normal_mu05"):
         assert (Path(paths.figure(results, name, "pdf"))).stat().st_size > 0

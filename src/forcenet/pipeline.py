@@ -372,12 +372,12 @@ def analysis_attrs(snap, source: str, analysis: Mapping[str, Any]) -> dict[str, 
 
     attrs = {key: snap.attrs[key] for key in ("system", "realization", "seed", "forcenet_version", "git_commit",
                                                "config_sha256", "config", "Conventions", "dimension")}
-    from forcenet.datasets.schema import PERIODIC_AXES_ATTR, SNAPSHOT_SOURCE_ATTRS, SOURCE_FORMAT_ATTR
+    from forcenet.datasets.schema import BOX_TILT_ATTR, PERIODIC_AXES_ATTR, SNAPSHOT_SOURCE_ATTRS, SOURCE_FORMAT_ATTR
 
     # where the snapshot came from (our engine, or an import's files and their sha256) travels with its analysis, and
-    # so do its periodic axes, along which percolation means winding around the box
-    attrs.update({key: snap.attrs[key] for key in (SOURCE_FORMAT_ATTR, *SNAPSHOT_SOURCE_ATTRS, PERIODIC_AXES_ATTR)
-                  if key in snap.attrs})
+    # so does its box: the periodic axes, along which percolation means winding around the box, and a tilt
+    attrs.update({key: snap.attrs[key] for key in (SOURCE_FORMAT_ATTR, *SNAPSHOT_SOURCE_ATTRS, PERIODIC_AXES_ATTR,
+                                                   BOX_TILT_ATTR) if key in snap.attrs})
     attrs["title"] = f"forcenet analysis of one snapshot, {attrs['system']}"
     attrs["source"] = str(source)
     attrs.update(rattler_attrs(analysis["remove_rattlers"]))

@@ -12,9 +12,11 @@ from typing import Any, Mapping
 import numpy as np
 import xarray as xr
 
-from forcenet.datasets.schema import (ANALYSIS_FINITE_VARIABLES, DTYPE_KINDS, ENGINE_SOURCE_FORMAT, FILE_KINDS,
-                                      OPTIONAL_VARIABLES, REQUIRED_GLOBAL_ATTRS, SNAPSHOT_FINITE_VARIABLES,
-                                      SNAPSHOT_GLOBAL_ATTRS, SNAPSHOT_SOURCE_ATTRS, SOURCE_FORMAT_ATTR, VariableSpec)
+from forcenet.boxes import tilt_problem
+from forcenet.datasets.schema import (ANALYSIS_FINITE_VARIABLES, BOX_TILT_ATTR, DTYPE_KINDS, ENGINE_SOURCE_FORMAT,
+                                      FILE_KINDS, OPTIONAL_VARIABLES, PERIODIC_AXES_ATTR, REQUIRED_GLOBAL_ATTRS,
+                                      SNAPSHOT_FINITE_VARIABLES, SNAPSHOT_GLOBAL_ATTRS, SNAPSHOT_SOURCE_ATTRS,
+                                      SOURCE_FORMAT_ATTR, VariableSpec)
 from forcenet.errors import ForcenetError
 
 CONVENTIONS = "CF-1.10"
@@ -130,7 +132,8 @@ def _nonfinite(ds: xr.Dataset, name: str, allowed: np.ndarray | None = None) -> 
 def snapshot_value_problems(ds: xr.Dataset) -> list[str]:
     """What breaks the snapshot contract in the values (`schema`: the snapshot contract): the `dimension` attribute
     (2 or 3, the size of `spatial`), an imported snapshot's source provenance, non-finite positions, radii, forces,
-    box or ρ, a radius ≤ 0, contact or wall indices naming no particle or wall, a box with box_hi ≤ box_lo."""
+    box or ρ, a radius ≤ 0, contact or wall indices naming no particle or wall, a box with box_hi ≤ box_lo, tilt
+    factors (`schema.BOX_TILT_ATTR`) of the wrong number, non-finite or along a bounded axis."""
     problems = [f"global attribute '{key}' missing" for key in SNAPSHOT_GLOBAL_ATTRS if key not in ds.attrs]
     source = ds.attrs.get(SOURCE_FORMAT_ATTR, ENGINE_SOURCE_FORMAT)
     if source != ENGINE_SOURCE_FORMAT:
@@ -171,6 +174,10 @@ def snapshot_value_problems(ds: xr.Dataset) -> list[str]:
         problems.append(f"variable 'wall_contact_wall' has a wall id outside 0 … {2 * dimension - 1}")
     if np.any(ds["box_hi"].values <= ds["box_lo"].values):
         problems.append("variables 'box_lo', 'box_hi': box_hi must exceed box_lo on every axis")
+    if BOX_TILT_ATTR in ds.attrs:
+        tilt = tilt_problem(str(ds.attrs.get(PERIODIC_AXES_ATTR, "")), ds.attrs[BOX_TILT_ATTR], dimension)
+        if tilt:
+            problems.append(f"global attribute '{BOX_TILT_ATTR}': {tilt}")
     return problems
 
 

@@ -89,6 +89,10 @@ SNAPSHOT_SOURCE_ATTRS = ("source_files", "source_sha256", "source_timestep")
 #: percolates along a periodic axis by winding around it (`forcenet.measures.clusters`); the snapshot's analysis
 #: files carry the attribute too
 PERIODIC_AXES_ATTR = "periodic_axes"
+#: global attribute of a snapshot whose box is triclinic (an import of a LAMMPS dump with tilt factors, e.g. a sheared
+#: packing): its tilt factors [d_ave] in LAMMPS's order, xy in 2D and xy, xz, yz in 3D (`forcenet.boxes`); absent
+#: for an orthogonal box. A box is tilted only along its periodic axes; the snapshot's analysis files carry it too
+BOX_TILT_ATTR = "box_tilt"
 #: variables that must hold finite values (issue 27: a NaN position or force is refused, never analysed)
 SNAPSHOT_FINITE_VARIABLES = ("position", "radius", "force_normal", "force_tangential", "wall_contact_force",
                              "box_lo", "box_hi", "rho", "Z")

@@ -19,17 +19,26 @@ import xarray as xr
 
 from forcenet.boxes import AXIS_LABELS, box_periods
 from forcenet.datasets.io import dataset_from_specs, read_dataset, write_netcdf
-from forcenet.datasets.schema import PERIODIC_AXES_ATTR, SNAPSHOT_DYNAMICS, SNAPSHOT_VARIABLES
+from forcenet.datasets.schema import BOX_TILT_ATTR, PERIODIC_AXES_ATTR, SNAPSHOT_DYNAMICS, SNAPSHOT_VARIABLES
 
 SPATIAL_LABELS = AXIS_LABELS  # the `spatial` coordinate
 ROTATION_LABELS_2D = ("z",)
 
 
-def periodic_lengths(snapshot: xr.Dataset) -> np.ndarray | None:
-    """The box length on each periodic axis of a snapshot (`PERIODIC_AXES_ATTR`), 0 on the bounded ones, (d,)
-    [d_ave]; None for a bounded box (our engine's snapshots, whose boxes have walls), as `forcenet.boxes` takes it."""
+def box_tilt(snapshot: xr.Dataset) -> np.ndarray | None:
+    """The tilt factors of a snapshot's triclinic box (`BOX_TILT_ATTR`: xy in 2D, xy, xz, yz in 3D) [d_ave]; None for
+    an orthogonal box (our engine's, and most imports)."""
+    tilt = snapshot.attrs.get(BOX_TILT_ATTR)
+    return None if tilt is None else np.asarray(tilt, dtype=float).reshape(-1)
+
+
+def periodic_vectors(snapshot: xr.Dataset) -> np.ndarray | None:
+    """The edge vector of each periodic axis of a snapshot's box (`PERIODIC_AXES_ATTR`, tilted by `box_tilt`) as rows,
+    zero rows on the bounded axes, (d, d) [d_ave]; None for a bounded box (our engine's snapshots, whose boxes have
+    walls), as `forcenet.boxes` takes it."""
     axes = str(snapshot.attrs.get(PERIODIC_AXES_ATTR, ""))
-    return box_periods(axes, snapshot["box_lo"].values, snapshot["box_hi"].values) if axes else None
+    return (box_periods(axes, snapshot["box_lo"].values, snapshot["box_hi"].values, box_tilt(snapshot)) if axes
+            else None)
 
 
 def snapshot_dataset(*, attrs: Mapping[str, Any], **arrays: Any) -> xr.Dataset:

@@ -33,7 +33,8 @@ class SourceState:
     position (N, d), radius (N,); contact_i < contact_j (C,) indices into the particles; force_normal,
     force_tangential (C, d): forces on particle i from j; wall_particle, wall_id (W,), wall_force (W, d); box_lo,
     box_hi (d,); files: the source files this state was read from; timestep: the LAMMPS timestep or the state's
-    index in its run's table list; periodic_axes: the letters of the box's periodic axes ("" for a bounded box)."""
+    index in its run's table list; periodic_axes: the letters of the box's periodic axes ("" for a bounded box);
+    tilt: a triclinic box's tilt factors (`forcenet.boxes.tilt_labels`), None for an orthogonal box."""
 
     position: np.ndarray
     radius: np.ndarray
@@ -49,6 +50,7 @@ class SourceState:
     wall_id: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
     wall_force: np.ndarray | None = None
     periodic_axes: str = ""
+    tilt: np.ndarray | None = None
 
     @property
     def dimension(self) -> int:
@@ -56,7 +58,8 @@ class SourceState:
 
     @property
     def rho(self) -> float:
-        """Packing fraction: the particles' area (2D disks) or volume (3D spheres) over the box's."""
+        """Packing fraction: the particles' area (2D disks) or volume (3D spheres) over the box's (a tilt leaves it
+        unchanged: the edge vectors' determinant is the product of hi − lo)."""
         return packing_fraction(self.radius, self.box_lo, self.box_hi)
 
     def snapshot_arrays(self) -> dict[str, Any]:
@@ -87,8 +90,8 @@ def file_sha256(path: str | Path) -> str:
 
 def normal_unit_vectors(position: np.ndarray, i: np.ndarray, j: np.ndarray,
                         period: np.ndarray | None = None) -> np.ndarray:
-    """Unit vectors from particle j (its image nearest to i where `period`, (d,), gives periodic axes) to particle i:
-    the direction of a repulsive normal force on i."""
+    """Unit vectors from particle j (its image nearest to i where `period`, `forcenet.boxes.box_periods`, gives
+    periodic axes) to particle i: the direction of a repulsive normal force on i."""
     delta = branch_vectors(position, i, j, period)
     return delta / np.linalg.norm(delta, axis=1)[:, None]
 

@@ -5,8 +5,9 @@ Atoms dump (``dump custom``): columns ``id``, ``x``, ``y``, ``z`` (a 2D dump may
 ``radius`` (or ``diameter``; ``type`` and any others are ignored). Positions may also be LAMMPS's scaled ``xs ys
 zs`` (fractions of the dump's box), unwrapped ``xu yu zu`` (folded back into the box on its periodic axes) or scaled
 unwrapped ``xsu ysu zsu``; per axis the first present of x, xs, xu, xsu is read. The box of each timestep is the
-dump's BOX BOUNDS (orthogonal boxes only) unless the config gives ``source.box``; ρ is the particles' area (2D) or
-volume (3D) over the box's.
+dump's BOX BOUNDS unless the config gives ``source.box``; ρ is the particles' area (2D) or volume (3D) over the box's.
+A triclinic box (BOX BOUNDS ``xy xz yz …``: LAMMPS's bounding box and tilt factors, e.g. a run sheared by
+``fix deform``) is read as lo, hi and the tilt (`forcenet.boxes`), tilted only along periodic axes as LAMMPS allows.
 An axis of the system whose boundary flags are ``pp`` is periodic (a 2D run's z does not count): a pair touching
 through that face joins i to the image of j nearest to it (`forcenet.boxes`), and no wall lies on it.
 Optional wall forces: ``source.wall_columns`` names the atom columns holding the force of the walls on each atom
@@ -24,13 +25,14 @@ order; ``source.timesteps`` picks some of them (default: all).
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Iterator, Mapping, Sequence
 
 import numpy as np
 
-from forcenet.boxes import AXIS_LABELS, box_periods
+from forcenet.boxes import (AXIS_LABELS, TILT_LABELS, box_periods, box_vectors, fold_into_box, tilt_labels,
+                            tilt_problem, tilted_faces)
 from forcenet.importers.common import (SourceError, SourceState, normal_unit_vectors, order_pairs,
                                        perpendicular_unit_vectors)
 
@@ -41,8 +43,9 @@ DEFAULT_PAIR_COLUMNS = {"i": "c_pid[1]", "j": "c_pid[2]", "normal": ["c_pf[1]"],
 
 @dataclass
 class Frame:
-    """One timestep of a dump: its timestep, box bounds (3, 2), column names, rows (n, columns), the line number
-    of its first row, and which of x, y, z are periodic (boundary flags "pp" on the BOX BOUNDS line)."""
+    """One timestep of a dump: its timestep, box bounds (3, 2) (a triclinic box's lo and hi, not the bounding box
+    the dump writes), column names, rows (n, columns), the line number of its first row, which of x, y, z are
+    periodic (boundary flags "pp" on the BOX BOUNDS line) and the tilt factors xy, xz, yz (zero: orthogonal)."""
 
     timestep: int
     line: int
@@ -51,6 +54,7 @@ class Frame:
     rows: np.ndarray
     first_row_line: int
     periodic: tuple[bool, ...] = (False, False, False)
+    tilt: np.ndarray = field(default_factory=lambda: np.zeros(3))
 
 
 def read_frames(path: str | Path, kind: str) -> Iterator[Frame]:
@@ -93,14 +97,19 @@ def read_frames(path: str | Path, kind: str) -> Iterator[Frame]:
         expect(count_item)
         count = integer()
         bounds = expect("BOX BOUNDS")
-        if any(word in bounds.split() for word in ("xy", "xz", "yz")):
-            raise SourceError(path, f"line {k}", "a triclinic box: only orthogonal boxes can be imported")
-        try:
-            box = np.array([[float(v) for v in lines[k + a].split()[:2]] for a in range(3)])
-        except (IndexError, ValueError):
-            raise SourceError(path, f"line {k + 1}", "expected three lines of box bounds 'lo hi'") from None
+        triclinic = all(word in bounds.split() for word in TILT_LABELS)  # "xy xz yz pp pp pp"
+        box = np.empty((3, 3 if triclinic else 2))
+        for a in range(3):
+            try:
+                box[a] = [float(v) for v in lines[k + a].split()[:box.shape[1]]]
+            except (IndexError, ValueError):
+                raise SourceError(path, f"line {k + a + 1}", "expected three lines of box bounds 'lo hi'"
+                                  + (" and a tilt factor (the header says xy xz yz)" if triclinic else "")) from None
+        tilt = box[:, 2] if triclinic else np.zeros(3)
+        box = _triclinic_box(box[:, :2], tilt) if triclinic else box
         k += 3
-        flags = bounds.split()  # "pp ff pp": per axis, LAMMPS's boundary style at its lo and hi faces
+        # "pp ff pp": per axis, LAMMPS's boundary style at its lo and hi faces
+        flags = [word for word in bounds.split() if word not in TILT_LABELS]
         periodic = tuple(a < len(flags) and flags[a] == "pp" for a in range(3))
         columns = expect(kind).split()
         first = k + 1
@@ -118,7 +127,28 @@ def read_frames(path: str | Path, kind: str) -> Iterator[Frame]:
             except ValueError:
                 raise SourceError(path, f"line {k + r + 1}", f"not a number in {lines[k + r]!r}") from None
         k += count
-        yield Frame(timestep, start, box, columns, rows, first, periodic)
+        yield Frame(timestep, start, box, columns, rows, first, periodic, tilt)
+
+
+def _triclinic_box(bounding: np.ndarray, tilt: np.ndarray) -> np.ndarray:
+    """A triclinic box's lo and hi (3, 2) from the bounding box a dump writes with its tilt factors xy, xz, yz
+    (LAMMPS's Howto triclinic: xlo_bound = xlo + min(0, xy, xz, xy + xz), …)."""
+    xy, xz, yz = tilt
+    box = bounding.copy()
+    box[0] -= (min(0.0, xy, xz, xy + xz), max(0.0, xy, xz, xy + xz))
+    box[1] -= (min(0.0, yz), max(0.0, yz))
+    return box
+
+
+def frame_tilt(path, frame: Frame, dimension: int) -> np.ndarray | None:
+    """The tilt factors of a frame's box as the system has them (`forcenet.boxes.tilt_labels`: xy in 2D), None for
+    an orthogonal box; a 2D system's box may be tilted only in its plane."""
+    if not np.any(frame.tilt):
+        return None
+    if dimension == 2 and np.any(frame.tilt[1:]):
+        raise SourceError(path, f"timestep {frame.timestep} (line {frame.line})",
+                          f"tilt factors xz = {frame.tilt[1]:g}, yz = {frame.tilt[2]:g} out of the plane of a 2D system")
+    return frame.tilt[:len(tilt_labels(dimension))].copy()
 
 
 def _column(path, frame: Frame, name: str, what: str) -> np.ndarray:
@@ -147,8 +177,9 @@ def _position_column(frame: Frame, axis: str) -> str | None:
 
 def _positions(path, frame: Frame, axes: Sequence[str]) -> np.ndarray:
     """Position (N, len(axes)) in the dump's length unit, inside the box on its periodic axes when the dump gave
-    them unwrapped."""
-    position = np.empty((len(frame.rows), len(axes)))
+    them unwrapped. Scaled positions are fractions of the box's edges: in a triclinic box of all of them together,
+    so an axis scaled and another not are refused there."""
+    columns, values = [], np.empty((len(frame.rows), len(axes)))
     for a, axis in enumerate(axes):
         name = _position_column(frame, axis)
         if name is None:
@@ -156,14 +187,24 @@ def _positions(path, frame: Frame, axes: Sequence[str]) -> np.ndarray:
             raise SourceError(path, f"column '{axis}'", f"missing (the positions: one of {', '.join(names)}; the "
                                                         f"columns at line {frame.first_row_line - 1} are "
                                                         f"{' '.join(frame.columns)})")
-        values = _column(path, frame, name, "")
-        _finite(path, frame, values, name)
-        lo, hi = frame.box[a]
-        if "s" in name[1:]:  # scaled: fractions of the dump's box
-            values = lo + values * (hi - lo)
-        if name.endswith("u") and frame.periodic[a]:  # unwrapped: back into the box, as LAMMPS's x
-            values = lo + np.mod(values - lo, hi - lo)
-        position[:, a] = values
+        values[:, a] = _column(path, frame, name, "")
+        _finite(path, frame, values[:, a], name)
+        columns.append(name)
+    lo, hi = frame.box[:len(axes), 0], frame.box[:len(axes), 1]
+    tilt = frame.tilt[:len(tilt_labels(len(axes)))] if np.any(frame.tilt) else None
+    scaled = np.array(["s" in name[1:] for name in columns])  # xs, xsu: fractions of the dump's box
+    if tilt is not None and scaled.any() and not scaled.all():
+        raise SourceError(path, f"column '{columns[int(np.argmin(scaled))]}'",
+                          f"scaled and unscaled positions ({' '.join(columns)}) in a triclinic box: give all scaled "
+                          "or none")
+    if tilt is not None and scaled.all():
+        position = lo + values @ box_vectors(lo, hi, tilt)
+    else:
+        position = np.where(scaled, lo + values * (hi - lo), values)
+    unwrapped = np.array([name.endswith("u") for name in columns])  # back into the box, as LAMMPS's x
+    periodic = np.asarray(frame.periodic[:len(axes)], dtype=bool)
+    if np.any(unwrapped & periodic):
+        position = fold_into_box(position, lo, hi, unwrapped & periodic, tilt)
     return position
 
 
@@ -293,18 +334,32 @@ def read_run(run: Mapping[str, Any], dimension: int, source: Mapping[str, Any]) 
         if wanted is not None and a.timestep not in wanted:
             continue
         ids, position, radius, lo, hi, wall_force = atom_state(atoms_path, a, dimension, source.get("wall_columns"))
+        tilt = frame_tilt(atoms_path, a, dimension)
         if "box" in source:
             lo, hi = np.asarray(source["box"]["lo"], float), np.asarray(source["box"]["hi"], float)
+            tilt = np.asarray(source["box"]["tilt"], float) if "tilt" in source["box"] else None
         # a 2D LAMMPS run is periodic in z by rule: only the system's own axes count
         periodic = np.asarray(a.periodic[:dimension], bool)
-        if wall_force is not None and periodic.all() and np.any(wall_force != 0):
-            raise SourceError(atoms_path, f"timestep {a.timestep} (line {a.line})",
-                              "wall forces in source.wall_columns, but every axis of the box is periodic: no walls")
         axes = "".join(label for label, wrap in zip(AXIS_LABELS, periodic) if wrap)
-        i, j, fn, ft = pair_forces(pairs_path, p, ids, position, columns, atoms_path, box_periods(axes, lo, hi))
+        if tilt is not None:
+            problem = tilt_problem(axes, tilt, dimension)
+            if problem:
+                raise (SourceError("source.box", "tilt", problem) if "box" in source else
+                       SourceError(atoms_path, f"timestep {a.timestep} (line {a.line})", problem))
+            if not np.any(tilt):
+                tilt = None
+        if wall_force is not None and np.any(wall_force != 0):
+            if periodic.all():
+                raise SourceError(atoms_path, f"timestep {a.timestep} (line {a.line})",
+                                  "wall forces in source.wall_columns, but every axis of the box is periodic: no walls")
+            if tilt is not None and np.any(tilted_faces(tilt, dimension) & ~periodic):
+                raise SourceError(atoms_path, f"timestep {a.timestep} (line {a.line})",
+                                  "wall forces in source.wall_columns on a tilted face of a triclinic box: walls are "
+                                  "imported on untilted faces only")
+        i, j, fn, ft = pair_forces(pairs_path, p, ids, position, columns, atoms_path, box_periods(axes, lo, hi, tilt))
         wall_atoms, wall_id, wall_f = wall_contacts(position, radius, lo, hi, wall_force, ~periodic)
         states.append(SourceState(position=position, radius=radius, contact_i=i, contact_j=j, force_normal=fn,
                                   force_tangential=ft, box_lo=lo, box_hi=hi, files=(str(atoms_path), str(pairs_path)),
                                   timestep=a.timestep, wall_particle=wall_atoms, wall_id=wall_id, wall_force=wall_f,
-                                  periodic_axes=axes))
+                                  periodic_axes=axes, tilt=tilt))
     return states

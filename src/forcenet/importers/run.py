@@ -4,6 +4,8 @@ from __future__ import annotations
 import json
 from typing import Any, Mapping, Sequence
 
+import numpy as np
+
 from forcenet.importers.common import SourceError, file_sha256, source_states
 
 
@@ -14,7 +16,7 @@ def import_run(*, config: Mapping[str, Any], system: str, realization: int, outp
     contract before the first file is written: a malformed source writes nothing."""
     from forcenet.datasets import provenance_attrs
     from forcenet.datasets.io import DatasetError, schema_problems, write_netcdf
-    from forcenet.datasets.schema import PERIODIC_AXES_ATTR, SOURCE_FORMAT_ATTR
+    from forcenet.datasets.schema import BOX_TILT_ATTR, PERIODIC_AXES_ATTR, SOURCE_FORMAT_ATTR
     from forcenet.datasets.snapshot import snapshot_dataset
 
     entry = config["systems"][system]
@@ -34,6 +36,8 @@ def import_run(*, config: Mapping[str, Any], system: str, realization: int, outp
                       "source_timestep": int(state.timestep)})
         if state.periodic_axes:  # absent for a bounded box, as in our engine's snapshots
             attrs[PERIODIC_AXES_ATTR] = state.periodic_axes
+        if state.tilt is not None:  # absent for an orthogonal box
+            attrs[BOX_TILT_ATTR] = np.asarray(state.tilt, dtype=float)
         ds = snapshot_dataset(attrs=attrs, **state.snapshot_arrays())
         problems = schema_problems(ds, "snapshot")
         if problems:

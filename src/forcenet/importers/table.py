@@ -19,7 +19,9 @@ into the box). A pair given as (j, i) is stored as (i, j) with its forces revers
 comments. Box: the state's ``box: {lo: [...], hi: [...]}`` in the config, else ``source.box``, else the particles'
 bounding box (min x − r to max x + r on each axis). ``source.periodic`` (e.g. ``[x, y]``) names the axes on which
 the box is periodic (it must then be given): a contact across a periodic face joins i to the image of j nearest to
-it (`forcenet.boxes`), which directs a magnitude's normal force, and no wall lies on those axes.
+it (`forcenet.boxes`), which directs a magnitude's normal force, and no wall lies on those axes. A given box may be
+triclinic, ``box: {lo, hi, tilt: [xy]}`` (3D: ``[xy, xz, yz]``), LAMMPS's tilt factors, tilted only along its
+periodic axes; walls then lie on its untilted faces only.
 """
 from __future__ import annotations
 
@@ -30,7 +32,7 @@ from typing import Any, Mapping, Sequence
 
 import numpy as np
 
-from forcenet.boxes import AXIS_LABELS, box_periods
+from forcenet.boxes import AXIS_LABELS, box_periods, tilt_problem, tilted_faces
 from forcenet.importers.common import (WALL_NAMES, SourceError, SourceState, normal_unit_vectors, order_pairs,
                                        perpendicular_unit_vectors)
 
@@ -138,6 +140,13 @@ def read_state(particles: str | Path, contacts: str | Path, dimension: int, forc
         raise SourceError(particles, "box", "a periodic box must be given (the state's box or source.box): the "
                                             "particles' bounding box is not the period")
     periodic_axes = "".join(axis for axis in AXES if axis in periodic)
+    tilt = None if box is None or "tilt" not in box else np.asarray(box["tilt"], dtype=float)
+    if tilt is not None:
+        problem = tilt_problem(periodic_axes, tilt, dimension)
+        if problem:
+            raise SourceError(particles, "box.tilt", problem)
+        tilt = tilt if np.any(tilt) else None
+    tilted = np.zeros(dimension, bool) if tilt is None else tilted_faces(tilt, dimension)
     ids, position, radius = read_particles(particles, dimension)
     header, body = _rows(contacts)
     axes = AXES[:dimension]
@@ -163,6 +172,10 @@ def read_state(particles: str | Path, contacts: str | Path, dimension: int, forc
             if AXES[wall // 2] in periodic_axes:
                 raise SourceError(contacts, f"line {number}, column 'j'", f"wall {other} on an axis the box is "
                                                                           "periodic on (source.periodic)")
+            if tilted[wall // 2]:
+                raise SourceError(contacts, f"line {number}, column 'j'", f"wall {other} on a tilted face of the "
+                                                                          "triclinic box (box.tilt): walls are "
+                                                                          "imported on untilted faces only")
             walls.append((ids[first], wall, values))
             continue
         try:
@@ -186,7 +199,7 @@ def read_state(particles: str | Path, contacts: str | Path, dimension: int, forc
     values = np.array([p[2] for p in pairs]).reshape(len(pairs), len(force_columns))
     lo, hi = _box(box, position, radius, particles)
     if forces == "magnitudes":
-        period = box_periods(periodic_axes, lo, hi)
+        period = box_periods(periodic_axes, lo, hi, tilt)
         n = normal_unit_vectors(position, i, j, period) if len(pairs) else np.zeros((0, dimension))
         fn, ft = values[:, :1] * n, values[:, 1:2] * perpendicular_unit_vectors(n)
     else:
@@ -205,7 +218,7 @@ def read_state(particles: str | Path, contacts: str | Path, dimension: int, forc
     return SourceState(position=position, radius=radius, contact_i=i[order], contact_j=j[order],
                        force_normal=fn[order], force_tangential=ft[order], box_lo=lo, box_hi=hi,
                        files=(str(particles), str(contacts)), timestep=index, wall_particle=wall_particle,
-                       wall_id=wall_id, wall_force=wall_force, periodic_axes=periodic_axes)
+                       wall_id=wall_id, wall_force=wall_force, periodic_axes=periodic_axes, tilt=tilt)
 
 
 def _box(box, position, radius, where) -> tuple[np.ndarray, np.ndarray]:

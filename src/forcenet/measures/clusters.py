@@ -100,16 +100,16 @@ def _vertex_walls(network: ForceNetwork) -> np.ndarray:
 
 
 def _winding_inputs(network: ForceNetwork, edges: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """What the kernels need to follow images: each compact edge's image count (E, d), int64 (the box lengths
+    """What the kernels need to follow images: each compact edge's image count (E, d), int64 (the edge vectors
     that take its second particle to the image nearest to its first, `forcenet.boxes.image_counts`), and the
     wall-pair bits of each periodic axis (d,), int64, 0 on the bounded ones. A bounded box gets all-0 bits and
     no image counts (0, d): the kernels then never read them."""
-    period = network.period
+    period = network.period  # edge vectors (d, d): a winding is counted in them, as in a tilted box's lattice
     axis_pairs = np.zeros(network.dim, dtype=np.int64)
-    if period is None or not np.any(period > 0):
+    if period is None or not np.any(np.diag(period) > 0):
         return np.zeros((0, network.dim), dtype=np.int64), axis_pairs
     particle = network.compact.particle
-    periodic_axes = np.flatnonzero(period > 0)
+    periodic_axes = np.flatnonzero(np.diag(period) > 0)
     axis_pairs[periodic_axes] = opposite_wall_masks(network.dim, periodic_axes)
     return image_counts(network.position, particle[edges[:, 0]], particle[edges[:, 1]], period), axis_pairs
 

@@ -29,6 +29,7 @@ from functools import cached_property
 
 import numpy as np
 
+from forcenet.boxes import period_matrix
 from forcenet.datasets.schema import FORCE_KINDS
 from forcenet.systems import RATTLER_RULES, resolve_rattler_rule  # noqa: F401 — the config's rules, applied here
 
@@ -66,9 +67,10 @@ class ForceNetwork:
     contact_i, contact_j : ndarray, shape (C,), int64 — every particle–particle contact (total force > 0),
         rattlers' included: the contact network behind the coordination number Z.
     rattler_rule : "once", "iterative" or "none" (see module docstring).
-    period : ndarray, shape (d,), or None — the box length on each periodic axis, 0 on the bounded ones [d_ave];
-        None for a bounded box (our engine's). An edge then joins nearest images (`forcenet.boxes`), and a
-        cluster percolates along a periodic axis by winding around it (`forcenet.measures.clusters`).
+    period : ndarray, shape (d, d), or None — the edge vector of each periodic axis as a row (tilted in a
+        triclinic box), zero rows on the bounded ones [d_ave]; None for a bounded box (our engine's). An edge then
+        joins nearest images (`forcenet.boxes`), and a cluster percolates along a periodic axis by winding around
+        it (`forcenet.measures.clusters`).
     """
 
     dim: int
@@ -271,8 +273,9 @@ def build_force_network(position, contact_i, contact_j, force_normal, force_tang
         dropped when given.
     n_particles : N (default ``len(position)``).
     count_wall_contacts : whether wall contacts count toward the rattler rule (default False).
-    period : array, shape (d,), optional — box lengths of the periodic axes, 0 on the bounded ones [d_ave]
-        (`forcenet.datasets.snapshot.periodic_lengths`); None (default) for a bounded box.
+    period : array, shape (d,) or (d, d), optional — box lengths of the periodic axes, 0 on the bounded ones, or
+        edge vectors as rows (`forcenet.datasets.snapshot.periodic_vectors`: a triclinic box) [d_ave]; None
+        (default) for a bounded box.
 
     Returns
     -------
@@ -310,7 +313,7 @@ def network_from_edge_forces(edge_i, edge_j, force, *, dim: int = 2, n_particles
     wall_particle, wall_id : wall contacts as in `build_force_network`.
     remove_rattlers : as in `build_force_network`; default False keeps the graph exactly as given.
     normalise : divide by the mean positive force (default False: forces used as given, ⟨F⟩ reported).
-    period : periodic box lengths as in `build_force_network` (default None: bounded).
+    period : a periodic box as in `build_force_network` (default None: bounded).
     """
     edge_i = np.asarray(edge_i, dtype=np.int64).reshape(-1)
     edge_j = np.asarray(edge_j, dtype=np.int64).reshape(-1)
@@ -330,13 +333,22 @@ def network_from_edge_forces(edge_i, edge_j, force, *, dim: int = 2, n_particles
 
 
 def _period(period, dim: int) -> np.ndarray | None:
-    """A periodic box's lengths as a (d,) float array (None stays None: bounded)."""
+    """A periodic box as edge-vector rows (d, d) (`forcenet.boxes.period_matrix`: box lengths (d,) are an orthogonal
+    box's); None stays None (bounded). A bounded axis has a zero row, a periodic one its edge vector, which may be
+    tilted only toward the lower axes (LAMMPS's restricted triclinic form)."""
     if period is None:
         return None
-    period = np.asarray(period, dtype=np.float64).reshape(-1)
-    if period.shape != (dim,) or np.any(period < 0):
-        raise ValueError(f"period must hold {dim} box lengths >= 0 (0 on a bounded axis), got {period}")
-    return period
+    given = np.asarray(period, dtype=np.float64)
+    if given.shape not in ((dim,), (dim, dim)):
+        raise ValueError(f"period must hold {dim} box lengths >= 0 (0 on a bounded axis) or {dim} edge vectors, "
+                         f"got shape {given.shape}")
+    vectors = period_matrix(given, dim)
+    length = np.diag(vectors)
+    if (not np.all(np.isfinite(vectors)) or np.any(length < 0) or np.any(vectors[length == 0])
+            or np.any(np.triu(vectors, 1))):
+        raise ValueError(f"period must hold {dim} box lengths >= 0 (0 on a bounded axis), or edge vectors in LAMMPS's "
+                         f"triclinic form (zero rows on bounded axes, no entry above the diagonal), got {given.tolist()}")
+    return vectors
 
 
 def _contact_pairs(contact_i, contact_j, n_particles: int) -> tuple[np.ndarray, np.ndarray]:

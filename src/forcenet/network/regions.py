@@ -12,6 +12,7 @@ from dataclasses import replace
 
 import numpy as np
 
+from forcenet.boxes import fractional_coordinates
 from forcenet.network.force_network import ForceNetwork, drop_edgeless
 
 # P2 Tables II–III row order; each entry is (x half, y half): 0 = lower half, 1 = upper half
@@ -47,7 +48,7 @@ def restrict_to_region(network: ForceNetwork, inside: np.ndarray) -> ForceNetwor
                    wall_id=network.wall_id[on_region_wall])
 
 
-def quadrant_mask(position: np.ndarray, box_lo, box_hi, quadrant: str) -> np.ndarray:
+def quadrant_mask(position: np.ndarray, box_lo, box_hi, quadrant: str, tilt=None) -> np.ndarray:
     """Particles whose centre lies in one quarter of the box (split at the box centre in x and y).
 
     Parameters
@@ -56,6 +57,8 @@ def quadrant_mask(position: np.ndarray, box_lo, box_hi, quadrant: str) -> np.nda
     box_lo, box_hi : array, shape (d,) — box corners [d_ave].
     quadrant : one of `QUADRANTS` ("bottom left", "bottom right", "top right", "top left"); underscores
         are accepted for spaces.
+    tilt : tilt factors of a triclinic box (`forcenet.boxes`), or None (default) for an orthogonal one. A tilted
+        box is split at half its edge vectors a and b (fractional coordinates 1/2): four equal parallelograms.
 
     Returns
     -------
@@ -66,11 +69,14 @@ def quadrant_mask(position: np.ndarray, box_lo, box_hi, quadrant: str) -> np.nda
     if name not in QUADRANTS:
         raise ValueError(f"quadrant must be one of {tuple(QUADRANTS)}, got {quadrant!r}")
     x_half, y_half = QUADRANTS[name]
-    middle = 0.5 * (np.asarray(box_lo, dtype=np.float64)[:2] + np.asarray(box_hi, dtype=np.float64)[:2])
-    upper = np.asarray(position)[:, :2] >= middle
+    if tilt is not None and np.any(tilt):
+        upper = fractional_coordinates(position, box_lo, box_hi, tilt)[:, :2] >= 0.5
+    else:
+        middle = 0.5 * (np.asarray(box_lo, dtype=np.float64)[:2] + np.asarray(box_hi, dtype=np.float64)[:2])
+        upper = np.asarray(position)[:, :2] >= middle
     return (upper[:, 0] == bool(x_half)) & (upper[:, 1] == bool(y_half))
 
 
-def restrict_to_quadrant(network: ForceNetwork, box_lo, box_hi, quadrant: str) -> ForceNetwork:
+def restrict_to_quadrant(network: ForceNetwork, box_lo, box_hi, quadrant: str, tilt=None) -> ForceNetwork:
     """The subnetwork of one quarter of the box (P2 Tables II–III); see `restrict_to_region`."""
-    return restrict_to_region(network, quadrant_mask(network.position, box_lo, box_hi, quadrant))
+    return restrict_to_region(network, quadrant_mask(network.position, box_lo, box_hi, quadrant, tilt))

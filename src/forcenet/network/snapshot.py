@@ -16,7 +16,7 @@ Wall contacts (`WALL_CONTACTS`) never are edges (walls are not vertices); they c
 """
 from __future__ import annotations
 
-from forcenet.datasets.snapshot import periodic_lengths
+from forcenet.datasets.snapshot import periodic_vectors
 from forcenet.network.force_network import ForceNetwork, build_force_network
 
 #: what the wall contacts of a snapshot do in its network (module docstring)
@@ -52,4 +52,4 @@ def snapshot_network(snapshot, kind: str = "total", *, rattler_rule: bool | str,
     return build_force_network(snapshot["position"].values, snapshot["contact_i"].values,
                                snapshot["contact_j"].values, snapshot["force_normal"].values,
                                snapshot["force_tangential"].values, kind=kind, remove_rattlers=rattler_rule,
-                               period=periodic_lengths(snapshot), **walls)
+                               period=periodic_vectors(snapshot), **walls)

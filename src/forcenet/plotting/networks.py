@@ -13,8 +13,8 @@ import numpy as np
 import pandas as pd
 import xarray as xr
 
-from forcenet.boxes import image_shifts
-from forcenet.datasets.snapshot import periodic_lengths
+from forcenet.boxes import box_corners, image_shifts
+from forcenet.datasets.snapshot import box_tilt, periodic_vectors
 from forcenet.network import snapshot_network
 from forcenet.plotting import figure_data as cols
 from forcenet.plotting.figure_data import FigureData, concat
@@ -28,7 +28,7 @@ import matplotlib.pyplot as plt  # noqa: E402  (style sets the Agg backend first
 from matplotlib.collections import EllipseCollection, LineCollection  # noqa: E402
 from matplotlib.colors import Normalize  # noqa: E402
 from matplotlib.figure import Figure  # noqa: E402
-from matplotlib.patches import Rectangle  # noqa: E402
+from matplotlib.patches import Polygon  # noqa: E402
 
 FORCE_CMAP = "viridis"
 POSITION_LABELS = (r"$x$ [$d_{ave}$]", r"$y$ [$d_{ave}$]", r"$z$ [$d_{ave}$]")
@@ -58,7 +58,7 @@ def prepare_p1_fig01_networks(snapshots: Mapping[str, xr.Dataset], *, rattler_ru
         dim = network.dim
         i, j = network.edge_i, network.edge_j
         position = network.position
-        end_j = position[j] + image_shifts(position, i, j, periodic_lengths(ds))  # across a periodic face: out of it
+        end_j = position[j] + image_shifts(position, i, j, periodic_vectors(ds))  # across a periodic face: out of it
         rho = float(ds["rho"]) if "rho" in ds else float("nan")
         common = {cols.PANEL: panel, cols.SYSTEM: name, "dimension": dim, cols.RHO: rho}
         contacts = pd.DataFrame({**common, "element": "contact", "i": i, "j": j, cols.FORCE: network.force})
@@ -69,7 +69,7 @@ def prepare_p1_fig01_networks(snapshots: Mapping[str, xr.Dataset], *, rattler_ru
             contacts[END_J[k]] = end_j[:, k]
             particles[CENTRE[k]] = position[:, k]
         blocks += [contacts, particles]
-        boxes[panel] = (ds["box_lo"].values, ds["box_hi"].values)
+        boxes[panel] = (ds["box_lo"].values, ds["box_hi"].values, box_tilt(ds))
     return FigureData(concat(blocks), {"box": boxes})
 
 
@@ -100,7 +100,8 @@ def draw_network_panel(ax, rows: pd.DataFrame, box, norm: Normalize) -> None:
     segments = np.stack([contacts[list(END_I[:dim])].to_numpy(float), contacts[list(END_J[:dim])].to_numpy(float)],
                         axis=1).reshape(-1, 2, dim)
     widths = 0.3 + NETWORK_MAX_LINE_WIDTH * np.clip(relative / max(norm.vmax, 1e-12), 0, 1)
-    lo, hi = box
+    corners = box_corners(*box)  # a triclinic box's parallelogram (parallelepiped) within the axes' limits
+    lo, hi = corners.min(axis=0), corners.max(axis=0)
     if dim == 3:
         from mpl_toolkits.mplot3d.art3d import Line3DCollection
 
@@ -118,6 +119,8 @@ def draw_network_panel(ax, rows: pd.DataFrame, box, norm: Normalize) -> None:
         lines = LineCollection(segments, cmap=FORCE_CMAP, norm=norm, linewidths=widths)
         lines.set_array(relative)
         ax.add_collection(lines)
+        if box[2] is not None:  # a triclinic box: its periodic cell, which the axes' rectangle does not show
+            ax.add_patch(Polygon(corners[[0, 2, 3, 1]], closed=True, fill=False, color="0.4", lw=0.8))
         ax.set_aspect("equal")
     ax.set_xlim(lo[0], hi[0])
     ax.set_ylim(lo[1], hi[1])
@@ -141,7 +144,7 @@ def prepare_p2_fig01_snapshots_differences(snapshots: Sequence[xr.Dataset], *, r
     blocks = []
     for panel, (snap, edges) in enumerate(zip([*snapshots, snapshots[0], snapshots[0]], [*networks, *diffs])):
         position = snap["position"].values
-        end_j = position[edges.j] + image_shifts(position, edges.i, edges.j, periodic_lengths(snap))
+        end_j = position[edges.j] + image_shifts(position, edges.i, edges.j, periodic_vectors(snap))
         quantity = "F/<F>" if panel < 3 else "|F_%s - F_a|/<F>" % "bc"[panel - 3]
         blocks.append(pd.DataFrame({cols.PANEL: panel, cols.SYSTEM: system, "force_kind": kind,
                                     cols.RHO: float(snap["rho"]), cols.QUANTITY: quantity, "i": edges.i, "j": edges.j,
@@ -149,7 +152,7 @@ def prepare_p2_fig01_snapshots_differences(snapshots: Sequence[xr.Dataset], *, r
                                     EDGE_ENDS[2]: end_j[:, 0], EDGE_ENDS[3]: end_j[:, 1],
                                     cols.VALUE: edges.force}))
     return FigureData(concat(blocks), {
-        "box": [(s["box_lo"].values[:2], s["box_hi"].values[:2]) for s in snapshots],
+        "box": [(s["box_lo"].values[:2], s["box_hi"].values[:2], box_tilt(s)) for s in snapshots],
         "states": [(float(s["rho"]), float(s["Z"])) for s in snapshots], "kind": kind, "system": system,
         "realization": snapshots[0].attrs.get("realization", "?")})
 
@@ -195,8 +198,9 @@ def _draw_edges(ax, rows: pd.DataFrame, cmap, vmin, vmax):
 
 
 def _frame(ax, box, title: str) -> None:
-    lo, hi = box
-    ax.add_patch(Rectangle(lo, *(hi - lo), fill=False, color="0.4", lw=0.8))
+    corners = box_corners(*box)
+    ax.add_patch(Polygon(corners[[0, 2, 3, 1]], closed=True, fill=False, color="0.4", lw=0.8))  # round the box
+    lo, hi = corners.min(axis=0), corners.max(axis=0)
     pad = 0.03 * float(np.max(hi - lo))
     ax.set_xlim(lo[0] - pad, hi[0] + pad)
     ax.set_ylim(lo[1] - pad, hi[1] + pad)

@@ -37,7 +37,7 @@ import numpy as np
 import xarray as xr
 
 from forcenet.boxes import branch_vectors
-from forcenet.datasets.snapshot import periodic_lengths
+from forcenet.datasets.snapshot import periodic_vectors
 from forcenet.report.realizations import mean_and_spread, realization_mean
 from forcenet.systems import KINETIC_ENERGY_FLUCTUATION
 
@@ -160,7 +160,7 @@ def relative_overlaps(snapshot: xr.Dataset) -> tuple[np.ndarray, np.ndarray]:
     radius = np.asarray(snapshot["radius"].values, dtype=float)
     reach = radius[i] + radius[j]
     # shape (0,) without contacts; across a periodic face (an imported box) to the nearest image
-    gap = np.linalg.norm(branch_vectors(position, i, j, periodic_lengths(snapshot)), axis=1)
+    gap = np.linalg.norm(branch_vectors(position, i, j, periodic_vectors(snapshot)), axis=1)
     touching = snapshot["wall_contact_particle"].values if "wall_contact_particle" in snapshot else np.empty(0, int)
     return (reach - gap) / reach, np.isin(i, touching) | np.isin(j, touching)
 

@@ -21,6 +21,7 @@ import pandas as pd
 import xarray as xr
 
 from forcenet.datasets.schema import DIMENSIONLESS, NETWORK_FORCE_UNITS
+from forcenet.datasets.snapshot import box_tilt
 from forcenet.report.p2 import (METRIC_LONG_NAMES, METRICS, P2_FORCE_KINDS, P2_HOMOLOGY_DIMS, format_number,
                                 pretty_column, rho_at_isostatic_crossing, table_column)
 
@@ -117,7 +118,8 @@ def quadrant_diagrams(network, snapshot: xr.Dataset) -> dict:
     """Diagrams of each quarter of the snapshot's own box (P2 Tables II–III): {quadrant: PersistenceDiagrams}."""
     from forcenet.topology import quadrant_persistence_diagrams
 
-    return quadrant_persistence_diagrams(network, snapshot["box_lo"].values, snapshot["box_hi"].values)
+    return quadrant_persistence_diagrams(network, snapshot["box_lo"].values, snapshot["box_hi"].values,
+                                         box_tilt(snapshot))
 
 
 # =============================================================================================================

@@ -164,6 +164,8 @@ def persistence_diagrams(network: ForceNetwork, *, max_homology_dim: int | None 
     return persistence_of_complex(complex_, max_homology_dim)
 
 
-def quadrant_persistence_diagrams(network: ForceNetwork, box_lo, box_hi) -> dict[str, PersistenceDiagrams]:
-    """Diagrams of the four quarters of the box, keyed by P2's block names (P2 Tables II–III)."""
-    return {name: persistence_diagrams(restrict_to_quadrant(network, box_lo, box_hi, name)) for name in QUADRANTS}
+def quadrant_persistence_diagrams(network: ForceNetwork, box_lo, box_hi, tilt=None) -> dict[str, PersistenceDiagrams]:
+    """Diagrams of the four quarters of the box (`tilt`: a triclinic box's tilt factors), keyed by P2's block names
+    (P2 Tables II–III)."""
+    return {name: persistence_diagrams(restrict_to_quadrant(network, box_lo, box_hi, name, tilt))
+            for name in QUADRANTS}
