@@ -312,3 +312,20 @@ def test_the_image_forcenet_joins_is_the_one_lammps_used_in_its_sheared_run():
         direction = lammps_state.force_normal / np.linalg.norm(lammps_state.force_normal, axis=1)[:, None]
         wrong = np.abs(flat - direction).max(axis=1) > 1e-6
         np.testing.assert_array_equal(wrong, through_y)
+
+
+def test_a_shear_at_constant_volume_is_imported_one_state_per_system(tmp_path):
+    from forcenet.systems import ConfigError, imported_system
+
+    atoms, pairs = ring_dumps(tmp_path)
+    for dump in (atoms, pairs):  # a second timestep, sheared further in the same box: the same ρ
+        text = dump.read_text()
+        dump.write_text(text + text.replace("ITEM: TIMESTEP\n7\n", "ITEM: TIMESTEP\n8\n").replace("0 5 1\n", "0 5.5 1.5\n"))
+    entry = {"dimension": 2, "source": {"format": "lammps", "runs": [{"atoms": str(atoms), "pairs": str(pairs)}]}}
+    with pytest.raises(ConfigError, match=r"'systems.s.source.runs\[0\]': states with the same ρ at 3 decimals "
+                                          r"\(\[0.212, 0.212\]\).*imported one per system \(source.timesteps"):
+        imported_system("s", entry)
+    later = imported_system("s", {**entry, "source": {**entry["source"], "timesteps": [8]}})
+    assert later.rho_grid == (0.212,)
+    (state,) = lammps.read_run(entry["source"]["runs"][0], 2, {"format": "lammps", "timesteps": [8]})
+    np.testing.assert_allclose(state.tilt, [1.5])

@@ -185,6 +185,11 @@ def imported_system(name: str, entry: Mapping[str, Any]) -> ImportedSystem:
     grids = [[state.rho for state in states] for states in runs]
     if len({len(grid) for grid in grids}) != 1:
         raise ConfigError(f"{key}.runs", f"every run needs the same number of states, got {[len(g) for g in grids]}")
+    rounded = np.round(grids[0], RHO_DECIMALS)
+    if np.any(np.diff(rounded) == 0):  # a shear at constant volume: its states share one ρ
+        raise ConfigError(f"{key}.runs[0]", f"states with the same ρ at {RHO_DECIMALS} decimals ({rounded.tolist()}): a "
+                                            "run's states are keyed by ρ, so states at one ρ (a shear at constant volume) "
+                                            "are imported one per system (source.timesteps: [t] for LAMMPS)")
     return ImportedSystem(name=name, dimension=int(entry["dimension"]),
                           rho_grid=rho_grid(grids[0], f"{key}.runs[0] (the states' packing fractions, in order)"),
                           source=dict(entry["source"]), particles=len(runs[0][0].radius))
