@@ -438,6 +438,10 @@ def test_the_example_config_passes_and_a_bad_source_entry_names_its_key():
         **EXAMPLE["systems"]["lammps_2d"]["source"], "box": {"lo": [0, 0], "hi": [4, 4], "tilt": [1, 0, 0, 2]}}}}}
     with pytest.raises(ConfigError, match="config key 'systems.lammps_2d.source.box.tilt'"):
         checked(tilted)
+    both = {**EXAMPLE, "systems": {**EXAMPLE["systems"], "lammps_2d": {**EXAMPLE["systems"]["lammps_2d"], "source": {
+        **EXAMPLE["systems"]["lammps_2d"]["source"], "pair_columns": {"normal": "c_pf[1]", "total": ["a", "b"]}}}}}
+    with pytest.raises(ConfigError, match="config key 'systems.lammps_2d.source.pair_columns.normal'"):
+        checked(both)  # a total force is split by forcenet: not given beside its parts
     mixed = {**EXAMPLE, "systems": {**EXAMPLE["systems"], "table_2d": {**EXAMPLE["systems"]["table_2d"],
                                                                         "force_law": "hertz"}}}
     with pytest.raises(ConfigError, match="config key 'systems.table_2d': .*'force_law' was unexpected"):
@@ -449,8 +453,13 @@ def test_the_example_config_passes_and_a_bad_source_entry_names_its_key():
     same_rho = [dict(state, box={"lo": [0, 0], "hi": [6, 4]})
                 for state in EXAMPLE["systems"]["table_2d"]["source"]["runs"][0]]
     flat = {"dimension": 2, "source": {**EXAMPLE["systems"]["table_2d"]["source"], "runs": [same_rho]}}
-    with pytest.raises(ConfigError, match="config key 'systems.table_2d.source.runs\\[0\\].*must increase"):
+    with pytest.raises(ConfigError, match="config key 'systems.table_2d.source.runs\\[0\\]': states with the same ρ "
+                                          "at 3 decimals .* imported one per system"):
         checked({**EXAMPLE, "systems": {"table_2d": flat}, "studies": {"p1": {"systems": ["table_2d"]}}})
+    backwards = {"dimension": 2, "source": {**EXAMPLE["systems"]["table_2d"]["source"],
+                                            "runs": [EXAMPLE["systems"]["table_2d"]["source"]["runs"][0][::-1]]}}
+    with pytest.raises(ConfigError, match="config key 'systems.table_2d.source.runs\\[0\\].*must increase"):
+        checked({**EXAMPLE, "systems": {"table_2d": backwards}, "studies": {"p1": {"systems": ["table_2d"]}}})
     with pytest.raises(ConfigError, match="config key 'systems.lammps_2d.source.runs': lists 1 run\\(s\\), but "
                                           "realizations is 2: one run per realization"):
         checked({**EXAMPLE, "realizations": 2})

@@ -329,3 +329,59 @@ def test_a_shear_at_constant_volume_is_imported_one_state_per_system(tmp_path):
     assert later.rho_grid == (0.212,)
     (state,) = lammps.read_run(entry["source"]["runs"][0], 2, {"format": "lammps", "timesteps": [8]})
     np.testing.assert_allclose(state.tilt, [1.5])
+
+
+# --- a whole contact force, split along the line of centres ---------------------------------------------------------
+def test_a_total_force_splits_into_its_part_along_the_line_of_centres_and_the_rest():
+    from forcenet.importers.common import split_total_force
+
+    fn, ft = split_total_force(np.array([[3.0, 4.0], [-1.0, 2.0]]), np.array([[1.0, 0.0], [0.6, 0.8]]))
+    np.testing.assert_allclose(fn, [[3.0, 0.0], [0.6, 0.8]])  # (-1, 2) · (0.6, 0.8) = 1
+    np.testing.assert_allclose(ft, [[0.0, 4.0], [-1.6, 1.2]])
+    rng = np.random.default_rng(5)
+    n = rng.normal(size=(50, 3))
+    n /= np.linalg.norm(n, axis=1)[:, None]
+    total = rng.normal(size=(50, 3))
+    fn, ft = split_total_force(total, n)
+    np.testing.assert_allclose(fn + ft, total)
+    np.testing.assert_allclose(np.cross(fn, n), 0, atol=1e-12)  # along n
+    np.testing.assert_allclose(np.einsum("cd,cd->c", ft, n), 0, atol=1e-12)  # across it
+
+
+def test_a_table_of_total_forces_is_split_along_the_line_to_the_nearest_image(tmp_path):
+    particles, contacts = tmp_path / "p.csv", tmp_path / "c.csv"
+    particles.write_text("id,x,y,radius\n1,0.2,2.0,0.45\n2,9.4,2.3,0.45\n3,5.0,0.3,0.5\n")
+    contacts.write_text("i,j,f_x,f_y\n1,2,2.0,0.5\n3,y_lo,0.2,1.5\n")
+    box = {"lo": [0, 0], "hi": [10, 4]}
+    state = table.read_state(particles, contacts, 2, "total", box=box, periodic=["x"])
+    n = np.array([0.8, -0.3]) / np.hypot(0.8, -0.3)  # from 2's image at (-0.6, 2.3) to 1, through the x face
+    np.testing.assert_allclose(state.force_normal, [(2.0 * n[0] + 0.5 * n[1]) * n])
+    np.testing.assert_allclose(state.force_normal + state.force_tangential, [[2.0, 0.5]])
+    np.testing.assert_allclose(state.wall_force, [[0.2, 1.5]])  # a wall's force is kept whole
+    contacts.write_text("i,j,f_x,f_y,f_z\n1,2,2.0,0.5,0\n")
+    with pytest.raises(SourceError, match="c.csv.*'f_z': present, but the system is declared 2D"):
+        table.read_state(particles, contacts, 2, "total", box=box, periodic=["x"])
+
+
+def test_lammps_total_forces_give_its_normal_and_tangential_vectors(tmp_path):
+    """LAMMPS's sheared run with a column of each pair's whole force (pair/local fx fy plus p1 p2): split along our
+    nearest image in the tilted box it gives back LAMMPS's normal and tangential vectors."""
+    folder = Path(__file__).resolve().parents[1] / "data" / "examples" / "lammps_triclinic_2d"
+    lines = (folder / "pairs.dump").read_text().splitlines()
+    for k, line in enumerate(lines):
+        if line.startswith("ITEM: ENTRIES"):
+            lines[k] = line + " t_x t_y"
+        elif line and not line.startswith("ITEM") and len(line.split()) == 8:
+            cells = [float(v) for v in line.split()]
+            lines[k] = line + f" {cells[3] + cells[5]!r} {cells[4] + cells[6]!r}"
+    pairs = tmp_path / "pairs.dump"
+    pairs.write_text("\n".join(lines) + "\n")
+    run = {"atoms": folder / "atoms.dump", "pairs": pairs}
+    whole = lammps.read_run(run, 2, {"format": "lammps", "pair_columns": {"total": ["t_x", "t_y"]}})
+    split = lammps.read_run(run, 2, {"format": "lammps", "pair_columns": {
+        "normal": ["c_pf[2]", "c_pf[3]"], "tangential": ["c_pf[4]", "c_pf[5]", "c_pf[6]"]}})
+    for ours, theirs in zip(whole, split):
+        scale = np.abs(theirs.force_normal).max()
+        assert np.abs(theirs.force_tangential).max() > 0.05 * scale  # friction carries a share
+        np.testing.assert_allclose(ours.force_normal, theirs.force_normal, atol=1e-8 * scale)
+        np.testing.assert_allclose(ours.force_tangential, theirs.force_tangential, atol=1e-8 * scale)

@@ -96,6 +96,14 @@ def normal_unit_vectors(position: np.ndarray, i: np.ndarray, j: np.ndarray,
     return delta / np.linalg.norm(delta, axis=1)[:, None]
 
 
+def split_total_force(total: np.ndarray, n: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The normal and tangential parts (C, d) of whole contact forces `total` (C, d) on particle i, `n` (C, d) the
+    unit vectors from j (its nearest image) to i: F_n = (F · n) n along the line of centres, where a sphere's
+    normal force acts, and F_t = F − F_n in the tangent plane. A repulsive normal force has F · n > 0."""
+    normal = np.einsum("cd,cd->c", total, n)[:, None] * n
+    return normal, total - normal
+
+
 def perpendicular_unit_vectors(n: np.ndarray) -> np.ndarray:
     """A unit vector perpendicular to each row of `n`: in 2D n rotated by +90°; in 3D n × e, e the axis on which n
     has its smallest component."""

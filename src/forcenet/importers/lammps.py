@@ -19,7 +19,9 @@ Pairs dump (``dump local``): one row per pair (``compute property/local patom1 p
 force p1 p2 p3`` of a ``gran/*`` pair style); ``source.pair_columns`` names the columns: ``i``, ``j`` (atom ids),
 ``normal`` (one column: the normal force's magnitude, repulsive > 0, directed from j to i, as ``compute pair/local
 force``; or 2–3 columns: the vector on i) and ``tangential`` (2–3 columns: the vector on i, as pair gran's
-p1 p2 p3; or one column: the magnitude, stored perpendicular to the normal). Rows whose forces are all zero are
+p1 p2 p3; or one column: the magnitude, stored perpendicular to the normal), or instead of both ``total`` (2–3
+columns: the whole contact force on i, as codes that do not split it write it; split along the line of centres,
+`forcenet.importers.common.split_total_force`). Rows whose forces are all zero are
 neighbours not in contact and are left out. The atoms and pairs dumps must hold the same timesteps in the same
 order; ``source.timesteps`` picks some of them (default: all).
 """
@@ -34,7 +36,7 @@ import numpy as np
 from forcenet.boxes import (AXIS_LABELS, TILT_LABELS, box_periods, box_vectors, fold_into_box, tilt_labels,
                             tilt_problem, tilted_faces)
 from forcenet.importers.common import (SourceError, SourceState, normal_unit_vectors, order_pairs,
-                                       perpendicular_unit_vectors)
+                                       perpendicular_unit_vectors, split_total_force)
 
 #: the pair columns of the shipped example (bench/lammps/make_import_example.py), used where the config names none
 DEFAULT_PAIR_COLUMNS = {"i": "c_pid[1]", "j": "c_pid[2]", "normal": ["c_pf[1]"],
@@ -248,20 +250,24 @@ def atom_state(path, frame: Frame, dimension: int, wall_columns: Sequence[str] |
 def pair_forces(path, frame: Frame, ids: np.ndarray, position: np.ndarray, columns: Mapping[str, Any],
                 atoms_path, period: np.ndarray | None = None) -> tuple[np.ndarray, ...]:
     """(i, j, F_n (C, d), F_t (C, d)) of one pairs frame, i < j indices into the atoms of the same timestep; a
-    force given as a magnitude points along the line from j's image nearest to i (`period`: the box length on
-    each periodic axis, 0 on the others) to i."""
+    force given as a magnitude points along the line from j's image nearest to i (`period`: the box's periodic
+    edge vectors, `forcenet.boxes.box_periods`) to i, and a total force (`columns["total"]`, in place of normal and
+    tangential) is split along that line (`split_total_force`)."""
     dimension = position.shape[1]
+    force_keys = ("total",) if "total" in columns else ("normal", "tangential")
     names = {key: ([columns[key]] if isinstance(columns[key], str) else list(columns[key]))
-             for key in ("i", "j", "normal", "tangential")}
+             for key in ("i", "j", *force_keys)}
     values = {key: np.stack([_column(path, frame, c, f"source.pair_columns.{key}") for c in cols], axis=1)
               for key, cols in names.items()}
-    for key in ("normal", "tangential"):
+    for key in force_keys:
         for c, name in enumerate(names[key]):
             _finite(path, frame, values[key][:, c], name)
-        if values[key].shape[1] not in (1, 2, 3) or (values[key].shape[1] == 2 and dimension == 3):
-            raise SourceError(path, f"source.pair_columns.{key}", "needs 1 column (magnitude) or the vector's "
-                                                                 f"{dimension} or 3 components")
-    touching = np.any(values["normal"] != 0, axis=1) | np.any(values["tangential"] != 0, axis=1)
+        allowed = (2, 3) if key == "total" else (1, 2, 3)
+        if values[key].shape[1] not in allowed or (values[key].shape[1] == 2 and dimension == 3):
+            raise SourceError(path, f"source.pair_columns.{key}",
+                              ("needs the vector's " if key == "total" else "needs 1 column (magnitude) or the vector's ")
+                              + f"{dimension} or 3 components")
+    touching = np.any(np.concatenate([values[key] for key in force_keys], axis=1) != 0, axis=1)
     slot = {int(atom): k for k, atom in enumerate(ids)}
     index = {}
     for key in ("i", "j"):
@@ -278,10 +284,13 @@ def pair_forces(path, frame: Frame, ids: np.ndarray, position: np.ndarray, colum
     if same.any():
         raise SourceError(path, f"line {frame.first_row_line + rows[np.argmax(same)]}", "an atom paired with itself")
     n = normal_unit_vectors(position, i, j, period)
-    fn = values["normal"][rows]
-    fn = fn[:, :1] * n if fn.shape[1] == 1 else fn[:, :dimension]
-    ft = values["tangential"][rows]
-    ft = ft[:, :1] * perpendicular_unit_vectors(n) if ft.shape[1] == 1 else ft[:, :dimension]
+    if "total" in columns:
+        fn, ft = split_total_force(values["total"][rows][:, :dimension], n)
+    else:
+        fn = values["normal"][rows]
+        fn = fn[:, :1] * n if fn.shape[1] == 1 else fn[:, :dimension]
+        ft = values["tangential"][rows]
+        ft = ft[:, :1] * perpendicular_unit_vectors(n) if ft.shape[1] == 1 else ft[:, :dimension]
     i, j, fn, ft = order_pairs(i, j, fn, ft)
     keys = i * len(ids) + j
     unique, first = np.unique(keys, return_index=True)
@@ -312,7 +321,10 @@ def wall_contacts(position, radius, box_lo, box_hi, wall_force, bounded=None):
 def read_run(run: Mapping[str, Any], dimension: int, source: Mapping[str, Any]) -> list[SourceState]:
     """The states of one run: ``{atoms: dump custom, pairs: dump local}`` (module docstring)."""
     atoms_path, pairs_path = run["atoms"], run["pairs"]
-    columns = {**DEFAULT_PAIR_COLUMNS, **source.get("pair_columns", {})}
+    given = source.get("pair_columns", {})
+    # a total force replaces the default normal and tangential columns (the schema refuses both given)
+    columns = {**{key: value for key, value in DEFAULT_PAIR_COLUMNS.items()
+                  if "total" not in given or key not in ("normal", "tangential")}, **given}
     wanted = source.get("timesteps")
     atom_frames, pair_frames = list(read_frames(atoms_path, "ATOMS")), list(read_frames(pairs_path, "ENTRIES"))
     for a, p in zip(atom_frames, pair_frames):

@@ -11,7 +11,10 @@ drawings use it; forces are analysed in units of each network's mean, so their u
   is stored perpendicular to it (2D: the normal turned by +90°), which keeps |F_n|, |F_t| and |F_n + F_t| — all the
   analysis uses;
 - ``vectors``: columns ``fn_x,fn_y[,fn_z],ft_x,ft_y[,ft_z]`` — the normal and tangential force on particle i from
-  particle j.
+  particle j;
+- ``total``: columns ``f_x,f_y[,f_z]`` — the whole contact force on particle i from particle j (as an experiment's
+  force inversion or a code that does not split it gives it), split along the line of centres: the normal part
+  (F · n) n, n from j (its nearest image) to i, and the tangential rest (`common.split_total_force`).
 
 ``i`` and ``j`` are particle ids; ``j`` may instead name a wall (``x_lo``, ``x_hi``, ``y_lo``, ``y_hi``, ``z_lo``,
 ``z_hi``) for a particle–wall contact (then the forces are the wall's on particle i; a magnitude's normal points
@@ -34,11 +37,11 @@ import numpy as np
 
 from forcenet.boxes import AXIS_LABELS, box_periods, tilt_problem, tilted_faces
 from forcenet.importers.common import (WALL_NAMES, SourceError, SourceState, normal_unit_vectors, order_pairs,
-                                       perpendicular_unit_vectors)
+                                       perpendicular_unit_vectors, split_total_force)
 
 AXES = AXIS_LABELS
 #: the two conventions of the contacts' forces (`source.forces`)
-FORCE_CONVENTIONS = ("magnitudes", "vectors")
+FORCE_CONVENTIONS = ("magnitudes", "vectors", "total")
 
 
 def read_run(run: Sequence[Mapping[str, Any]], dimension: int, source: Mapping[str, Any]) -> list[SourceState]:
@@ -150,9 +153,10 @@ def read_state(particles: str | Path, contacts: str | Path, dimension: int, forc
     ids, position, radius = read_particles(particles, dimension)
     header, body = _rows(contacts)
     axes = AXES[:dimension]
-    force_columns = (("fn", "ft") if forces == "magnitudes" else
-                     tuple(f"fn_{a}" for a in axes) + tuple(f"ft_{a}" for a in axes))
-    forbidden = {"fn_z": "present, but the system is declared 2D (dimension: 2)"} if dimension == 2 else {}
+    force_columns = (("fn", "ft") if forces == "magnitudes" else tuple(f"f_{a}" for a in axes) if forces == "total"
+                     else tuple(f"fn_{a}" for a in axes) + tuple(f"ft_{a}" for a in axes))
+    z_column = "f_z" if forces == "total" else "fn_z"
+    forbidden = {z_column: "present, but the system is declared 2D (dimension: 2)"} if dimension == 2 else {}
     columns = _columns(contacts, header, ("i", "j", *force_columns), forbidden)
     pairs, walls, seen = [], [], {}
     for number, cells in body:
@@ -198,10 +202,11 @@ def read_state(particles: str | Path, contacts: str | Path, dimension: int, forc
     j = np.array([p[1] for p in pairs], dtype=np.int64)
     values = np.array([p[2] for p in pairs]).reshape(len(pairs), len(force_columns))
     lo, hi = _box(box, position, radius, particles)
-    if forces == "magnitudes":
+    if forces in ("magnitudes", "total"):
         period = box_periods(periodic_axes, lo, hi, tilt)
         n = normal_unit_vectors(position, i, j, period) if len(pairs) else np.zeros((0, dimension))
-        fn, ft = values[:, :1] * n, values[:, 1:2] * perpendicular_unit_vectors(n)
+        fn, ft = ((values[:, :1] * n, values[:, 1:2] * perpendicular_unit_vectors(n)) if forces == "magnitudes"
+                  else split_total_force(values, n))
     else:
         fn, ft = values[:, :dimension], values[:, dimension:]
     i, j, fn, ft = order_pairs(i, j, fn, ft)
@@ -213,6 +218,8 @@ def read_state(particles: str | Path, contacts: str | Path, dimension: int, forc
         n = np.zeros((len(walls), dimension))
         n[np.arange(len(walls)), wall_id // 2] = np.where(wall_id % 2 == 0, 1.0, -1.0)
         wall_force = wall_values[:, :1] * n + wall_values[:, 1:2] * perpendicular_unit_vectors(n)
+    elif forces == "total":
+        wall_force = wall_values
     else:
         wall_force = wall_values[:, :dimension] + wall_values[:, dimension:]
     return SourceState(position=position, radius=radius, contact_i=i[order], contact_j=j[order],
