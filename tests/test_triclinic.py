@@ -1,7 +1,8 @@
 """Triclinic (tilted) periodic boxes, as LAMMPS writes them for sheared packings (`forcenet.boxes`, the importers):
 the nearest image against a search over every lattice translation, LAMMPS's bounding box undone, a hand-built ring
-of disks around a tilted box imported from a dump and from a table (its forces, overlaps, winding and drawing), and
-every tilt that cannot be refused with one line."""
+of disks around a tilted box imported from a dump and from a table (its forces, overlaps, winding and drawing),
+every tilt that cannot be refused with one line, LAMMPS's own sheared run, and whole contact forces split along the
+line of centres (a tilted box's nearest image gives that line)."""
 from __future__ import annotations
 
 import itertools
