@@ -16,7 +16,8 @@ from forcenet.datasets import read_snapshot
 from forcenet.datasets.io import schema_problems
 from forcenet.datasets.schema import BOX_TILT_ATTR, PERIODIC_AXES_ATTR
 from forcenet.importers import SourceError, import_run, lammps, table
-from forcenet.network import QUADRANTS, network_from_edge_forces, quadrant_mask, snapshot_network
+from forcenet.network import (QUADRANTS, network_from_edge_forces, quadrant_mask, restrict_to_quadrant,
+                              snapshot_network)
 
 
 # --- geometry against slow references --------------------------------------------------------------------------------
@@ -386,3 +387,29 @@ def test_lammps_total_forces_give_its_normal_and_tangential_vectors(tmp_path):
         assert np.abs(theirs.force_tangential).max() > 0.05 * scale  # friction carries a share
         np.testing.assert_allclose(ours.force_normal, theirs.force_normal, atol=1e-8 * scale)
         np.testing.assert_allclose(ours.force_tangential, theirs.force_tangential, atol=1e-8 * scale)
+
+
+def test_p2_quarters_a_sheared_snapshot_along_its_tilted_edges(tmp_path):
+    """P2 Tables II–III's blocks of the shipped sheared state at xy = 5 are the four parallelograms: 49, 51, 53 and
+    47 of the 200 disks (an orthogonal cut at the centre's x and y would give 44, 56, 77 and 23), and the table's
+    diagrams are those blocks' own."""
+    from forcenet.report.p2_distances import p2_network, quadrant_diagrams
+    from forcenet.topology import persistence_diagrams
+
+    folder = Path(__file__).resolve().parents[1] / "data" / "examples" / "lammps_triclinic_2d"
+    entry = {"dimension": 2, "source": {"format": "lammps", "timesteps": [210000], "pair_columns": {
+        "normal": "c_pf[1]", "tangential": ["c_pf[4]", "c_pf[5]", "c_pf[6]"]},
+        "runs": [{"atoms": str(folder / "atoms.dump"), "pairs": str(folder / "pairs.dump")}]}}
+    out = tmp_path / "rho0.864.nc"
+    import_run(config={"systems": {"s": entry}}, system="s", realization=0, outputs=[str(out)])
+    with read_snapshot(out) as snapshot:
+        network = p2_network(snapshot, "normal", False)
+        blocks = quadrant_diagrams(network, snapshot)
+        lo, hi, position = snapshot["box_lo"].values, snapshot["box_hi"].values, snapshot["position"].values
+    counts = {name: int(quadrant_mask(position, lo, hi, name, [5.0]).sum()) for name in QUADRANTS}
+    assert counts == {"bottom left": 49, "bottom right": 51, "top right": 53, "top left": 47}
+    assert [int(quadrant_mask(position, lo, hi, name).sum()) for name in QUADRANTS] == [44, 56, 77, 23]
+    for name in QUADRANTS:
+        expected = persistence_diagrams(restrict_to_quadrant(network, lo, hi, name, [5.0]))
+        np.testing.assert_array_equal(blocks[name].birth, expected.birth)
+        np.testing.assert_array_equal(blocks[name].death, expected.death)
