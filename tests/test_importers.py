@@ -492,3 +492,28 @@ def test_a_3d_lammps_state_is_imported_and_analysed(tmp_path):
     assert list(ds["homology_dim"].values) == [0, 1, 2] and ds.attrs["source_format"] == "lammps"
     assert int(ds["betti"].sel(force_kind="total", homology_dim=0, threshold=0.0)) >= 1
     assert json.loads(ds.attrs["source_files"])[0] == "data/examples/lammps_3d/atoms.dump"
+
+
+def test_gzipped_dumps_and_tables_read_as_the_plain_files_and_a_broken_one_is_named(tmp_path):
+    import gzip
+
+    plain = lammps.read_run({"atoms": LAMMPS_DIR / "atoms.dump", "pairs": LAMMPS_DIR / "pairs.dump"}, 2,
+                            {"format": "lammps"})
+    for name in ("atoms.dump", "pairs.dump"):  # as LAMMPS's dump custom/gz and local/gz write them
+        (tmp_path / f"{name}.gz").write_bytes(gzip.compress((LAMMPS_DIR / name).read_bytes()))
+    zipped = lammps.read_run({"atoms": tmp_path / "atoms.dump.gz", "pairs": tmp_path / "pairs.dump.gz"}, 2,
+                             {"format": "lammps"})
+    assert len(zipped) == len(plain) == 3
+    for a, b in zip(zipped, plain):
+        np.testing.assert_array_equal(a.position, b.position)
+        np.testing.assert_array_equal(a.force_normal, b.force_normal)
+        np.testing.assert_array_equal(a.force_tangential, b.force_tangential)
+    for name in ("particles.csv", "contacts.csv"):
+        (tmp_path / f"{name}.gz").write_bytes(gzip.compress((TABLE_DIR / name).read_bytes()))
+    table_zipped = table.read_state(tmp_path / "particles.csv.gz", tmp_path / "contacts.csv.gz", 2, "magnitudes")
+    table_plain = table.read_state(TABLE_DIR / "particles.csv", TABLE_DIR / "contacts.csv", 2, "magnitudes")
+    np.testing.assert_array_equal(table_zipped.force_normal, table_plain.force_normal)
+    (tmp_path / "broken.dump.gz").write_bytes(b"not gzip at all")
+    with pytest.raises(SourceError, match="broken.dump.gz: cannot be read"):
+        lammps.read_run({"atoms": tmp_path / "broken.dump.gz", "pairs": tmp_path / "pairs.dump.gz"}, 2,
+                        {"format": "lammps"})

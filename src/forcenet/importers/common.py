@@ -2,6 +2,7 @@
 and the dispatch from a config's ``source:`` entry to the reader of its format (`source_states`)."""
 from __future__ import annotations
 
+import gzip
 import hashlib
 import math
 from dataclasses import dataclass, field
@@ -78,6 +79,18 @@ def packing_fraction(radius: np.ndarray, box_lo: np.ndarray, box_hi: np.ndarray)
     d = len(box_lo)
     volume = math.pi * np.sum(radius ** 2) if d == 2 else 4.0 / 3.0 * math.pi * np.sum(radius ** 3)
     return float(volume / np.prod(np.asarray(box_hi, float) - np.asarray(box_lo, float)))
+
+
+def read_source_text(path: str | Path) -> str:
+    """A source file's text (UTF-8), gunzipped when its name ends in ``.gz`` (LAMMPS's ``dump custom/gz`` and
+    ``local/gz``, a gzipped table); a file that cannot be read raises `SourceError` naming it and why."""
+    try:
+        if str(path).endswith(".gz"):
+            with gzip.open(path, "rt", encoding="utf-8") as handle:
+                return handle.read()
+        return Path(path).read_text(encoding="utf-8")
+    except (OSError, EOFError, UnicodeDecodeError) as error:  # gzip.BadGzipFile is an OSError
+        raise SourceError(path, "", f"cannot be read ({getattr(error, 'strerror', None) or error})") from None
 
 
 def file_sha256(path: str | Path) -> str:

@@ -36,7 +36,7 @@ import numpy as np
 from forcenet.boxes import (AXIS_LABELS, TILT_LABELS, box_periods, box_vectors, fold_into_box, tilt_labels,
                             tilt_problem, tilted_faces)
 from forcenet.importers.common import (SourceError, SourceState, normal_unit_vectors, order_pairs,
-                                       perpendicular_unit_vectors, split_total_force)
+                                       perpendicular_unit_vectors, read_source_text, split_total_force)
 
 #: the pair columns of the shipped example (bench/lammps/make_import_example.py), used where the config names none
 DEFAULT_PAIR_COLUMNS = {"i": "c_pid[1]", "j": "c_pid[2]", "normal": ["c_pf[1]"],
@@ -62,10 +62,7 @@ class Frame:
 def read_frames(path: str | Path, kind: str) -> Iterator[Frame]:
     """The frames of a LAMMPS text dump; `kind` "ATOMS" (dump custom) or "ENTRIES" (dump local)."""
     count_item = "NUMBER OF ATOMS" if kind == "ATOMS" else "NUMBER OF ENTRIES"
-    try:
-        lines = Path(path).read_text(encoding="utf-8").splitlines()
-    except (OSError, UnicodeDecodeError) as error:
-        raise SourceError(path, "", f"cannot be read ({getattr(error, 'strerror', None) or error})") from None
+    lines = read_source_text(path).splitlines()
     k = 0
 
     def expect(item: str) -> str:

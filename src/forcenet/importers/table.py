@@ -37,7 +37,7 @@ import numpy as np
 
 from forcenet.boxes import AXIS_LABELS, box_periods, tilt_problem, tilted_faces
 from forcenet.importers.common import (WALL_NAMES, SourceError, SourceState, normal_unit_vectors, order_pairs,
-                                       perpendicular_unit_vectors, split_total_force)
+                                       perpendicular_unit_vectors, read_source_text, split_total_force)
 
 AXES = AXIS_LABELS
 #: the two conventions of the contacts' forces (`source.forces`)
@@ -53,10 +53,7 @@ def read_run(run: Sequence[Mapping[str, Any]], dimension: int, source: Mapping[s
 
 def _rows(path: str | Path) -> tuple[list[str], list[tuple[int, list[str]]]]:
     """(header, [(line number, cells)]) of a CSV file, comment and blank lines skipped."""
-    try:
-        text = Path(path).read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as error:
-        raise SourceError(path, "", f"cannot be read ({getattr(error, 'strerror', None) or error})") from None
+    text = read_source_text(path)
     rows = [(number, cells) for number, cells in enumerate(csv.reader(text.splitlines()), start=1)
             if cells and any(c.strip() for c in cells) and not cells[0].lstrip().startswith("#")]
     if not rows:
