@@ -269,12 +269,19 @@ def test_the_subset_table_script_judges_a_builds_systems_as_its_table_job_does(s
     built = pd.read_csv(paths.p1_validation_table(results, "csv"), comment="#", keep_default_na=False)
     built = built[built["reading"] == ""]
     key = ["kind", "id", "system"]
-    for systems in (["2d_linear", "2d_hertz", "3d_hertz"], ["2d_linear", "2d_hertz"]):
+    def subset_table(systems, counts, csv):
+        return subprocess.run([sys.executable, str(REPO / "scripts/p1_subset_table.py"), "--results", str(results),
+                               "--systems", *systems, "--realizations", *counts, "--csv", str(csv),
+                               "--md", str(tmp_path / "t.md")], capture_output=True, text=True)
+
+    # the counts per system as config/validation.yaml gives them (one for all, SYSTEM=N for one); none is a usage error
+    refused = subset_table(["2d_linear", "3d_hertz"], ["3d_hertz=1"], tmp_path / "refused.csv")
+    assert refused.returncode == 2 and "no count for 2d_linear" in refused.stderr
+    for systems, counts in ((["2d_linear", "2d_hertz", "3d_hertz"], ["1", "3d_hertz=1"]),
+                            (["2d_linear", "2d_hertz"], ["2d_linear=1", "2d_hertz=1"])):
         csv = tmp_path / f"{len(systems)}.csv"
-        subprocess.run([sys.executable, str(REPO / "scripts/p1_subset_table.py"), "--results", str(results),
-                        "--systems", *systems, "--realizations", "1", "--csv", str(csv),
-                        "--md", str(tmp_path / "t.md")],
-                       check=True, capture_output=True, text=True)
+        run = subset_table(systems, counts, csv)
+        assert run.returncode == 0, run.stderr
         subset = pd.read_csv(csv, comment="#", keep_default_na=False)
         merged = built.merge(subset[subset["reading"] == ""], on=key, how="left", suffixes=("_built", "_subset"))
         judged = merged[merged["verdict_subset"].notna() & (merged["verdict_subset"] != "not evaluated")]
