@@ -277,6 +277,9 @@ def test_the_subset_table_script_judges_a_builds_systems_as_its_table_job_does(s
     # the counts per system as config/validation.yaml gives them (one for all, SYSTEM=N for one); none is a usage error
     refused = subset_table(["2d_linear", "3d_hertz"], ["3d_hertz=1"], tmp_path / "refused.csv")
     assert refused.returncode == 2 and "no count for 2d_linear" in refused.stderr
+    # SYSTEM=N overrides the common count: the build has one run per system, so asking 3d_hertz for two names its r01
+    too_many = subset_table(["2d_linear", "3d_hertz"], ["1", "3d_hertz=2"], tmp_path / "too_many.csv")
+    assert too_many.returncode == 2 and "3d_hertz/r01: no snapshot" in too_many.stderr
     for systems, counts in ((["2d_linear", "2d_hertz", "3d_hertz"], ["1", "3d_hertz=1"]),
                             (["2d_linear", "2d_hertz"], ["2d_linear=1", "2d_hertz=1"])):
         csv = tmp_path / f"{len(systems)}.csv"
