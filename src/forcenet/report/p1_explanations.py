@@ -71,7 +71,7 @@ EXPLANATIONS: dict[str | tuple[str, str], tuple[str, str]] = {
         "one law larger than the difference between the laws, and the single runs of the damping series (0.004-0.025 "
         "over gamma_n 1.386-31.37) lie in the same range. In P1's 75 x 75 size-check box the laws separate: 3 runs "
         "each give 0.019-0.033 (Hertz) against 0.007-0.011 and this judge's ratio 3.02, robustness 1.0, the Hertz "
-        "packings keeping 270-1240 particles with >= 2 contacts just below rho_J (25-143 at 50 x 50).",
+        "packings keeping 267-1235 particles with >= 2 contacts just below rho_J (25-143 at 50 x 50).",
         PER_REALIZATION + "; the 75 x 75 runs: python scripts/p1_subset_table.py --results results/validation "
         "--systems 2d_linear_box75 2d_hertz_box75 --realizations 3 (docs/validation/README.md, session 45)"),
     ("p1-5.1-b1-zero-below", "3d_hertz"): (
