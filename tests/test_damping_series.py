@@ -46,3 +46,35 @@ def test_a_series_run_is_named_by_folder_system_and_realization():
     assert SeriesRun.parse("results/p1_start:2d_linear") == SeriesRun(Path("results/p1_start"), "2d_linear", 0)
     assert SeriesRun.parse("results/validation:2d_hertz:r03") == SeriesRun(Path("results/validation"), "2d_hertz", 3)
     assert SeriesRun.parse("results/validation:3d_hertz:2").sim == Path("results/validation/sim/3d_hertz/r02")
+
+
+def test_a_run_without_its_aggregate_is_read_from_its_own_analyses(smoke_run, tmp_path):
+    """A campaign run whose other realizations are unfinished has no `network_measures.nc` yet: its readings come
+    from its own per-snapshot analyses, equal to the aggregate's; with one analysis missing there are none."""
+    import math
+    import shutil
+
+    import numpy as np
+
+    from forcenet.damping_series import SeriesRun, network_readings, run_network_measures
+
+    results = smoke_run / "results"
+    whole = SeriesRun(results, "2d_hertz", 0)
+    alone = tmp_path / "results"
+    for part in ("sim", "analysis"):
+        shutil.copytree(results / part / "2d_hertz" / "r00", alone / part / "2d_hertz" / "r00")
+    run = SeriesRun(alone, "2d_hertz", 0)
+    assert not (alone / "2d_hertz").exists()  # no aggregate beside the copied run
+    from_aggregate, from_analyses = run_network_measures(whole), run_network_measures(run)
+    for name in ("betti", "rho_measured", "persistence_bin_count", "cluster_mean_size"):
+        np.testing.assert_array_equal(from_analyses[name].values, from_aggregate[name].values)
+    # the smoke grid (three states) never jams: read "near jamming" around its middle state
+    rho_middle = float(from_aggregate.rho_measured.values[1])
+    readings = network_readings(run, rho_middle)
+    np.testing.assert_equal(readings, network_readings(whole, rho_middle))
+    assert math.isfinite(readings["b0_small_near_jamming"]) and readings["b0_small_near_jamming"] > 0
+
+    first = sorted((alone / "analysis" / "2d_hertz" / "r00").glob("rho*.nc"))[0]
+    first.unlink()
+    assert run_network_measures(run) is None
+    assert all(math.isnan(value) for value in network_readings(run, rho_middle).values())

@@ -3,7 +3,8 @@ each gives for the rule of docs/decisions.md ("The Hertz damping rule") and for 
 
 A series run is a results folder made by `config/validation.yaml` with an overlay of `config/damping/` (one
 system, one realization, `damping_model: explicit`). `series_row` reads its snapshots (`sim/`), its stacked
-analysis (`network_measures.nc`) and its run cost, and returns one row:
+analysis (`network_measures.nc`, or the run's own analyses while that is not written: `run_network_measures`) and
+its run cost, and returns one row:
 
 * the rule's test: whether the run completed its ρ grid, how many relaxations hit `relaxation.max_steps` (a
   runaway: P1's E_kin criterion never met), the largest λΔt over the snapshots against 0.8 × the Gear bound;
@@ -176,16 +177,44 @@ def _cpu_hours(run: SeriesRun) -> float:
     return float(json.loads(path.read_text())["cpu_seconds"]) / 3600.0
 
 
-def network_readings(run: SeriesRun, rho_j: float) -> dict:
-    """The P1 network readings of the module docstring from the run's `network_measures.nc` (total force;
-    NaN where the file or the states near ρ_J are missing)."""
+def run_network_measures(run: SeriesRun) -> xr.Dataset | None:
+    """The run's network measures over ρ (the `network_measures` variables without the realization dimension):
+    from its system's stacked `network_measures.nc` when that holds the realization, else stacked from the
+    run's own per-snapshot analyses when every published snapshot has one (a campaign whose other realizations
+    have not finished, so that its aggregate is not written yet); None when neither is there."""
+    from forcenet.datasets import read_dataset
+    from forcenet.datasets.aggregate import stack_network_measures
+    from forcenet.datasets.paths import analysis
+
     path = Path(network_measures(str(run.results), run.system))
+    if path.exists():
+        with xr.open_dataset(path) as ds:
+            if run.realization in ds.realization.values:
+                return ds.sel(realization=run.realization).load()
+    name = realization_name(run.realization)
+    snapshots = sorted(run.sim.glob(rho_file("*")))
+    analyses = [Path(analysis(str(run.results), run.system, name, p.stem.removeprefix("rho"))) for p in snapshots]
+    if not analyses or not all(p.exists() for p in analyses):
+        return None
+    datasets = [read_dataset(p, "analysis") for p in analyses]
+    try:
+        rhos = [float(p.stem.removeprefix("rho")) for p in analyses]
+        stacked = stack_network_measures(datasets, [run.realization] * len(datasets), rhos, {})
+        return stacked.sel(realization=run.realization).load()
+    finally:
+        for ds in datasets:
+            ds.close()
+
+
+def network_readings(run: SeriesRun, rho_j: float) -> dict:
+    """The P1 network readings of the module docstring from the run's network measures (`run_network_measures`,
+    total force; NaN where they or the states near ρ_J are missing)."""
     empty = dict(b0_small_near_jamming=math.nan, b0_small_beyond=math.nan, weak_bin_near_jamming=math.nan,
                  strong_bin_near_jamming=math.nan, cluster_size_near_jamming=math.nan)
-    if not path.exists() or not math.isfinite(rho_j):
+    measures = run_network_measures(run) if math.isfinite(rho_j) else None
+    if measures is None:
         return empty
-    with xr.open_dataset(path) as ds:
-        ds = ds.sel(force_kind="total").isel(realization=run.realization).load()
+    ds = measures.sel(force_kind="total")
     n = ds.n_particles
     rho = ds.rho_measured.values
     near = np.abs(rho - rho_j) <= NEAR_JAMMING + 1e-9
@@ -207,5 +236,5 @@ def network_readings(run: SeriesRun, rho_j: float) -> dict:
     )
 
 
-__all__ = ["SeriesRun", "series_row", "approach_speeds", "network_readings", "NEAR_CONTACT_GAP", "NEAR_JAMMING",
+__all__ = ["SeriesRun", "series_row", "approach_speeds", "network_readings", "run_network_measures", "NEAR_CONTACT_GAP", "NEAR_JAMMING",
            "DAMPING_MARGIN"]
