@@ -236,5 +236,5 @@ def network_readings(run: SeriesRun, rho_j: float) -> dict:
     )
 
 
-__all__ = ["SeriesRun", "series_row", "approach_speeds", "network_readings", "run_network_measures", "NEAR_CONTACT_GAP", "NEAR_JAMMING",
-           "DAMPING_MARGIN"]
+__all__ = ["SeriesRun", "series_row", "approach_speeds", "network_readings", "run_network_measures",
+           "NEAR_CONTACT_GAP", "NEAR_JAMMING", "DAMPING_MARGIN"]
