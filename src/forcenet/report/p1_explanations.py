@@ -69,11 +69,11 @@ EXPLANATIONS: dict[str | tuple[str, str], tuple[str, str]] = {
         "The ridge exists in 2D Hertz but is 1.19x the linear law's, not 2x: per realization the B0/N at "
         "F_th < 0.5 within 0.02 of rho_J is 0.0040-0.0153 (Hertz) and 0.0059-0.0138 (linear), a spread within "
         "one law larger than the difference between the laws, and the single runs of the damping series (0.004-0.025 "
-        "over gamma_n 1.386-31.37) lie in the same range. In P1's 75 x 75 size-check box the laws separate: 3 runs "
-        "each give 0.019-0.033 (Hertz) against 0.007-0.011 and this judge's ratio 3.02, robustness 1.0, the Hertz "
-        "packings keeping 267-1235 particles with >= 2 contacts just below rho_J (25-143 at 50 x 50).",
+        "over gamma_n 1.386-31.37) lie in the same range. In P1's 75 x 75 size-check box the laws separate: 5 runs "
+        "each give 0.019-0.033 (Hertz) against 0.007-0.015, no overlap, and this judge's ratio 2.60, robustness "
+        "0.84, the Hertz packings keeping 133-1235 particles with >= 2 contacts just below rho_J (25-143 at 50 x 50).",
         PER_REALIZATION + "; the 75 x 75 runs: python scripts/p1_subset_table.py --results results/validation "
-        "--systems 2d_linear_box75 2d_hertz_box75 --realizations 3 (docs/validation/README.md, session 45)"),
+        "--systems 2d_linear_box75 2d_hertz_box75 --realizations 5 (docs/validation/README.md, session 48)"),
     ("p1-5.1-b1-zero-below", "3d_hertz"): (
         "rho_J = 0.595 (inflection of Z) falls between 0.59 and 0.60 and the state at 0.59 is already jammed "
         "(rattler-free Z 4.18, percolating): its loops count as below jamming. With the cut one tolerance under "
