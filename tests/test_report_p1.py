@@ -451,11 +451,20 @@ VIOLATIONS = {
         {"2d_linear": {"cluster_peak": True}}, None, [("p1-6-cluster-size-peak-small-threshold", "2d_linear")], []),
     "2D Hertz <S>/N without a peak": (
         {"2d_hertz": {"cluster_peak": False}}, None, [("p1-6-cluster-size-peak-small-threshold", "2d_hertz")], []),
+    "3D <S>/N without a peak": (
+        {"3d_hertz": {"cluster_peak": False}}, None, [("p1-6-cluster-size-peak-small-threshold", "3d_hertz")], []),
+    "2D Hertz <S>/N peaks at F_th = 1": (
+        {"2d_hertz": {"size_peak": 1.0}}, None, [("p1-4.2-cluster-size-peak-threshold", "2d_hertz")], []),
     "2D percolating cluster not almost all": (
         {"2d_hertz": {"share": 0.7, "share_onset": 0.7, "share_decay": 8.0}}, None,
         [("p1-4.3-percolating-almost-all-2d", "2d_hertz")], []),
+    "2D linear percolating cluster shrinking beyond jamming": (  # 0.9 at the onset (phi_c bound kept), 0.65 later
+        {"2d_linear": {"share": 0.65, "share_decay": 8.0}}, None, [("p1-4.3-percolating-almost-all-2d", "2d_linear")],
+        []),
     "2D percolating cluster mostly small": (
         {"2d_linear": {"share_decay": 1.0}}, None, [("p1-4.3-percolating-significant-2d", "2d_linear")], []),
+    "2D Hertz percolating cluster mostly small": (
+        {"2d_hertz": {"share_decay": 1.0}}, None, [("p1-4.3-percolating-significant-2d", "2d_hertz")], []),
     "3D percolating cluster large near jamming": (
         {"3d_hertz": {"share_onset": 0.95, "share": 0.95}}, None,
         [("p1-4.3-percolating-small-3d-near-jamming", "3d_hertz"), ("p1-4.3-percolating-smaller-in-3d", "all")], []),
@@ -464,6 +473,8 @@ VIOLATIONS = {
         [("p1-4.3-percolating-small-3d-large-threshold", "3d_hertz")], []),
     "3D below the phi_c bound": (
         {"3d_hertz": {"z_high": 4.0}}, None, [("p1-4.3-phi-c-lower-bound", "3d_hertz")], []),
+    "2D Hertz below the phi_c bound": (  # Z of all particles 1.8 beyond jamming: 1/(Z - 1) = 1.25 > N_per/N = 0.9
+        {"2d_hertz": {"z_high": 1.8}}, None, [("p1-4.3-phi-c-lower-bound", "2d_hertz")], []),
     "B0 ridge for the linear law as high as Hertz's": (
         {"2d_linear": {"ridge": True}}, None, [("p1-5.1-b0-ridge-law-contrast", "all")], []),
     "no B0 ridge in 2D Hertz": (
@@ -477,15 +488,31 @@ VIOLATIONS = {
         {}, _set("2d_hertz", "betti", lambda ds: 0.01 * N_PARTICLES * np.exp(-ds["threshold"]),
                  where=lambda ds: ds["rho"] > RHO_J["2d_hertz"] + 0.02, homology_dim=lambda h: h == 0),
         [("p1-5.1-b0-interior-maximum", "2d_hertz"), ("p1-1-b0-maximum-above-mean-force", "2d_hertz")], []),
+    "3D B0/N largest at F_th = 0 beyond jamming": (  # a maximum at the grid's edge is never in (1, 1.5] <F> either
+        {}, _set("3d_hertz", "betti", lambda ds: 0.01 * N_PARTICLES * np.exp(-ds["threshold"]),
+                 where=lambda ds: ds["rho"] > RHO_J["3d_hertz"] + 0.02, homology_dim=lambda h: h == 0),
+        [("p1-5.1-b0-interior-maximum", "3d_hertz"), ("p1-1-b0-maximum-above-mean-force", "3d_hertz")], []),
+    "linear B0/N still growing at the largest F_th": (  # the maximum at the grid's edge, F_th = 3 > 1.5 <F> too
+        {}, _set("2d_linear", "betti", lambda ds: 0.05 * N_PARTICLES * np.exp(-(ds["threshold"] - 3.0) ** 2 / 0.3),
+                 where=lambda ds: ds["rho"] > RHO_J["2d_linear"] + 0.02, homology_dim=lambda h: h == 0),
+        [("p1-5.1-b0-interior-maximum", "2d_linear"), ("p1-1-b0-maximum-above-mean-force", "2d_linear")], []),
     "B0/N largest at F_th = 2 beyond jamming": (
         {}, _set("2d_linear", "betti", lambda ds: 0.05 * N_PARTICLES * np.exp(-(ds["threshold"] - 2.0) ** 2 / 0.3),
                  where=lambda ds: ds["rho"] > RHO_J["2d_linear"] + 0.02, homology_dim=lambda h: h == 0),
         [("p1-1-b0-maximum-above-mean-force", "2d_linear")], []),
     "overlaps beyond 10 %": (
         {"overlaps": {"2d_linear": 0.15}}, None, [("p1-3-overlap", "2d_linear")], []),
+    "3D overlaps beyond 10 %": (
+        {"overlaps": {"3d_hertz": 0.15}}, None, [("p1-3-overlap", "3d_hertz")], []),
     "2D network far below <k> = 3 at jamming": (
         {}, _set("2d_hertz", "Z_no_rattlers", lambda ds: ds["Z_no_rattlers"] - 1.0),
         [("p1-4.3-contact-number-at-jamming", "2d_hertz"), ("p1-4.3-phi-c-at-jamming", "2d_hertz")], []),
+    "2D linear network far below <k> = 3 at jamming": (  # phi_c = 1/(Z - 1) follows Z
+        {}, _set("2d_linear", "Z_no_rattlers", lambda ds: ds["Z_no_rattlers"] - 1.0),
+        [("p1-4.3-contact-number-at-jamming", "2d_linear"), ("p1-4.3-phi-c-at-jamming", "2d_linear")], []),
+    "3D network at <k> = d + 1 = 4 at jamming, not 6": (  # phi_c = 1/(Z - 1) follows Z: 1/3, not 0.2
+        {}, _set("3d_hertz", "Z_no_rattlers", lambda ds: ds["Z_no_rattlers"] - 2.0),
+        [("p1-4.3-contact-number-at-jamming", "3d_hertz"), ("p1-4.3-phi-c-at-jamming", "3d_hertz")], []),
     "loops below jamming in 2D": (
         {"2d_hertz": {"loops_below": 0.05}}, None, [("p1-5.1-b1-zero-below", "2d_hertz")], []),
     "loops and cavities below jamming in 3D": (
@@ -495,10 +522,24 @@ VIOLATIONS = {
     "no loops at all": (
         {}, _set("2d_hertz", "betti", 0.0, homology_dim=lambda h: h == 1),
         [("p1-5.1-b1-rises", "2d_hertz"), ("p1-5.1-b1-plateau", "2d_hertz")], []),
+    "no loops at all in 2D linear": (
+        {}, _set("2d_linear", "betti", 0.0, homology_dim=lambda h: h == 1),
+        [("p1-5.1-b1-rises", "2d_linear"), ("p1-5.1-b1-plateau", "2d_linear")], []),
+    "no loops at all in 3D": (  # and then none larger than in 2D
+        {}, _set("3d_hertz", "betti", 0.0, homology_dim=lambda h: h == 1),
+        [("p1-5.1-b1-rises", "3d_hertz"), ("p1-5.1-b1-plateau", "3d_hertz"), ("p1-5.1-b1-larger-in-3d", "all")], []),
     "B1 still rising at rho_max": (
         {}, _set("2d_hertz", "betti", lambda ds: N_PARTICLES * 0.2 * np.exp(-ds["threshold"])
                  * np.clip((ds["rho"] - RHO_J["2d_hertz"]) / 0.1, 0, 1), homology_dim=lambda h: h == 1),
         [("p1-5.1-b1-plateau", "2d_hertz")], []),
+    "linear B1 still rising at rho_max": (
+        {}, _set("2d_linear", "betti", lambda ds: N_PARTICLES * 0.2 * np.exp(-ds["threshold"])
+                 * np.clip((ds["rho"] - RHO_J["2d_linear"]) / 0.2, 0, 1), homology_dim=lambda h: h == 1),
+        [("p1-5.1-b1-plateau", "2d_linear")], []),
+    "3D B1 still rising at rho_max": (
+        {}, _set("3d_hertz", "betti", lambda ds: N_PARTICLES * 0.3 * np.exp(-ds["threshold"])
+                 * np.clip((ds["rho"] - RHO_J["3d_hertz"]) / 0.1, 0, 1), homology_dim=lambda h: h == 1),
+        [("p1-5.1-b1-plateau", "3d_hertz")], []),
     "3D with fewer loops than 2D": (
         {"3d_hertz": {"loops": (0.1, 0.1)}}, None, [("p1-5.1-b1-larger-in-3d", "all")], []),
     "cavities well below jamming": (
@@ -511,12 +552,24 @@ VIOLATIONS = {
         [("p1-5.1-b2-grows", "3d_hertz")], []),
     "linear clusters complex below jamming": (
         {"2d_linear": {"shape_below": 2.0}}, None, [("p1-5.2-shape-open-paths-below-jamming", "2d_linear")], []),
+    "2D Hertz clusters complex below jamming": (  # S_p ~ 1.4 > linear's ~ 1.2: the law contrast below turns too
+        {"2d_hertz": {"shape_below": 2.0}}, None,
+        [("p1-5.2-shape-open-paths-below-jamming", "2d_hertz"), ("p1-5.2-shape-linear-above-hertz-below-jamming",
+                                                                  "all")], []),
     "Hertz clusters more complex than linear below jamming": (
         {"2d_hertz": {"shape_below": 0.8}}, None, [("p1-5.2-shape-linear-above-hertz-below-jamming", "all")], []),
     "3D complex clusters at F_th > 2": (
         {}, _set("3d_hertz", "shape_parameter", 2.0, where=lambda ds: ds["rho"] > RHO_J["3d_hertz"],
                  threshold=lambda t: t > 2.0),
         [("p1-5.2-shape-open-paths-large-threshold", "3d_hertz")], []),
+    "linear complex clusters at F_th > 2": (
+        {}, _set("2d_linear", "shape_parameter", 2.0, where=lambda ds: ds["rho"] > RHO_J["2d_linear"],
+                 threshold=lambda t: t > 2.0),
+        [("p1-5.2-shape-open-paths-large-threshold", "2d_linear")], []),
+    "2D Hertz complex clusters at F_th > 2": (
+        {}, _set("2d_hertz", "shape_parameter", 2.0, where=lambda ds: ds["rho"] > RHO_J["2d_hertz"],
+                 threshold=lambda t: t > 2.0),
+        [("p1-5.2-shape-open-paths-large-threshold", "2d_hertz")], []),
     "linear barely more complex than Hertz": (
         {"2d_linear": {"shape": 0.65}}, None, [("p1-5.2-shape-linear-above-hertz", "all")], []),
     "3D simpler than 2D Hertz": (
@@ -528,6 +581,12 @@ VIOLATIONS = {
     "S_p beyond the 2D bound": (
         {}, _set("2d_hertz", "shape_parameter", 4.5, where=lambda ds: ds["rho"] > 0.9, threshold=lambda t: t == 2.0),
         [("p1-5.2-shape-bounds", "2d_hertz")], []),
+    "S_p beyond the 3D bound": (
+        {}, _set("3d_hertz", "shape_parameter", 9.0, where=lambda ds: ds["rho"] > 0.65, threshold=lambda t: t == 2.0),
+        [("p1-5.2-shape-bounds", "3d_hertz")], []),
+    "linear S_p below an open path's": (  # 0.3 < 0.5, fewer edges than any open path of two or more particles
+        {}, _set("2d_linear", "shape_parameter", 0.3, where=lambda ds: ds["rho"] > 0.9, threshold=lambda t: t == 2.0),
+        [("p1-5.2-shape-bounds", "2d_linear")], []),
     "3D rougher near jamming": (
         {}, _set("3d_hertz", "persistence_bin_count", lambda ds: 3 * ds["persistence_bin_count"],
                  where=_near_jamming(RHO_J["3d_hertz"], 0.015), persistence_bin=lambda b: b == "rough"),
@@ -539,10 +598,18 @@ VIOLATIONS = {
     "medium bin flat through jamming": (
         {}, _set("2d_linear", "persistence_bin_count", 0.02 * N_PARTICLES, persistence_bin=lambda b: b == "medium"),
         [("p1-5.3-medium-jump", "2d_linear")], []),
+    "2D Hertz medium bin flat through jamming": (  # at its jammed level, still below the linear law's
+        {}, _set("2d_hertz", "persistence_bin_count", 0.014 * N_PARTICLES, persistence_bin=lambda b: b == "medium"),
+        [("p1-5.3-medium-jump", "2d_hertz")], []),
+    "3D medium bin flat through jamming": (  # at its jammed level, still below the linear law's
+        {}, _set("3d_hertz", "persistence_bin_count", 0.014 * N_PARTICLES, persistence_bin=lambda b: b == "medium"),
+        [("p1-5.3-medium-jump", "3d_hertz")], []),
     "no strong-bin peak for the linear law": (
         {"2d_linear": {"strong_peak": False}}, None, [("p1-5.3-strong-peak-linear-only", "2d_linear")], []),
     "strong-bin peak for 2D Hertz": (
         {"2d_hertz": {"strong_peak": True}}, None, [("p1-5.3-strong-peak-linear-only", "2d_hertz")], []),
+    "strong-bin peak in 3D": (
+        {"3d_hertz": {"strong_peak": True}}, None, [("p1-5.3-strong-peak-linear-only", "3d_hertz")], []),
     "weak-bin peak for the linear law": (
         {"2d_linear": {"weak_peak": True}}, None, [("p1-5.3-weak-peak-nonlinear-only", "all")], []),
     "no weak-bin peak in 2D Hertz": (
@@ -559,6 +626,8 @@ VIOLATIONS = {
         [("p1-5.3-linear-medium-over-strong", "2d_linear")], []),
     "weak-bin peak beside the ridge": (
         {"2d_hertz": {"ridge_at": -0.015, "weak_at": 0.015}}, None, [("p1-5.3-weak-peak-at-ridge", "2d_hertz")], []),
+    "3D weak-bin peak beside the ridge": (
+        {"3d_hertz": {"ridge_at": -0.015, "weak_at": 0.015}}, None, [("p1-5.3-weak-peak-at-ridge", "3d_hertz")], []),
     "TP0 rising as in 2D": (
         {"3d_hertz": {"persistence": (0.1, 0.15, 0.1)}}, None, [("p1-5.3-tp0-steeper-in-3d", "all")], []),
     "TP1 rising as in 2D": (
