@@ -10,19 +10,47 @@
 For checking part of a campaign when not all of it is on disk (docs/validation/README.md, session 41): the same
 judging as the table job (`forcenet.pipeline.p1_validation_table`, force unit `dyn` as config/validation.yaml),
 on `{results}/{system}/network_measures.nc` and `diagrams.nc` (or those under `--aggregates`) and the overlaps of
-each realization's snapshot at the largest ρ (realizations 0 … N − 1 of each system, `--realizations`). No counterparts and no
-readings beside: rows that need them, or a system left out, are "not evaluated".
+each realization's snapshot at the largest ρ, for realizations 0 … N − 1 of each system (`--realizations`): an
+aggregate holding more realizations is judged on its first N only (so that five runs on disk can be read as the
+first three were), one holding fewer is refused. No counterparts and no readings beside: rows that need them, or
+a system left out, are "not evaluated".
 """
 from __future__ import annotations
 
 import argparse
 import sys
+import tempfile
 from pathlib import Path
+
+import numpy as np
+import xarray as xr
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "src"))
 
 from forcenet import pipeline  # noqa: E402
-from forcenet.datasets import paths  # noqa: E402
+from forcenet.datasets import paths, write_netcdf  # noqa: E402
+
+
+def first_realizations(aggregates: str, system: str, count: int, folder: str) -> tuple[str, str]:
+    """(network_measures.nc, diagrams.nc) of `system` holding its realizations 0 … `count` − 1 only: the files
+    under `aggregates` when they hold exactly those, else copies cut to them under `folder`. ValueError when
+    the aggregate lacks one of them."""
+    measures_path, diagrams_path = paths.network_measures(aggregates, system), paths.diagrams(aggregates, system)
+    wanted = np.arange(count)
+    with xr.open_dataset(measures_path) as measures, xr.open_dataset(diagrams_path) as diagrams:
+        held = measures["realization"].values
+        missing = sorted(set(wanted.tolist()) - set(held.tolist()))
+        if missing:
+            raise ValueError(f"{measures_path} holds realizations {held.tolist()}, not {missing}")
+        if np.array_equal(np.sort(held), wanted):
+            return measures_path, diagrams_path
+        cut_measures = measures.sel(realization=wanted).load()
+        cut_diagrams = diagrams.isel(point=np.flatnonzero(diagrams["point_realization"].values < count)).load()
+    out_measures, out_diagrams = paths.network_measures(folder, system), paths.diagrams(folder, system)
+    Path(out_measures).parent.mkdir(parents=True, exist_ok=True)
+    write_netcdf(cut_measures, out_measures, "network_measures")
+    write_netcdf(cut_diagrams, out_diagrams, "diagrams")
+    return out_measures, out_diagrams
 
 
 def main(argv=None) -> int:
@@ -55,10 +83,15 @@ def main(argv=None) -> int:
                 print(f"{run}: no snapshot", file=sys.stderr)
                 return 2
             snapshots.append(str(largest[-1]))
-    pipeline.p1_validation_table(
-        measures=[paths.network_measures(aggregates, s) for s in args.systems], systems=args.systems,
-        csv=args.csv, md=args.md, force_unit=args.force_unit, snapshots=snapshots,
-        diagrams=[paths.diagrams(aggregates, s) for s in args.systems])
+    with tempfile.TemporaryDirectory(prefix="p1_subset_") as folder:
+        try:
+            files = [first_realizations(aggregates, s, counts.get(s, counts.get("")), folder) for s in args.systems]
+        except ValueError as error:
+            print(error, file=sys.stderr)
+            return 2
+        pipeline.p1_validation_table(
+            measures=[m for m, _ in files], systems=args.systems, csv=args.csv, md=args.md,
+            force_unit=args.force_unit, snapshots=snapshots, diagrams=[d for _, d in files])
     return 0
 
 

@@ -21,7 +21,7 @@ import xarray as xr
 import yaml
 
 from conftest import REPO, snakemake
-from forcenet.datasets import open_dataset, paths, validate_dataset
+from forcenet.datasets import open_dataset, paths, validate_dataset, write_netcdf
 
 pytestmark = pytest.mark.workflow
 
@@ -297,3 +297,42 @@ def test_the_subset_table_script_judges_a_builds_systems_as_its_table_job_does(s
             assert (left_out["verdict_subset"].isna() | (left_out["verdict_subset"] == "not evaluated")).all()
             assert (left_out["verdict_built"].isin(["holds", "does not hold"])).any()
             assert judged["system"].isin(["2d_linear", "2d_hertz", "all"]).all() and len(judged) >= 10
+
+
+def test_the_subset_table_script_judges_the_first_realizations_of_a_larger_aggregate(smoke_run, tmp_path):
+    # five runs on disk read as the first three were: an aggregate with more realizations than --realizations
+    # asks is cut to its first N (measures and diagram points), so the table is that of the N alone
+    results = smoke_run / "results"
+    aggregates = tmp_path / "aggregates"
+    for system in ("2d_linear", "2d_hertz"):
+        with xr.open_dataset(paths.network_measures(results, system)) as ds, \
+                xr.open_dataset(paths.diagrams(results, system)) as diagrams:
+            measures, points = ds.load(), diagrams.load()
+        # a second realization whose networks differ everywhere: judged with it, the table would change
+        other = measures.assign_coords(realization=measures["realization"].copy(data=[1]))
+        other["betti"] = 3 * other["betti"] + 7
+        other["Z"] = other["Z"] + 1.0
+        moved = points.copy()
+        moved["point_realization"] = xr.full_like(points["point_realization"], 1)
+        write_netcdf(xr.concat([measures, other], dim="realization"), paths.network_measures(aggregates, system),
+                     "network_measures")
+        write_netcdf(xr.concat([points, moved], dim="point"), paths.diagrams(aggregates, system), "diagrams")
+        write_netcdf(other, paths.network_measures(tmp_path / "second_only", system), "network_measures")
+        write_netcdf(moved, paths.diagrams(tmp_path / "second_only", system), "diagrams")
+
+    def subset_table(folder, csv):
+        return subprocess.run([sys.executable, str(REPO / "scripts/p1_subset_table.py"), "--results", str(results),
+                               "--aggregates", str(folder), "--systems", "2d_linear", "2d_hertz",
+                               "--realizations", "1", "--csv", str(csv), "--md", str(tmp_path / "t.md")],
+                              capture_output=True, text=True)
+
+    whole, cut = tmp_path / "whole.csv", tmp_path / "cut.csv"
+    assert subset_table(results, whole).returncode == 0
+    run = subset_table(aggregates, cut)
+    assert run.returncode == 0, run.stderr
+    columns = ["id", "system", "reading", "measured", "verdict", "robustness"]
+    read = lambda path: pd.read_csv(path, comment="#", keep_default_na=False)[columns]
+    pd.testing.assert_frame_equal(read(cut), read(whole))
+    refused = subset_table(tmp_path / "second_only", tmp_path / "refused.csv")
+    assert refused.returncode == 2 and "holds realizations [1], not [0]" in refused.stderr
+    assert not (tmp_path / "refused.csv").exists()
