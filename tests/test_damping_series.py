@@ -15,7 +15,7 @@ def test_approach_speeds_count_only_near_pairs_that_close():
     radius = np.full(4, 0.5)
     speeds = approach_speeds(position, velocity, radius, gap=0.1)
     np.testing.assert_allclose(speeds, [0.3])
-    # a wider gap reaches the far disk's neighbours only if they are near: still one pair
+    # a gap narrower than the 0.05 between disks 0 and 1 counts no pair at all
     assert approach_speeds(position, velocity, radius, gap=0.02).size == 0
 
 

@@ -6,6 +6,7 @@ import dataclasses
 import re
 
 import pytest
+import yaml
 
 from conftest import REPO, snakemake
 from forcenet.pipeline import FIGURE_INPUT_READERS
@@ -53,7 +54,24 @@ def test_the_report_caption_names_the_paper_figure():
 def test_the_default_build_makes_every_registered_figure(tmp_path):
     """A dry run of config/config.yaml (both studies) schedules the rule figure_<id> of every entry, and rule all
     asks for its PDF; the rule reads the files of the entry's inputs."""
-    result = snakemake(tmp_path, "-n", "--quiet", "rules", config=REPO / "config/config.yaml")
+    result = snakemake(tmp_path, "-n", config=REPO / "config/config.yaml")
     assert result.returncode == 0, result.stderr[-3000:]
-    scheduled = set(re.findall(r"^(figure_\S+)\s+\d+$", result.stdout, flags=re.M))
+    jobs = {name: (inputs.split(", "), outputs.split(", ")) for name, inputs, outputs in re.findall(
+        r"^(?:local)?rule (\S+):\n    input: (.*)\n(?:    output: (.*)$)?", result.stdout, flags=re.M)}
+    scheduled = {name for name in jobs if name.startswith("figure_")}
     assert scheduled == {f"figure_{entry.id}" for entry in registry.FIGURES}
+    studies = yaml.safe_load((REPO / "config/config.yaml").read_text())["studies"]
+    # where each input kind lies (INPUT_KINDS): an aggregate per system, or a run's snapshots or analyses
+    kind_paths = {"measures": "results/{system}/network_measures.nc", "diagrams": "results/{system}/diagrams.nc",
+                  "distances": "results/{system}/distances.nc", "example_snapshots": "results/sim/{system}/r00/",
+                  "state_snapshots": "results/sim/{system}/r", "state_analysis": "results/analysis/{system}/r"}
+    assert set(kind_paths) == set(registry.INPUT_KINDS)
+    for entry in registry.FIGURES:
+        inputs, outputs = jobs[f"figure_{entry.id}"]
+        assert f"results/figures/{entry.id}.pdf" in outputs and f"results/figures/{entry.id}.pdf" in jobs["all"][0]
+        systems = studies[entry.study]["systems"]
+        systems = {"all": systems, "frictional": systems[:1], "frictionless": systems[1:2]}[entry.systems]
+        for kind in entry.inputs:
+            for system in systems:
+                where = kind_paths[kind].format(system=system)
+                assert any(path.startswith(where) for path in inputs), (entry.id, kind, where, inputs)

@@ -45,7 +45,8 @@ def test_forces_and_torques_match_lammps(case, probe, lmp, states):
 
 
 def test_the_state_has_wall_contacts_and_sliding_springs(states):
-    """The check means something: particles touch the walls, and in the spring probe contacts reach the cap."""
+    """The check means something: particles touch the walls and move (that the spring probe's contacts reach the
+    Coulomb cap is asserted with each case's result above)."""
     for case, state in states.items():
         gap = np.minimum(state["positions"] - state["box_lo"], state["box_hi"] - state["positions"])
         assert np.sum(gap < state["radii"][:, None]) >= 5, case

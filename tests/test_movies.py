@@ -4,8 +4,10 @@ from __future__ import annotations
 
 import imageio_ffmpeg
 import matplotlib.pyplot as plt
+import numpy as np
 import pytest
 from matplotlib.animation import FFMpegWriter
+from matplotlib.collections import LineCollection
 
 from forcenet.plotting import movies
 from test_plotting_p1 import make_snapshot
@@ -16,14 +18,20 @@ pytestmark = pytest.mark.slow
 
 @pytest.fixture
 def frames_seen(monkeypatch):
-    """(number of axes, titles, colour-bar labels) of every frame handed to the encoder."""
+    """(number of axes, titles, colour-bar labels, contact segments drawn, azimuths of the 3D axes in degrees)
+    of every frame handed to the encoder."""
     seen = []
     original = FFMpegWriter.grab_frame
 
     def grab(writer, **kwargs):
         fig = writer.fig
+        data = [ax for ax in fig.axes if ax.get_label() != "<colorbar>"]
         bars = [ax.get_ylabel() for ax in fig.axes if ax.get_label() == "<colorbar>"]
-        seen.append((len(fig.axes), [ax.get_title() for ax in fig.axes if ax.get_title()], bars))
+        # the network's edges: its LineCollection (Line3DCollection is one too), one colour value (F/<F>) per edge
+        segments = sum(len(c.get_array()) for ax in data for c in ax.collections
+                       if isinstance(c, LineCollection) and c.get_array() is not None)
+        azimuths = [float(ax.azim) for ax in data if hasattr(ax, "azim")]
+        seen.append((len(fig.axes), [ax.get_title() for ax in fig.axes if ax.get_title()], bars, segments, azimuths))
         return original(writer, **kwargs)
 
     monkeypatch.setattr(FFMpegWriter, "grab_frame", grab)
@@ -41,15 +49,15 @@ def test_network_movie_has_one_labelled_frame_per_snapshot(dimension, tmp_path, 
     assert movies.network_movie(snapshots, output, rattler_rule="once") == 4
     assert frame_count(output) == 4
     assert len(frames_seen) == 4
-    for (n_axes, titles, bars), snapshot in zip(frames_seen, snapshots):
+    for (n_axes, titles, bars, _, _), snapshot in zip(frames_seen, snapshots):
         assert n_axes == 2 and bars == [r"$F/\langle F\rangle$"]
         assert f"{float(snapshot['rho']):.3f}" in titles[0]  # the ρ label of that frame
 
 
 @pytest.mark.parametrize("dimension", [2, 3])
 def test_network_movie_frame_of_an_unjammed_snapshot_without_loaded_contacts(dimension, tmp_path, frames_seen):
-    """Below jamming every particle can be a rattler: that frame has no edge (and its table no contact columns),
-    but it is drawn, with its ρ label, beside a frame that has edges."""
+    """Below jamming every particle can be a rattler: that frame has no edge, but it is drawn, with its ρ label,
+    beside a frame that has edges."""
     loose = make_snapshot(dimension, seed=0)
     loose = loose.assign(force_normal=0.0 * loose["force_normal"], force_tangential=0.0 * loose["force_tangential"],
                          rho=0.44)
@@ -57,6 +65,7 @@ def test_network_movie_frame_of_an_unjammed_snapshot_without_loaded_contacts(dim
     assert movies.network_movie([loose, make_snapshot(dimension, seed=1)], output, rattler_rule="once") == 2
     assert frame_count(output) == 2
     assert "0.440" in frames_seen[0][1][0]
+    assert frames_seen[0][3] == 0 and frames_seen[1][3] > 0  # no loaded contact, then the loaded network's edges
     # only loose snapshots: one colour scale still exists
     assert movies.network_movie([loose], tmp_path / "loose.mp4", rattler_rule="once") == 1
 
@@ -65,8 +74,12 @@ def test_b0_surface_movie_turns_around_the_surface(tmp_path, frames_seen):
     output = tmp_path / "surface.mp4"
     assert movies.b0_surface_movie(make_p1_measures(), "3d_hertz", output, frames=8) == 8
     assert frame_count(output) == 8
-    n_axes, titles, bars = frames_seen[0]
+    n_axes, titles, bars, _, _ = frames_seen[0]
     assert n_axes == 2 and bars == [r"$B_0/N$"] and "3D" in titles[0]
+    # one full turn in 8 equal steps: each frame 45 degrees on from the last, no angle twice
+    azimuths = np.array([frame[4][0] for frame in frames_seen])
+    np.testing.assert_allclose(np.diff(azimuths), 45.0)
+    assert azimuths[-1] - azimuths[0] == pytest.approx(315.0)
     with pytest.raises(ValueError, match="no B0/N data"):
         movies.b0_surface_movie(make_p1_measures(), "2d_unknown", tmp_path / "x.mp4")
 
