@@ -13,11 +13,15 @@ import yaml
 
 from forcenet import pipeline
 from forcenet.datasets import read_dataset, read_snapshot
+from forcenet.datasets.diagrams import diagram_points
 from forcenet.datasets.runs import run_expectation
 from forcenet.importers import SourceError, import_run, source_states
 from forcenet.importers import lammps, table
+from forcenet.network import snapshot_network
+from forcenet.topology import betti_curves, persistence_diagrams
 from forcenet.plotting.networks import prepare_p1_fig01_networks
 from forcenet.systems import ConfigError, ImportedSystem, system_from_config
+from naive_topology import components, pd0_elder_rule
 
 REPO = Path(__file__).resolve().parents[1]
 EXAMPLE = yaml.safe_load((REPO / "config" / "example_import.yaml").read_text())
@@ -478,6 +482,21 @@ def test_the_example_config_passes_and_a_bad_source_entry_names_its_key():
         checked({**EXAMPLE, "systems": {**EXAMPLE["systems"], "table_2d": table_w}})
 
 
+def euler_characteristic(edges, fill_tetrahedra: bool) -> int:
+    """V − E + T (− Q with `fill_tetrahedra`) of the clique complex of `edges`, by plain clique search: the
+    vertices touched, the edges, the common neighbours of each edge, then of each triangle. Unfilled (P1's B2
+    counts hollow 4-cliques), a tetrahedron adds no cell: its hollow surface is a 2-cycle, B2 counts it."""
+    neighbours = {}
+    for a, b in edges:
+        neighbours.setdefault(a, set()).add(b)
+        neighbours.setdefault(b, set()).add(a)
+    pairs = {tuple(sorted(e)) for e in edges}
+    triangles = {tuple(sorted((a, b, c))) for a, b in pairs for c in neighbours[a] & neighbours[b]}
+    tetrahedra = {tuple(sorted((*tri, d))) for tri in triangles
+                  for d in neighbours[tri[0]] & neighbours[tri[1]] & neighbours[tri[2]]}
+    return len(neighbours) - len(pairs) + len(triangles) - (len(tetrahedra) if fill_tetrahedra else 0)
+
+
 def test_a_3d_lammps_state_is_imported_and_analysed(tmp_path):
     config = {**EXAMPLE, "systems": {"lammps_3d": lammps_entry("lammps_3d", 3)}, "studies": {}}
     spec = system_from_config("lammps_3d", config)
@@ -492,6 +511,39 @@ def test_a_3d_lammps_state_is_imported_and_analysed(tmp_path):
     assert list(ds["homology_dim"].values) == [0, 1, 2] and ds.attrs["source_format"] == "lammps"
     assert int(ds["betti"].sel(force_kind="total", homology_dim=0, threshold=0.0)) >= 1
     assert json.loads(ds.attrs["source_files"])[0] == "data/examples/lammps_3d/atoms.dump"
+    # "analysed": the stored file is the analysis of this very snapshot, recomputed here from the imported state
+    params = pipeline.snapshot_analysis_params(config, "lammps_3d")
+    theta = ds["threshold"].values
+    with read_snapshot(snapshot) as snap:
+        total = np.linalg.norm(snap["force_normal"].values + snap["force_tangential"].values, axis=1)
+        networks = {kind: snapshot_network(snap, kind, rattler_rule=params["remove_rattlers"], wall_contacts="kept")
+                    for kind in ("total", "normal", "tangential")}
+    assert float(ds["mean_force"].sel(force_kind="total")) == pytest.approx(total.mean(), rel=1e-12)  # P1's ⟨F⟩
+    for kind, network in networks.items():
+        diagrams = persistence_diagrams(network, fill_tetrahedra=params["fill_tetrahedra"])
+        np.testing.assert_array_equal(ds["betti"].sel(force_kind=kind).values, betti_curves(diagrams, theta, 2))
+        for k in (0, 1, 2):
+            stored, ours = diagram_points(ds, kind, k), diagrams.points(k)
+            np.testing.assert_array_equal(np.sort(stored.birth), np.sort(ours[:, 0]))
+            np.testing.assert_array_equal(np.sort(stored.death), np.sort(ours[:, 1]))
+    # and against slow references on the total network: PD0 by union–find with the elder rule, B0 by
+    # breadth-first search, and the Euler characteristic V − E + T (− Q) = B0 − B1 + B2 of the complex
+    network = networks["total"]
+    keep = np.flatnonzero(network.particle_mask)
+    compact = {v: k for k, v in enumerate(keep)}
+    edges = [(compact[a], compact[b]) for a, b in zip(network.edge_i.tolist(), network.edge_j.tolist())]
+    force = network.force.tolist()
+    assert {v for e in edges for v in e} == set(range(len(keep)))  # no kept particle without a contact
+    finite, essential = pd0_elder_rule(len(keep), edges, force)
+    pd0 = diagram_points(ds, "total", 0)
+    stored = sorted(zip(pd0.birth[~pd0.essential].tolist(), pd0.death[~pd0.essential].tolist()))
+    np.testing.assert_allclose(np.array(stored).reshape(-1, 2), np.array(finite).reshape(-1, 2), rtol=1e-12)
+    np.testing.assert_allclose(np.sort(pd0.birth[pd0.essential]), essential, rtol=1e-12)
+    betti = ds["betti"].sel(force_kind="total").values
+    for t, level in enumerate(theta):
+        strong = [e for e, f in zip(edges, force) if f >= level]
+        assert betti[0, t] == len(components(len(keep), strong, np.ones(len(strong)), 0.5))
+        assert betti[0, t] - betti[1, t] + betti[2, t] == euler_characteristic(strong, params["fill_tetrahedra"])
 
 
 def test_gzipped_dumps_and_tables_read_as_the_plain_files_and_a_broken_one_is_named(tmp_path):

@@ -227,6 +227,22 @@ def test_shape_parameter_across_realizations_follows_p1():
     np.testing.assert_allclose(aggregate_shape_parameter(values, axis=0), [0.0, 1.5, 1.0, 1.3])
 
 
+def test_shape_parameter_across_realizations_at_exactly_half_zero():
+    # 4 realizations: exactly half zero (2 of 4) is "at least half" -> 0; one zero in 4 -> mean of the other 3
+    values = np.array([[0.0, 0.0, 1.0, 0.0],
+                       [0.0, 1.2, 1.2, 0.8],
+                       [1.4, 1.4, 1.4, np.nan],
+                       [1.6, 1.6, 1.6, np.nan]])
+    # column 3: two NaN realizations are ignored, so 1 zero of 2 valid is again exactly half -> 0
+    np.testing.assert_allclose(aggregate_shape_parameter(values, axis=0), [0.0, (1.2 + 1.4 + 1.6) / 3,
+                                                                           (1.0 + 1.2 + 1.4 + 1.6) / 4, 0.0])
+    # same columns along axis 1 give the same answer
+    np.testing.assert_allclose(aggregate_shape_parameter(values.T, axis=1),
+                               aggregate_shape_parameter(values, axis=0))
+    # just under half: 1 zero of 3 valid -> mean of the non-zero two
+    assert aggregate_shape_parameter(np.array([0.0, 0.9, 1.1, np.nan]))[()] == pytest.approx(1.0)
+
+
 # --- forces, persistence summaries ---------------------------------------------------------------------------
 def test_force_pdf_on_fixed_bins():
     network = network_from_edge_forces(np.arange(4), np.arange(1, 5), [0.25, 0.75, 0.75, 7.0])
@@ -250,6 +266,24 @@ def test_persistence_bins_of_a_constructed_diagram():
     counts = persistence_bin_counts(constructed_diagrams(), 0)
     assert dict(zip(PERSISTENCE_BINS, counts.tolist())) == {"rough": 1, "weak": 2, "medium": 1, "strong": 1,
                                                             "essential": 1}
+
+
+def test_persistence_bins_on_the_bin_edges():
+    # P1 §5.3 edges: rough iff lifespan <= 0.1; weak [0.1, 1), medium [1, 2.5), strong >= 2.5.
+    # Deaths of 0 keep lifespan == birth exactly in floating point, so the 0.1 edge is hit exactly.
+    below = lambda edge: np.nextafter(edge, 0.0)  # noqa: E731  (the float just under an edge)
+    birth = np.array([0.1, np.nextafter(0.1, 1.0), below(1.0), 1.0, below(2.5), 2.5, 0.05])
+    death = np.array([0.0, 0.0, 0.0, 0.5, 1.0, 1.0, -np.inf])
+    expected = [{"rough": 1}, {"weak": 1}, {"weak": 1}, {"medium": 1}, {"medium": 1}, {"strong": 1},
+                {"essential": 1}]  # the last: essential whatever its (tiny) birth
+    for b, d, want in zip(birth, death, expected):
+        one = PersistenceDiagrams(homology_dim=np.array([0]), birth=np.array([b]), death=np.array([d]), max_dim=1)
+        got = dict(zip(PERSISTENCE_BINS, persistence_bin_counts(one, 0).tolist()))
+        assert got == {name: want.get(name, 0) for name in PERSISTENCE_BINS}, (b, d)
+    # rough wins over birth: at a strong-range birth, lifespan 1/16 is rough and 1/8 is strong (exact dyadics)
+    high = PersistenceDiagrams(homology_dim=np.array([0, 0]), birth=np.array([3.0, 3.0]),
+                               death=np.array([3.0 - 0.0625, 3.0 - 0.125]), max_dim=1)
+    assert persistence_bin_counts(high, 0).tolist() == [1, 0, 0, 1, 0]
 
 
 def test_total_persistence_of_a_constructed_diagram():

@@ -30,11 +30,16 @@ ATTRS = {**provenance_attrs(system="2d_linear", realization=0, seed=1, config=No
 
 
 def test_snapshot_row_counts_the_chain(tmp_path):
-    path = write_snapshot(tmp_path / rho_file("0.500"), attrs=ATTRS, **chain_snapshot_arrays(0.5))
+    arrays = chain_snapshot_arrays(0.5)
+    # make the two overlaps differ: disk 2 shrinks to d = 0.6 and overlaps disk 1 by 0.12, so its contact's
+    # fraction is 0.12 / min(1, 0.6) = 0.2 (0.12 if normalised by the larger d); contact (0, 1) stays 0.1 / 1
+    arrays["radius"] = np.array([0.5, 0.5, 0.3, 0.5, 0.5])
+    arrays["position"][2, 0] = arrays["position"][1, 0] + 0.5 + 0.3 - 0.12  # disk 3 stays 1.62 away: apart
+    path = write_snapshot(tmp_path / rho_file("0.500"), attrs=ATTRS, **arrays)
     with read_snapshot(path) as snap:
         row = snapshot_row(snap, force_unit_dyn=10.0)
     assert row["connected"] == 1  # only the middle disk has two contacts
-    assert row["overlap_max"] == pytest.approx(0.1) and row["overlap_mean"] == pytest.approx(0.1)
+    assert row["overlap_max"] == pytest.approx(0.2) and row["overlap_mean"] == pytest.approx((0.1 + 0.2) / 2)
     assert row["mean_force"] == pytest.approx((3.0 + math.sqrt(32.0)) / 2)
     assert row["mean_force_dyn"] == pytest.approx(10.0 * row["mean_force"])
     assert row["rho_centres"] == pytest.approx(0.5 * (10 / 9) ** 2)

@@ -390,9 +390,9 @@ def test_lammps_total_forces_give_its_normal_and_tangential_vectors(tmp_path):
 
 
 def test_p2_quarters_a_sheared_snapshot_along_its_tilted_edges(tmp_path):
-    """P2 Tables II–III's blocks of the shipped sheared state at xy = 5 are the four parallelograms: 49, 51, 53 and
-    47 of the 200 disks (an orthogonal cut at the centre's x and y would give 44, 56, 77 and 23), and the table's
-    diagrams are those blocks' own."""
+    """P2 Tables II–III's blocks of the shipped sheared state at xy = 5 are the four parallelograms cut at half the
+    edge vectors a and b (counted here from the dump's own text, not from the code: they differ from an orthogonal
+    cut at the centre's x and y), and the table's diagrams are those blocks' own."""
     from forcenet.report.p2_distances import p2_network, quadrant_diagrams
     from forcenet.topology import persistence_diagrams
 
@@ -406,9 +406,29 @@ def test_p2_quarters_a_sheared_snapshot_along_its_tilted_edges(tmp_path):
         network = p2_network(snapshot, "normal", False)
         blocks = quadrant_diagrams(network, snapshot)
         lo, hi, position = snapshot["box_lo"].values, snapshot["box_hi"].values, snapshot["position"].values
-    counts = {name: int(quadrant_mask(position, lo, hi, name, [5.0]).sum()) for name in QUADRANTS}
-    assert counts == {"bottom left": 49, "bottom right": 51, "top right": 53, "top left": 47}
-    assert [int(quadrant_mask(position, lo, hi, name).sum()) for name in QUADRANTS] == [44, 56, 77, 23]
+    # the reference: timestep 210000's block of atoms.dump read by hand. LAMMPS writes the bounding box
+    # (xlo + min(0, xy), xhi + max(0, xy)), so the box is undone by hand; a = (lx, 0), b = (xy, ly), and a centre
+    # x = lo + s_x a + s_y b has s_y = (y − ylo) / ly, s_x = (x − xlo − s_y xy) / lx; ≥ 1/2 is the upper/right half
+    text = (folder / "atoms.dump").read_text().splitlines()
+    at = text.index("210000")
+    (xlo_b, xhi_b, xy), (ylo, yhi, _) = (map(float, text[at + k].split()) for k in (4, 5))
+    xlo, xhi = xlo_b - min(0.0, xy), xhi_b - max(0.0, xy)
+    columns = text[at + 7].split()[2:]
+    atoms = np.array([[float(v) for v in line.split()] for line in text[at + 8:at + 8 + int(text[at + 2])]])
+    x, y = atoms[:, columns.index("x")], atoms[:, columns.index("y")]
+    assert xy == 5.0 and len(x) == 200
+    s_y = (y - ylo) / (yhi - ylo)
+    s_x = (x - xlo - s_y * xy) / (xhi - xlo)
+    tilted = {name: int(np.count_nonzero(((s_x >= 0.5) == bool(right)) & ((s_y >= 0.5) == bool(top))))
+              for name, (right, top) in QUADRANTS.items()}
+    mid_x, mid_y = 0.5 * (xlo + xhi), 0.5 * (ylo + yhi)
+    straight = [int(np.count_nonzero(((x >= mid_x) == bool(right)) & ((y >= mid_y) == bool(top))))
+                for right, top in QUADRANTS.values()]
+    assert sum(tilted.values()) == sum(straight) == 200 and list(tilted.values()) != straight  # the tilt matters
+    np.testing.assert_allclose([lo, hi], [[xlo, ylo], [xhi, yhi]])
+    counts = {name: int(quadrant_mask(position, lo, hi, name, [xy]).sum()) for name in QUADRANTS}
+    assert counts == tilted
+    assert [int(quadrant_mask(position, lo, hi, name).sum()) for name in QUADRANTS] == straight
     for name in QUADRANTS:
         expected = persistence_diagrams(restrict_to_quadrant(network, lo, hi, name, [5.0]))
         np.testing.assert_array_equal(blocks[name].birth, expected.birth)
