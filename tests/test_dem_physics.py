@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from forcenet import units
-from forcenet.dem import calibration, stability
+from forcenet.dem import calibration, protocol, stability
 from forcenet.dem._kernels import gear as gear_kernels
 from forcenet.dem._kernels.law import contact_2d, contact_3d
 from forcenet.dem.engine import ContactLaw, Simulation
@@ -67,22 +67,51 @@ def test_calibrated_damping_gives_the_restitution(beta, k_n, speed, time_step):
         assert calibration.collision_restitution(k_n, 0.0, closed, 0.5, speed) > 0.53
 
 
+def linear_restitution(k_n: float, gamma: float, m_eff: float, cut: bool = True) -> float:
+    """Exact restitution of the linear law (P1 Eq. 1, β = 0), m ẍ = −max(0, k_n x + γ m ẋ), x(0) = 0: the damped
+    oscillator x = (v0/ω) e^(−γt/2) sin ωt, ω = √(k_n/m − γ²/4). With the cut the force never turns attractive: it
+    reaches 0 where ẍ = 0, tan ωt* = γω/(γ²/4 − ω²), and the pair leaves freely at ẋ(t*); without it the overlap
+    returns to 0 at ωt = π, e = exp(−γπ/2ω)."""
+    omega = math.sqrt(k_n / m_eff - gamma ** 2 / 4)
+    if not cut:
+        return math.exp(-gamma * math.pi / (2 * omega))
+    t = (math.pi - math.atan2(gamma * omega, omega ** 2 - gamma ** 2 / 4)) / omega
+    return -math.exp(-gamma * t / 2) * (math.cos(omega * t) - gamma / (2 * omega) * math.sin(omega * t))
+
+
 def test_linear_law_damping_is_minus_two_ln_e_per_collision_time():
     """P1 ref. [47]: γ_n = −2 ln(e_n)/τ_c. In τ_c units 1.386 for e_n = 0.5; a linear collision of effective mass
     m̄ (it lasts τ_c, P1 Eq. 4) then has restitution e_n up to the weak-damping approximation (and the cut of the
-    attractive tail, which raises it), while two mean particles (m_eff = m̄/2, shorter contact) keep more."""
+    attractive tail, which raises it), while two mean particles (m_eff = m̄/2, shorter contact) keep more. Both the
+    calibration's collision and the engine's give the exact damped-oscillator value with the cut."""
     assert units.collision_time_damping(0.5) == pytest.approx(2.0 * math.log(2.0))
     assert units.collision_time_damping(0.5, collision_time=2.0) == pytest.approx(math.log(2.0))
     assert units.collision_time_damping(1.0) == 0.0
     with pytest.raises(ValueError):
         units.collision_time_damping(0.0)
-    k_n = math.pi ** 2  # τ_c = π √(m̄/k_n) = 1
-    for e_n in (0.9, 0.95):
+    k_n, speed = math.pi ** 2, 0.1  # τ_c = π √(m̄/k_n) = 1
+    for e_n in (0.9, 0.95, 0.5):
         gamma = units.collision_time_damping(e_n)
-        assert calibration.collision_restitution(k_n, 0.0, gamma, 1.0, 0.1) == pytest.approx(e_n, abs=0.01)
+        for m_eff in (1.0, 0.5):
+            exact = linear_restitution(k_n, gamma, m_eff)
+            # RK4 step h of `head_on_collision`; its first stage sees no force at x = 0, where the linear law has
+            # γ m v0: the collision runs as from v0 (1 + hγ/6), an O(h) error on e (its O(h²) rest: the 1 %)
+            h = 3.0 * math.sqrt(m_eff / k_n) / calibration.STEPS_PER_COLLISION
+            e = calibration.collision_restitution(k_n, 0.0, gamma, m_eff, speed)
+            assert abs(e / exact - 1) <= 1.01 * h * gamma / 6 + 1e-9, (e_n, m_eff, e, exact)
+        if e_n > 0.8:  # weak damping: e ≈ e_n (0.902 for e_n = 0.9: ω < ω0 and the cut raise it)
+            assert linear_restitution(k_n, gamma, 1.0) == pytest.approx(e_n, abs=0.005)
     gamma = units.collision_time_damping(0.5)
-    assert calibration.collision_restitution(k_n, 0.0, gamma, 1.0, 0.1) == pytest.approx(0.5, abs=0.06)
-    assert calibration.collision_restitution(k_n, 0.0, gamma, 0.5, 0.1) > 0.6
+    # strong damping: the cut raises e by 0.05 (0.543 against 0.491), 500× the tolerances here
+    assert linear_restitution(k_n, gamma, 1.0) - linear_restitution(k_n, gamma, 1.0, cut=False) > 0.04
+    assert linear_restitution(k_n, gamma, 0.5) > 0.6
+    # the engine (Gear, contact from overlap > 0 to overlap ≤ 0, force capped at 0): two mean particles; its
+    # error on e is second order in Δt, so it shrinks 4× from τ/100 to τ/200 (τ = π/ω) towards the exact value
+    law = ContactLaw(k_n, 0.8 * k_n, gamma, gamma, 0.5, 0.0)
+    exact = linear_restitution(k_n, gamma, 0.5)
+    duration = math.pi / math.sqrt(k_n / 0.5 - gamma ** 2 / 4)
+    errors = [collide(two_particle_simulation(law, speed, duration / n))[1] / speed - exact for n in (100, 200)]
+    assert abs(errors[1]) < 1e-4 and 3.0 < errors[0] / errors[1] < 5.0, errors
 
 
 @pytest.mark.parametrize("model", ["linear_law", "head_on"])
@@ -124,6 +153,16 @@ def test_explicit_damping_is_the_stated_value_and_sets_the_restitution():
                                                      system.wall_speed) for gamma in (head_on, 0.5 * head_on)]
     assert restitution[0] == pytest.approx(0.5, abs=1e-8)
     assert 0.5 < restitution[1] < 1.0
+    # the engine: the law the protocol builds for the explicit system, in a head-on collision of two mean particles
+    # at v0. Gear's error on e is second order in Δt (x^β = √x: no force jump at contact), so it shrinks 4× from
+    # t_c/100 to t_c/200, where it is < 2e-4, a thousandth of the 0.19 between the two γ_n
+    v0 = system.wall_speed
+    for gamma, expected in zip((head_on, 0.5 * head_on), restitution):
+        law = protocol.contact_law_for_system(dataclasses.replace(explicit, normal_damping=gamma))
+        assert law.normal_damping == gamma
+        duration = calibration.collision_duration(system.normal_stiffness, system.beta, gamma, 0.5, v0)
+        errors = [collide(two_particle_simulation(law, v0, duration / n))[1] / v0 - expected for n in (100, 200)]
+        assert abs(errors[1]) < 2e-4 and 3.0 < errors[0] / errors[1] < 5.0, (gamma, errors)
 
 
 def damped_oscillator_amplitude(omega_dt: float, damping_dt: float, steps: int = 3000) -> float:
@@ -262,10 +301,29 @@ def test_energy_is_conserved_without_damping_and_friction(dim, beta):
     assert e1 == pytest.approx(e0, rel=2e-3)
 
 
+def wall_contact_reference(law: ContactLaw, normal, overlap, radius, mass, velocity, spin, spring):
+    """P1 Eq. 1–3 for a particle against a flat wall at rest, written out with 3-vectors (2D in the z = 0 plane):
+    the wall is the partner of infinite mass (m_eff = m), the contact point lies on the wall plane, r − x from the
+    centre; returns (force, torque about the centre)."""
+    n = np.asarray(normal, dtype=float)
+    x_beta = overlap ** law.beta
+    r_contact = -(radius - overlap) * n
+    v_contact = np.asarray(velocity, dtype=float) + np.cross(spin, r_contact)
+    v_normal = v_contact @ n
+    f_n = max(0.0, law.normal_stiffness * overlap ** (1 + law.beta) - law.normal_damping * x_beta * mass * v_normal)
+    xi = np.asarray(spring, dtype=float) - (np.asarray(spring) @ n) * n  # the spring's tangential part (P1 §2)
+    f_t = -x_beta * (law.tangential_stiffness * xi + law.tangential_damping * mass * (v_contact - v_normal * n))
+    if np.linalg.norm(f_t) > law.friction * f_n:  # P1 Eq. 3
+        f_t *= law.friction * f_n / np.linalg.norm(f_t)
+    return f_n * n + f_t, np.cross(r_contact, f_t)
+
+
 @pytest.mark.parametrize("dim, beta", [(2, 0.0), (3, 0.5)])
 def test_wall_contact_law(dim, beta):
-    """A particle at rest overlapping the x_lo wall by x feels k_n x^(1+β) along +x; a wall moving in at v adds
-    the damping γ_n x^β m v (m_eff = particle mass); no torque."""
+    """A particle at rest overlapping the x_lo wall by x feels k_n x^(1+β) along +x and no torque; a wall moving in
+    at v adds the damping γ_n x^β m v (m_eff = particle mass). A particle that slides and spins against the wall
+    feels P1 Eq. 2–3 at the contact point (the slip of that point, the tangential spring) and their torque
+    r_c × F_t about its centre, r_c = −(r − x) n; a spin about the normal gives none."""
     k_n, gamma, mass, overlap, speed = 50.0, 3.0, 1.7, 0.01, 0.02
     law = ContactLaw(k_n, 40.0, gamma, gamma, 0.5, beta)
     position = np.full((1, dim), 2.0)
@@ -282,3 +340,26 @@ def test_wall_contact_law(dim, beta):
     assert force[0, 0] == pytest.approx(k_n * overlap ** (1 + beta) + gamma * overlap ** beta * mass * speed)
     contacts = sim.contact_forces()
     assert contacts.wall_contact_wall.tolist() == [0] and contacts.wall_contact_particle.tolist() == [0]
+    # sliding and spinning, walls at rest: under the Coulomb cap (small slip) and at it (fast spin)
+    spring = np.array([0.002, 0.001, -0.0005])  # the normal part (along x) must be projected away
+    for spin_scale, capped in ((0.05, False), (5.0, True)):
+        velocity = np.array([-0.01, 0.004, -0.003])  # into the wall (v_n < 0: the damping adds to F_n) and along it
+        spin = spin_scale * np.array([0.3, 0.1, -0.2]) if dim == 3 else np.array([0.0, 0.0, -0.2 * spin_scale])
+        sim = Simulation(position=position, radius=[0.5], mass=[mass], law=law, time_step=0.01,
+                         box_lo=np.zeros(dim), box_hi=np.full(dim, 4.0), walls="flat", velocity=[velocity[:dim]],
+                         angular_velocity=[spin if dim == 3 else spin[2]])
+        sim.wall_spring[0, 0] = spring[:dim]  # particle 0, wall 0 (x_lo)
+        reference_force, reference_torque = wall_contact_reference(law, [1.0, 0.0, 0.0], overlap, 0.5, mass,
+                                                                   np.append(velocity[:dim], [0.0] * (3 - dim)),
+                                                                   spin, np.append(spring[:dim], [0.0] * (3 - dim)))
+        f_t = np.linalg.norm(reference_force[1:])
+        if dim == 2 and not capped:  # by hand: slip v_y − (r − x) ω = 0.004 + 0.49 · 0.01, ξ' = (0, 0.001)
+            assert reference_force[1] == pytest.approx(-(40.0 * 0.001 + gamma * mass * (0.004 + 0.49 * 0.01)))
+        assert (f_t == pytest.approx(0.5 * reference_force[0])) if capped else f_t < 0.9 * 0.5 * reference_force[0]
+        assert np.linalg.norm(reference_torque) == pytest.approx((0.5 - overlap) * f_t)  # r_c ⊥ F_t, |r_c| = r − x
+        force, torque = sim.evaluate_forces()
+        np.testing.assert_allclose(force[0], reference_force[:dim], rtol=1e-12, atol=1e-15)
+        np.testing.assert_allclose(torque[0], reference_torque if dim == 3 else reference_torque[2:], rtol=1e-12,
+                                   atol=1e-15)
+        if dim == 3:
+            assert torque[0, 0] == 0.0  # spin about the normal: no rolling or torsion resistance in P1's law

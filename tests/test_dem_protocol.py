@@ -58,42 +58,77 @@ def test_snapshots_are_written_on_the_grid(tmp_path, name):
             assert float(ds.rho) == pytest.approx(rho, abs=2e-3 if system.protocol == "continuous" else 1e-9)
             assert np.all(ds.contact_i.values < ds.contact_j.values)
             assert float(ds.Z) == pytest.approx(2 * ds.sizes["contact"] / ds.sizes["particle"])
+            steps = int(ds.relaxation_steps)
             if system.protocol == "continuous":
-                assert int(ds.relaxation_steps) == -1
-            else:  # relaxed for a whole number of windows, at most the cap
-                assert 0 <= int(ds.relaxation_steps) <= system.relaxation.max_steps
-            assert float(ds.pressure) >= 0
-            if system.walls == "rough":
-                assert set(np.unique(ds.wall_contact_wall.values)) <= {0, 1, 2, 3}
+                assert steps == -1
+            else:  # `_relax` ends only where a window ends (at least one) or at the cap
+                rule = system.relaxation
+                assert (steps % rule.window_steps == 0 and rule.window_steps <= steps < rule.max_steps) \
+                    or steps == rule.max_steps, steps
+            # the walls were last moved into the packing: they touch it and carry load; the pressure is the mean
+            # over the 2d walls of each one's load along its inward normal per unit length (area)
+            walls = ds.wall_contact_wall.values
+            assert len(walls) > 0 and set(np.unique(walls)) <= set(range(2 * system.dimension))
+            inward = ds.wall_contact_force.values[np.arange(len(walls)), walls // 2] * np.where(walls % 2, -1, 1)
+            span = ds.box_hi.values - ds.box_lo.values
+            face = np.prod(span) / span[walls // 2]
+            assert float(ds.pressure) == pytest.approx(np.sum(inward / face) / (2 * system.dimension), rel=1e-12)
+            assert float(ds.pressure) > 0
+            if system.walls == "flat":  # P1 Eq. 1, 3: never attractive, the Coulomb cap
+                assert np.all(inward > 0)
+                assert np.all(np.linalg.norm(ds.wall_contact_force.values, axis=1) <= np.hypot(1, system.friction)
+                              * inward * (1 + 1e-12))
+
+
+def force_imbalance(forces, n: int) -> tuple[float, float]:
+    """(mean contact number, largest |net force| / Σ|contact forces|) of the force-carrying particles (≥ 2
+    contacts, walls counted; rattlers excluded) of a snapshot or `Simulation.contact_forces()` (2D)."""
+    net = np.zeros((n, 2))
+    magnitude = np.zeros(n)
+    count = np.zeros(n, dtype=int)
+    force = np.asarray(forces.force_normal) + np.asarray(forces.force_tangential)
+    for i, j, f in zip(np.asarray(forces.contact_i), np.asarray(forces.contact_j), force):
+        net[i] += f
+        net[j] -= f
+        magnitude[[i, j]] += np.linalg.norm(f)
+        count[[i, j]] += 1
+    for i, f in zip(np.asarray(forces.wall_contact_particle), np.asarray(forces.wall_contact_force)):
+        net[i] += f
+        magnitude[i] += np.linalg.norm(f)
+        count[i] += 1
+    carriers = count >= 2
+    return float(np.mean(count[carriers])), float(np.max(np.linalg.norm(net[carriers], axis=1) / magnitude[carriers]))
+
+
+#: largest net / total force of a particle in force balance: as the walls stop (v = 2e-3) the packing is off by
+#: 1.6e-3 to 2.6e-2 (seeds 1–3; 0.02 told the two apart at seed 3 only), relaxed by 1e-11 to 3e-8
+FORCE_BALANCE = 1e-5
 
 
 @pytest.mark.slow
-def test_relaxed_packing_is_in_force_balance(tmp_path):
-    """Above jamming, after relaxation every non-rattler's net force is small next to its contact forces."""
+def test_relaxed_packing_is_in_force_balance(tmp_path, monkeypatch):
+    """Above jamming, after relaxation every non-rattler's net force is small next to its contact forces; the same
+    packing as the walls stop, before the relaxation, is not."""
     system = tiny(box_length=9.0, rho_grid=(0.86,), relaxation=Relaxation(window_steps=4000, tolerance=0.02,
                                                                             max_steps=60000))
+    unrelaxed = []
+    real_relax = protocol._relax
+
+    def relax(sim, *args):
+        unrelaxed.append(force_imbalance(sim.contact_forces(), sim.n_mobile))
+        return real_relax(sim, *args)
+
+    monkeypatch.setattr(protocol, "_relax", relax)
     [path] = run(system, tmp_path)
     with xr.open_dataset(path) as ds:
-        n = ds.sizes["particle"]
-        net = np.zeros((n, 2))
-        magnitude = np.zeros(n)
-        count = np.zeros(n, dtype=int)
-        force = ds.force_normal.values + ds.force_tangential.values
-        for i, j, f in zip(ds.contact_i.values, ds.contact_j.values, force):
-            net[i] += f
-            net[j] -= f
-            magnitude[[i, j]] += np.linalg.norm(f)
-            count[[i, j]] += 1
-        for i, f in zip(ds.wall_contact_particle.values, ds.wall_contact_force.values):
-            net[i] += f
-            magnitude[i] += np.linalg.norm(f)
-            count[i] += 1
-        carriers = count >= 2
-        # jammed: the force-carrying particles (rattlers, with < 2 contacts, excluded, walls counted) have more
-        # than 3 contacts on average (the all-particle Z of 49 disks lands on either side of 3 from seed to seed)
-        assert np.mean(count[carriers]) > 3.0, "the packing should be jammed"
-        ratio = np.linalg.norm(net[carriers], axis=1) / magnitude[carriers]
-        assert np.max(ratio) < 0.02, f"worst net/total force {np.max(ratio):.3g}"
+        contacts, ratio = force_imbalance(ds, ds.sizes["particle"])
+        assert int(ds.relaxation_steps) < system.relaxation.max_steps, "relaxed, not stopped by the cap"
+    # jammed: the force-carrying particles (rattlers, with < 2 contacts, excluded, walls counted) have more
+    # than 3 contacts on average (the all-particle Z of 49 disks lands on either side of 3 from seed to seed)
+    assert contacts > 3.0, "the packing should be jammed"
+    assert ratio < FORCE_BALANCE, f"worst net/total force {ratio:.3g}"
+    [(_, before)] = unrelaxed
+    assert before > 10 * FORCE_BALANCE, f"unrelaxed: worst net/total force {before:.3g}"
 
 
 def test_same_seed_gives_identical_snapshots_and_another_seed_does_not(tmp_path):
@@ -338,12 +373,17 @@ def test_an_error_with_disk_space_left_keeps_its_traceback(tmp_path, monkeypatch
     assert "Traceback" in log.read_text()
 
 
-def test_relaxation_cap_is_logged(tmp_path, caplog):
-    system = tiny(rho_grid=(0.70,), relaxation=Relaxation(window_steps=100, tolerance=1e-12, max_steps=300))
+@pytest.mark.parametrize("tolerance, capped", [(1e-12, True), (0.1, False)])
+def test_relaxation_cap_is_logged(tmp_path, caplog, tolerance, capped):
+    """A relaxation that reaches the cap is logged as a warning; one whose E_kin fluctuation falls below the
+    tolerance within the cap (P1 §3) is not."""
+    rule = Relaxation(window_steps=500, tolerance=tolerance, max_steps=3000)
     with caplog.at_level(logging.WARNING):
-        run(system, tmp_path, log=logging.getLogger("dem-test"))
-    assert any("hit the cap" in r.message for r in caplog.records)
-    assert os.path.exists(tmp_path / "rho0.700.nc")
+        run(tiny(rho_grid=(0.70,), relaxation=rule), tmp_path, log=logging.getLogger("dem-test"))
+    assert any("hit the cap" in r.message for r in caplog.records) == capped
+    with xr.open_dataset(tmp_path / "rho0.700.nc") as ds:
+        steps = int(ds.relaxation_steps)
+    assert steps == rule.max_steps if capped else steps < rule.max_steps
 
 
 @pytest.mark.parametrize("speed, reason", [(1e3, "outside the walls"), (np.nan, "non-finite")])
