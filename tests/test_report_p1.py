@@ -515,6 +515,8 @@ VIOLATIONS = {
         [("p1-4.3-contact-number-at-jamming", "3d_hertz"), ("p1-4.3-phi-c-at-jamming", "3d_hertz")], []),
     "loops below jamming in 2D": (
         {"2d_hertz": {"loops_below": 0.05}}, None, [("p1-5.1-b1-zero-below", "2d_hertz")], []),
+    "loops below jamming in 2D linear": (
+        {"2d_linear": {"loops_below": 0.05}}, None, [("p1-5.1-b1-zero-below", "2d_linear")], []),
     "loops and cavities below jamming in 3D": (
         {"3d_hertz": {"loops_below": 0.05}}, None,  # B2 then drops at ρ_J: not monotonic either
         [("p1-5.1-b1-zero-below", "3d_hertz"), ("p1-5.1-b2-zero-below", "3d_hertz"), ("p1-5.1-b2-grows", "3d_hertz")],
