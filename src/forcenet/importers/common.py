@@ -5,13 +5,14 @@ from __future__ import annotations
 import gzip
 import hashlib
 import math
+import zlib
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Mapping
+from typing import Any, Iterator, Mapping
 
 import numpy as np
 
-from forcenet.boxes import branch_vectors
+from forcenet.boxes import box_periods, branch_vectors
 from forcenet.errors import ForcenetError
 
 #: wall ids of the contract (`forcenet.datasets.schema`: wall_contact_wall), by name as a contacts table writes them
@@ -89,8 +90,82 @@ def read_source_text(path: str | Path) -> str:
             with gzip.open(path, "rt", encoding="utf-8") as handle:
                 return handle.read()
         return Path(path).read_text(encoding="utf-8")
-    except (OSError, EOFError, UnicodeDecodeError) as error:  # gzip.BadGzipFile is an OSError
-        raise SourceError(path, "", f"cannot be read ({getattr(error, 'strerror', None) or error})") from None
+    except READ_ERRORS as error:
+        raise SourceError(path, "", f"cannot be read ({_reason(error)})") from None
+
+
+#: what reading a damaged file raises: gzip.BadGzipFile is an OSError, a cut gzip stream an EOFError, corrupt
+#: compressed data a zlib.error (not an OSError: issue 57 found it uncaught, naming no file)
+READ_ERRORS = (OSError, EOFError, UnicodeDecodeError, zlib.error)
+
+
+def _reason(error: BaseException) -> str:
+    text = getattr(error, "strerror", None) or str(error) or type(error).__name__
+    return f"{text}; a corrupt gzip stream" if isinstance(error, zlib.error) else text
+
+
+def source_lines(path: str | Path) -> Iterator[tuple[int, str]]:
+    """(line number from 1, text without its line end) of each line of a source file, read one line at a time (the
+    memory of a many-timestep dump is one frame's, not the file's), gunzipped like `read_source_text`. A file that
+    cannot be read, or whose last line has no final newline (a dump cut while it was being written: LAMMPS ends
+    every line), raises `SourceError` naming the file and the line."""
+    number = 0
+    try:
+        handle = (gzip.open(path, "rt", encoding="utf-8", newline="") if str(path).endswith(".gz")
+                  else open(path, encoding="utf-8", newline=""))
+    except READ_ERRORS as error:
+        raise SourceError(path, "", f"cannot be read ({_reason(error)})") from None
+    with handle:
+        while True:
+            try:
+                line = handle.readline()
+            except READ_ERRORS as error:
+                raise SourceError(path, f"after line {number}" if number else "",
+                                  f"cannot be read ({_reason(error)})") from None
+            if not line:
+                return
+            number += 1
+            if not line.endswith("\n"):
+                raise SourceError(path, f"line {number}", f"the file ends inside this line ({line[-40:]!r}), without "
+                                                          "its final newline: cut short while it was being written?")
+            yield number, line.rstrip("\r\n")
+
+
+def coincident_pair(position: np.ndarray) -> tuple[int, int] | None:
+    """Indices (a, b) of two particles at exactly the same position (N, d), or None: their contact has no normal
+    direction (a NaN force), so an importer names them instead."""
+    if len(position) < 2:
+        return None
+    order = np.lexsort(position.T[::-1])
+    same = np.all(position[order[1:]] == position[order[:-1]], axis=1)
+    if not same.any():
+        return None
+    k = int(np.argmax(same))
+    a, b = sorted((int(order[k]), int(order[k + 1])))
+    return a, b
+
+
+def negative_magnitude(values: np.ndarray) -> int | None:
+    """The first row of force magnitudes (C,) or (C, 1) below zero, or None. Both importers refuse it: a magnitude is
+    stored along the repulsive normal (or perpendicular to it), so a negative one would flip the force's direction
+    while |F| counted it as repulsive."""
+    negative = np.asarray(values).reshape(len(values), -1) < 0
+    rows = np.flatnonzero(negative.any(axis=1))
+    return int(rows[0]) if rows.size else None
+
+
+def largest_relative_overlap(state: "SourceState") -> tuple[float, int]:
+    """(largest overlap relative to the sum of the two radii, its contact index) of a state's particle contacts (as
+    `forcenet.report.p1.relative_overlaps` measures a snapshot: P1 §3 states "up to 10 %"); (0, -1) without contacts.
+    Periodic images count (`forcenet.boxes`)."""
+    if len(state.contact_i) == 0:
+        return 0.0, -1
+    period = box_periods(state.periodic_axes, state.box_lo, state.box_hi, state.tilt)
+    distance = np.linalg.norm(branch_vectors(state.position, state.contact_i, state.contact_j, period), axis=1)
+    reach = state.radius[state.contact_i] + state.radius[state.contact_j]
+    overlap = (reach - distance) / reach
+    k = int(np.argmax(overlap))
+    return float(overlap[k]), k
 
 
 def file_sha256(path: str | Path) -> str:

@@ -35,8 +35,9 @@ import numpy as np
 
 from forcenet.boxes import (AXIS_LABELS, TILT_LABELS, box_periods, box_vectors, fold_into_box, tilt_labels,
                             tilt_problem, tilted_faces)
-from forcenet.importers.common import (SourceError, SourceState, normal_unit_vectors, order_pairs,
-                                       perpendicular_unit_vectors, read_source_text, split_total_force)
+from forcenet.importers.common import (SourceError, SourceState, coincident_pair, negative_magnitude,
+                                       normal_unit_vectors, order_pairs, perpendicular_unit_vectors, source_lines,
+                                       split_total_force)
 
 #: the pair columns of the shipped example (bench/lammps/make_import_example.py), used where the config names none
 DEFAULT_PAIR_COLUMNS = {"i": "c_pid[1]", "j": "c_pid[2]", "normal": ["c_pf[1]"],
@@ -60,73 +61,100 @@ class Frame:
 
 
 def read_frames(path: str | Path, kind: str) -> Iterator[Frame]:
-    """The frames of a LAMMPS text dump; `kind` "ATOMS" (dump custom) or "ENTRIES" (dump local)."""
+    """The frames of a LAMMPS text dump, one at a time as the file is read (memory: one frame); `kind` "ATOMS" (dump
+    custom) or "ENTRIES" (dump local). The structure is checked as it is read: a file cut anywhere (inside a header,
+    before its announced rows, inside the last value: no final newline), a row of the wrong width, a value that is no
+    number and a corrupt gzip stream each raise `SourceError` naming the file and the line."""
     count_item = "NUMBER OF ATOMS" if kind == "ATOMS" else "NUMBER OF ENTRIES"
-    lines = read_source_text(path).splitlines()
-    k = 0
+    dump = "dump custom" if kind == "ATOMS" else "dump local"
+    lines = source_lines(path)
+    last = 0  # the number of the last line read
 
-    def expect(item: str) -> str:
-        nonlocal k
-        if k >= len(lines) or not lines[k].startswith(f"ITEM: {item}"):
-            found = lines[k] if k < len(lines) else "the end of the file"
-            raise SourceError(path, f"line {k + 1}", f"expected 'ITEM: {item}', found {found!r} (a LAMMPS "
-                                                     f"{'dump custom' if kind == 'ATOMS' else 'dump local'} file?)")
-        header = lines[k][len(f"ITEM: {item}"):].strip()
-        k += 1
-        return header
+    def take(what: str) -> str:
+        nonlocal last
+        item = next(lines, None)
+        if item is None:
+            raise SourceError(path, f"line {last + 1}", f"the file ends where {what} should be: cut short?")
+        last = item[0]
+        return item[1]
 
-    def integer() -> int:
-        nonlocal k
-        try:
-            value = int(lines[k].split()[0])
-        except (IndexError, ValueError):
-            raise SourceError(path, f"line {k + 1}", f"expected an integer, found {lines[k]!r}") from None
-        k += 1
-        return value
+    def expect(item: str, text: str | None = None) -> str:
+        text = take(f"'ITEM: {item}'") if text is None else text
+        if not text.startswith(f"ITEM: {item}"):
+            raise SourceError(path, f"line {last}", f"expected 'ITEM: {item}', found {text!r} (a LAMMPS {dump} file?)")
+        return text[len(f"ITEM: {item}"):].strip()
 
-    if not lines:
-        raise SourceError(path, "", "empty")
-    while k < len(lines):
-        if not lines[k].strip():
-            k += 1
-            continue
-        start = k + 1
-        expect("TIMESTEP")
-        timestep = integer()
+    def integer(after: str) -> int:
+        text = take(f"the integer after 'ITEM: {after}' (line {last})")
+        words = text.split()
+        if len(words) != 1 or not words[0].lstrip("+-").isdigit():
+            raise SourceError(path, f"line {last}", f"expected one integer after 'ITEM: {after}', found {text!r}")
+        return int(words[0])
+
+    frames = 0
+    while True:
+        item = next(lines, None)
+        while item is not None and not item[1].strip():  # blank lines between frames
+            item = next(lines, None)
+        if item is None:
+            break
+        last, start = item[0], item[0]
+        expect("TIMESTEP", item[1])
+        timestep = integer("TIMESTEP")
         expect(count_item)
-        count = integer()
+        count = integer(count_item)
+        if count < 0:
+            raise SourceError(path, f"line {last}", f"a negative number of rows ({count})")
         bounds = expect("BOX BOUNDS")
         triclinic = all(word in bounds.split() for word in TILT_LABELS)  # "xy xz yz pp pp pp"
         box = np.empty((3, 3 if triclinic else 2))
         for a in range(3):
+            text = take(f"line {a + 1} of the 3 lines of box bounds (line {start})")
+            words = text.split()
             try:
-                box[a] = [float(v) for v in lines[k + a].split()[:box.shape[1]]]
-            except (IndexError, ValueError):
-                raise SourceError(path, f"line {k + a + 1}", "expected three lines of box bounds 'lo hi'"
-                                  + (" and a tilt factor (the header says xy xz yz)" if triclinic else "")) from None
+                if len(words) != box.shape[1]:
+                    raise ValueError
+                box[a] = [float(v) for v in words]
+            except ValueError:
+                raise SourceError(path, f"line {last}", "expected a line of box bounds 'lo hi'"
+                                  + (" and a tilt factor (the header says xy xz yz)" if triclinic else "")
+                                  + f", found {text!r}") from None
+        if not np.all(np.isfinite(box)):
+            raise SourceError(path, f"line {last - 2}", "box bounds that are NaN or infinite")
         tilt = box[:, 2] if triclinic else np.zeros(3)
         box = _triclinic_box(box[:, :2], tilt) if triclinic else box
-        k += 3
         # "pp ff pp": per axis, LAMMPS's boundary style at its lo and hi faces
         flags = [word for word in bounds.split() if word not in TILT_LABELS]
         periodic = tuple(a < len(flags) and flags[a] == "pp" for a in range(3))
         columns = expect(kind).split()
-        first = k + 1
-        if k + count > len(lines):
-            raise SourceError(path, f"line {len(lines)}", f"timestep {timestep} (line {start}) announces {count} rows, "
-                                                          f"the file ends after {len(lines) - k}")
-        rows = np.empty((count, len(columns)))
-        for r in range(count):
-            cells = lines[k + r].split()
-            if len(cells) != len(columns):
-                raise SourceError(path, f"line {k + r + 1}", f"{len(cells)} values for the {len(columns)} columns "
-                                                             f"{' '.join(columns)}")
+        if not columns or len(set(columns)) != len(columns):
+            raise SourceError(path, f"line {last}", f"the column names {' '.join(columns)!r} must be given, each once")
+        first = last + 1
+        block = [take(f"row {r + 1} of the {count} that timestep {timestep} (line {start}) announces")
+                 for r in range(count)]
+        yield Frame(timestep, start, box, columns, _rows(path, block, first, columns), first, periodic, tilt)
+        frames += 1
+    if not frames:
+        raise SourceError(path, "", "empty")
+
+
+def _rows(path, block: list[str], first: int, columns: list[str]) -> np.ndarray:
+    """The values (rows, columns) of a frame's rows `block` (`first`: the line number of its first); a row of another
+    width or a cell that is not a number raises `SourceError` naming its line."""
+    cells = [line.split() for line in block]
+    for r, row in enumerate(cells):
+        if len(row) != len(columns):
+            raise SourceError(path, f"line {first + r}", f"{len(row)} values for the {len(columns)} columns "
+                                                         f"{' '.join(columns)}")
+    try:  # numpy converts the strings in C: a 2-million-line dump in seconds, not in a Python loop per cell
+        return np.array([value for row in cells for value in row], dtype=float).reshape(len(cells), len(columns))
+    except ValueError:
+        for r, row in enumerate(cells):
             try:
-                rows[r] = [float(c) for c in cells]
+                [float(c) for c in row]
             except ValueError:
-                raise SourceError(path, f"line {k + r + 1}", f"not a number in {lines[k + r]!r}") from None
-        k += count
-        yield Frame(timestep, start, box, columns, rows, first, periodic, tilt)
+                raise SourceError(path, f"line {first + r}", f"not a number in {block[r]!r}") from None
+        raise
 
 
 def _triclinic_box(bounding: np.ndarray, tilt: np.ndarray) -> np.ndarray:
@@ -155,6 +183,18 @@ def _column(path, frame: Frame, name: str, what: str) -> np.ndarray:
         raise SourceError(path, f"column '{name}'", f"missing ({what}; the columns at line {frame.first_row_line - 1} "
                                                     f"are {' '.join(frame.columns)})")
     return frame.rows[:, frame.columns.index(name)]
+
+
+def _ids(path, frame: Frame, name: str, what: str) -> np.ndarray:
+    """A column of atom ids (n,) as integers; a NaN, infinite or fractional id raises `SourceError` naming its line
+    (a cast would make ids 1 and 1.5 one atom, and put contacts on the wrong particle)."""
+    values = _column(path, frame, name, what)
+    bad = ~np.isfinite(values) | (values != np.round(values))
+    if bad.any():
+        r = int(np.argmax(bad))
+        raise SourceError(path, f"line {frame.first_row_line + r}, column '{name}'",
+                          f"atom id {values[r]:g} is not an integer")
+    return values.astype(np.int64)
 
 
 def _finite(path, frame: Frame, values: np.ndarray, name: str) -> None:
@@ -209,7 +249,7 @@ def _positions(path, frame: Frame, axes: Sequence[str]) -> np.ndarray:
 
 def atom_state(path, frame: Frame, dimension: int, wall_columns: Sequence[str] | None = None):
     """(ids, position (N, d), radius, box_lo, box_hi, wall force (N, d) or None) of one atoms frame."""
-    ids = _column(path, frame, "id", "the atom ids")
+    ids = _ids(path, frame, "id", "the atom ids")
     name = _position_column(frame, "z")
     if dimension == 3 and name is None:
         raise SourceError(path, "column 'z'", "missing: the system is declared 3D (dimension: 3) but the dump has no z")
@@ -231,8 +271,18 @@ def atom_state(path, frame: Frame, dimension: int, wall_columns: Sequence[str] |
                           f"{size_column} {radius[np.argmax(radius <= 0)]:g} is not positive")
     if size_column == "diameter":
         radius = 0.5 * radius
-    if len(np.unique(ids)) != len(ids):
-        raise SourceError(path, f"column 'id' (timestep {frame.timestep}, line {frame.line})", "an atom id repeats")
+    unique, first = np.unique(ids, return_index=True)
+    if len(unique) != len(ids):
+        again = int(np.setdiff1d(np.arange(len(ids)), first)[0])
+        r = int(np.flatnonzero(ids == ids[again])[0])
+        raise SourceError(path, f"line {frame.first_row_line + again}, column 'id'",
+                          f"atom id {ids[again]} repeats (first on line {frame.first_row_line + r})")
+    same = coincident_pair(position)
+    if same is not None:
+        a, b = same
+        raise SourceError(path, f"lines {frame.first_row_line + a} and {frame.first_row_line + b}",
+                          f"atoms {ids[a]} and {ids[b]} are at the same position "
+                          f"({', '.join(f'{v:g}' for v in position[a])}) at timestep {frame.timestep}")
     wall_force = None
     if wall_columns:
         wall_force = np.stack([_column(path, frame, c, "source.wall_columns") for c in wall_columns], axis=1)
@@ -240,7 +290,7 @@ def atom_state(path, frame: Frame, dimension: int, wall_columns: Sequence[str] |
             _finite(path, frame, wall_force[:, c], name)
         wall_force = wall_force[:, :dimension]
     order = np.argsort(ids)  # particles in id order, as LAMMPS numbers them
-    return (ids[order].astype(np.int64), position[order], radius[order], frame.box[:dimension, 0],
+    return (ids[order], position[order], radius[order], frame.box[:dimension, 0],
             frame.box[:dimension, 1], None if wall_force is None else wall_force[order])
 
 
@@ -256,6 +306,8 @@ def pair_forces(path, frame: Frame, ids: np.ndarray, position: np.ndarray, colum
              for key in ("i", "j", *force_keys)}
     values = {key: np.stack([_column(path, frame, c, f"source.pair_columns.{key}") for c in cols], axis=1)
               for key, cols in names.items()}
+    for key in ("i", "j"):
+        values[key] = _ids(path, frame, names[key][0], f"source.pair_columns.{key}")[:, None]
     for key in force_keys:
         for c, name in enumerate(names[key]):
             _finite(path, frame, values[key][:, c], name)
@@ -268,7 +320,7 @@ def pair_forces(path, frame: Frame, ids: np.ndarray, position: np.ndarray, colum
     slot = {int(atom): k for k, atom in enumerate(ids)}
     index = {}
     for key in ("i", "j"):
-        atoms = values[key][:, 0].astype(np.int64)
+        atoms = values[key][:, 0]
         missing = [r for r in np.flatnonzero(touching) if int(atoms[r]) not in slot]
         if missing:
             r = missing[0]
@@ -276,6 +328,13 @@ def pair_forces(path, frame: Frame, ids: np.ndarray, position: np.ndarray, colum
                               f"atom id {atoms[r]} is not in {atoms_path} at timestep {frame.timestep}")
         index[key] = np.array([slot.get(int(a), -1) for a in atoms], dtype=np.int64)
     rows = np.flatnonzero(touching)
+    for key in force_keys:  # a magnitude (one column) is signed the same way as in the table importer: ≥ 0
+        if key != "total" and values[key].shape[1] == 1:
+            r = negative_magnitude(values[key][rows])
+            if r is not None:
+                raise SourceError(path, f"line {frame.first_row_line + rows[r]}, column '{names[key][0]}'",
+                                  f"a force magnitude must be ≥ 0, got {values[key][rows[r], 0]:g} (source.pair_columns."
+                                  f"{key} names a magnitude, repulsive > 0)")
     i, j = index["i"][rows], index["j"][rows]
     same = i == j
     if same.any():

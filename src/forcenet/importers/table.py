@@ -36,8 +36,9 @@ from typing import Any, Mapping, Sequence
 import numpy as np
 
 from forcenet.boxes import AXIS_LABELS, box_periods, tilt_problem, tilted_faces
-from forcenet.importers.common import (WALL_NAMES, SourceError, SourceState, normal_unit_vectors, order_pairs,
-                                       perpendicular_unit_vectors, read_source_text, split_total_force)
+from forcenet.importers.common import (WALL_NAMES, SourceError, SourceState, coincident_pair, negative_magnitude,
+                                       normal_unit_vectors, order_pairs, perpendicular_unit_vectors, read_source_text,
+                                       split_total_force)
 
 AXES = AXIS_LABELS
 #: the two conventions of the contacts' forces (`source.forces`)
@@ -59,6 +60,10 @@ def _rows(path: str | Path) -> tuple[list[str], list[tuple[int, list[str]]]]:
     if not rows:
         raise SourceError(path, "", "empty: no header line")
     (_, header), body = rows[0], rows[1:]
+    for number, cells in body:  # a cell beyond the header belongs to no column: a shifted or merged row
+        if len(cells) > len(header):
+            raise SourceError(path, f"line {number}", f"{len(cells)} cells, but the header (line {rows[0][0]}) names "
+                                                      f"{len(header)} columns")
     return [c.strip() for c in header], body
 
 
@@ -124,6 +129,13 @@ def read_particles(path: str | Path, dimension: int) -> tuple[dict[int, int], np
         radius[k] = _number(path, number, cells, columns, "radius")
         if radius[k] <= 0:
             raise SourceError(path, f"line {number}, column 'radius'", f"radius {radius[k]:g} is not positive")
+    same = coincident_pair(position)
+    if same is not None:
+        a, b = same
+        raise SourceError(path, f"lines {body[a][0]} and {body[b][0]}",
+                          f"particles {_cell(path, body[a][0], body[a][1], columns, 'id')} and "
+                          f"{_cell(path, body[b][0], body[b][1], columns, 'id')} are at the same position "
+                          f"({', '.join(f'{v:g}' for v in position[a])})")
     return index, position, radius
 
 
@@ -162,10 +174,10 @@ def read_state(particles: str | Path, contacts: str | Path, dimension: int, forc
             raise SourceError(contacts, f"line {number}, column 'i'", f"no particle with id {first} in {particles}")
         other = _cell(contacts, number, cells, columns, "j")
         values = np.array([_number(contacts, number, cells, columns, name) for name in force_columns])
-        if forces == "magnitudes" and np.any(values < 0):
-            name = force_columns[int(np.argmax(values < 0))]
-            raise SourceError(contacts, f"line {number}, column '{name}'",
-                              f"a force magnitude must be ≥ 0, got {values[np.argmax(values < 0)]:g}")
+        negative = negative_magnitude(values[:, None]) if forces == "magnitudes" else None
+        if negative is not None:
+            raise SourceError(contacts, f"line {number}, column '{force_columns[negative]}'",
+                              f"a force magnitude must be ≥ 0, got {values[negative]:g}")
         if other in WALL_NAMES:
             wall = WALL_NAMES.index(other)
             if wall >= 2 * dimension:

@@ -1,0 +1,161 @@
+"""Hostile files and interrupted writes (issue 57): each bad input a new user might hand the importers, the config
+reader or a netCDF write, with the one line that now refuses it (file and line or column, or the config key).
+docs/reliability.md lists every case tried and its outcome."""
+from __future__ import annotations
+
+import gzip
+import logging
+import os
+import signal
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from forcenet.importers import SourceError, import_run, source_states
+
+PAIR_COLUMNS = {"i": "c_pid[1]", "j": "c_pid[2]", "normal": "c_pf[1]", "tangential": ["c_pf[2]", "c_pf[3]", "c_pf[4]"]}
+#: a 2D state of three disks, two contacts: the atoms' rows are lines 10–12 of ATOMS, the pairs' lines 10–11 of PAIRS
+HEAD = "ITEM: TIMESTEP\n5\nITEM: NUMBER OF {}\n{}\nITEM: BOX BOUNDS ff ff pp\n0 4\n0 4\n-0.5 0.5\n"
+ATOM_ROWS = ["1 1 1.0 1.0 0 0.5", "2 1 1.9 1.0 0 0.5", "3 1 1.0 1.9 0 0.5"]
+PAIR_ROWS = ["1 2 1.0 0 0.1 0", "1 3 0.5 0 0 0"]
+
+
+def dumps(tmp_path: Path, atom_rows=ATOM_ROWS, pair_rows=PAIR_ROWS) -> tuple[Path, Path]:
+    atoms, pairs = tmp_path / "atoms.dump", tmp_path / "pairs.dump"
+    atoms.write_text(HEAD.format("ATOMS", len(atom_rows)) + "ITEM: ATOMS id type x y z radius\n"
+                     + "".join(row + "\n" for row in atom_rows))
+    pairs.write_text(HEAD.format("ENTRIES", len(pair_rows)) + "ITEM: ENTRIES " + " ".join(
+        ["c_pid[1]", "c_pid[2]", "c_pf[1]", "c_pf[2]", "c_pf[3]", "c_pf[4]"]) + "\n"
+                     + "".join(row + "\n" for row in pair_rows))
+    return atoms, pairs
+
+
+def lammps_entry(atoms, pairs) -> dict:
+    return {"dimension": 2, "source": {"format": "lammps", "pair_columns": PAIR_COLUMNS,
+                                       "runs": [{"atoms": str(atoms), "pairs": str(pairs)}]}}
+
+
+def refused(tmp_path, entry, outputs=1) -> str:
+    """The one-line message the import job stops with; nothing is written."""
+    out = tmp_path / "out"
+    with pytest.raises(SourceError) as caught:
+        import_run(config={"realizations": 1, "systems": {"s": entry}}, system="s", realization=0,
+                   outputs=[str(out / f"rho{k}.nc") for k in range(outputs)])
+    assert not out.exists()
+    message = str(caught.value)
+    assert "\n" not in message, message
+    return message
+
+
+def test_the_small_dumps_read(tmp_path):
+    (state,) = source_states(lammps_entry(*dumps(tmp_path)), 0)
+    assert state.contact_i.tolist() == [0, 0] and state.contact_j.tolist() == [1, 2]
+
+
+# case: (atoms text or None (the good one), pairs text or None, the file the message names, what it says)
+def _cut(text: str, marker: str) -> str:
+    return text[:text.index(marker) + len(marker)] + "\n"
+
+
+GOOD_ATOMS = HEAD.format("ATOMS", 3) + "ITEM: ATOMS id type x y z radius\n" + "".join(r + "\n" for r in ATOM_ROWS)
+GOOD_PAIRS = (HEAD.format("ENTRIES", 2) + "ITEM: ENTRIES c_pid[1] c_pid[2] c_pf[1] c_pf[2] c_pf[3] c_pf[4]\n"
+              + "".join(r + "\n" for r in PAIR_ROWS))
+LAMMPS_CASES = {
+    "cut after ITEM: TIMESTEP": (_cut(GOOD_ATOMS, "ITEM: TIMESTEP"), None, "atoms.dump",
+                                 "line 2: the file ends where the integer after 'ITEM: TIMESTEP' (line 1) should be"),
+    "cut after ITEM: NUMBER OF ATOMS": (_cut(GOOD_ATOMS, "ITEM: NUMBER OF ATOMS"), None, "atoms.dump",
+                                        "line 4: the file ends where the integer after 'ITEM: NUMBER OF ATOMS' "
+                                        "(line 3) should be"),
+    "cut after ITEM: NUMBER OF ENTRIES": (None, _cut(GOOD_PAIRS, "ITEM: NUMBER OF ENTRIES"), "pairs.dump",
+                                          "line 4: the file ends where the integer after"),
+    "cut inside the box bounds": (_cut(GOOD_ATOMS, "0 4\n0 4"), None, "atoms.dump",
+                                  "line 8: the file ends where line 3 of the 3 lines of box bounds (line 1) should be"),
+    "cut before the announced rows": (GOOD_ATOMS[:GOOD_ATOMS.rindex("3 1 ")], None, "atoms.dump",
+                                      "line 12: the file ends where row 3 of the 3 that timestep 5 (line 1) "
+                                      "announces should be"),
+    "cut inside the last value": (GOOD_ATOMS[:-2], None, "atoms.dump",
+                                  "line 12: the file ends inside this line ('3 1 1.0 1.9 0 0.'), without its final "
+                                  "newline"),
+    "fractional atom id": (GOOD_ATOMS.replace("\n2 1 1.9", "\n1.5 1 1.9"), None, "atoms.dump",
+                           "line 11, column 'id': atom id 1.5 is not an integer"),
+    "NaN atom id": (GOOD_ATOMS.replace("\n3 1 1.0", "\nnan 1 1.0"), None, "atoms.dump",
+                    "line 12, column 'id': atom id nan is not an integer"),
+    "repeated atom id": (GOOD_ATOMS.replace("\n3 1 1.0", "\n1 1 1.0"), None, "atoms.dump",
+                         "line 12, column 'id': atom id 1 repeats (first on line 10)"),
+    "fractional pair id": (None, GOOD_PAIRS.replace("1 3 0.5", "1 2.5 0.5"), "pairs.dump",
+                           "line 11, column 'c_pid[2]': atom id 2.5 is not an integer"),
+    "NaN pair id": (None, GOOD_PAIRS.replace("1 3 0.5", "nan 3 0.5"), "pairs.dump",
+                    "line 11, column 'c_pid[1]': atom id nan is not an integer"),
+    "negative normal force": (None, GOOD_PAIRS.replace("1 3 0.5", "1 3 -0.5"), "pairs.dump",
+                              "line 11, column 'c_pf[1]': a force magnitude must be ≥ 0, got -0.5"),
+    "coincident atoms": (GOOD_ATOMS.replace("3 1 1.0 1.9", "3 1 1.0 1.0"), None, "atoms.dump",
+                         "lines 10 and 12: atoms 1 and 3 are at the same position (1, 1) at timestep 5"),
+    "a row one value short": (GOOD_ATOMS.replace("2 1 1.9 1.0 0 0.5", "2 1 1.9 1.0 0"), None, "atoms.dump",
+                              "line 11: 5 values for the 6 columns"),
+    "a word for a number": (GOOD_ATOMS.replace("2 1 1.9", "2 1 x1.9"), None, "atoms.dump",
+                            "line 11: not a number in '2 1 x1.9 1.0 0 0.5'"),
+    "timestep not an integer": (GOOD_ATOMS.replace("TIMESTEP\n5", "TIMESTEP\n5.5"), None, "atoms.dump",
+                                "line 2: expected one integer after 'ITEM: TIMESTEP', found '5.5'"),
+}
+
+
+@pytest.mark.parametrize("case", sorted(LAMMPS_CASES))
+def test_a_hostile_lammps_dump_is_refused_naming_its_file_and_line(tmp_path, case):
+    atoms_text, pairs_text, bad, expected = LAMMPS_CASES[case]
+    atoms, pairs = dumps(tmp_path)
+    if atoms_text is not None:
+        atoms.write_text(atoms_text)
+    if pairs_text is not None:
+        pairs.write_text(pairs_text)
+    message = refused(tmp_path, lammps_entry(atoms, pairs))
+    assert message.startswith(f"{tmp_path / bad}, {expected}"), message
+
+
+def corrupt_gzip(path: Path, text: str) -> None:
+    """`text` gzipped, with bytes in the middle of its compressed data overwritten (header and trailer intact)."""
+    data = bytearray(gzip.compress(text.encode(), mtime=0))
+    middle = len(data) // 2
+    data[middle:middle + 8] = b"\xff" * 8
+    path.write_bytes(bytes(data))
+
+
+def test_a_corrupt_gzip_stream_is_refused_naming_its_file(tmp_path):
+    atoms, pairs = dumps(tmp_path)
+    rows = [f"{k} 1 {0.5 + (k % 40):.6f} {0.5 + (k // 40):.6f} 0 0.25" for k in range(1, 2001)]
+    zipped = tmp_path / "atoms.dump.gz"
+    corrupt_gzip(zipped, HEAD.format("ATOMS", len(rows)) + "ITEM: ATOMS id type x y z radius\n"
+                 + "".join(r + "\n" for r in rows))
+    message = refused(tmp_path, lammps_entry(zipped, pairs))
+    assert message.startswith(f"{zipped}") and "cannot be read (" in message, message
+    table = tmp_path / "particles.csv.gz"
+    corrupt_gzip(table, "id,x,y,radius\n" + "".join(f"{k},{k}.5,0.5,0.25\n" for k in range(2000)))
+    entry = {"dimension": 2, "source": {"format": "table", "forces": "magnitudes",
+                                        "runs": [[{"particles": str(table), "contacts": str(table)}]]}}
+    message = refused(tmp_path, entry)
+    assert message.startswith(f"{table}: cannot be read (") and "\n" not in message, message
+
+
+TABLE_PARTICLES = "id,x,y,radius\n1,1.0,1.0,0.5\n2,1.9,1.0,0.5\n3,1.0,1.9,0.5\n"
+TABLE_CONTACTS = "i,j,fn,ft\n1,2,1.0,0.1\n1,3,0.5,0.0\n"
+TABLE_CASES = {
+    "a row with more cells than its header": (TABLE_PARTICLES.replace("2,1.9,1.0,0.5", "2,1.9,1.0,0.5,7"), None,
+                                             "p.csv", "line 3: 5 cells, but the header (line 1) names 4 columns"),
+    "coincident particles": (TABLE_PARTICLES.replace("3,1.0,1.9", "3,1.0,1.0"), None, "p.csv",
+                             "lines 2 and 4: particles 1 and 3 are at the same position (1, 1)"),
+    "negative normal force": (None, TABLE_CONTACTS.replace("1,3,0.5", "1,3,-0.5"), "c.csv",
+                              "line 3, column 'fn': a force magnitude must be ≥ 0, got -0.5"),
+    "fractional particle id": (TABLE_PARTICLES.replace("\n2,1.9", "\n1.5,1.9"), None, "p.csv",
+                               "line 3, column 'id': '1.5' is not an integer id"),
+}
+
+
+@pytest.mark.parametrize("case", sorted(TABLE_CASES))
+def test_a_hostile_table_is_refused_naming_its_file_and_line(tmp_path, case):
+    particles_text, contacts_text, bad, expected = TABLE_CASES[case]
+    (tmp_path / "p.csv").write_text(particles_text or TABLE_PARTICLES)
+    (tmp_path / "c.csv").write_text(contacts_text or TABLE_CONTACTS)
+    entry = {"dimension": 2, "source": {"format": "table", "forces": "magnitudes", "runs": [[
+        {"particles": str(tmp_path / "p.csv"), "contacts": str(tmp_path / "c.csv")}]]}}
+    message = refused(tmp_path, entry)
+    assert message.startswith(f"{tmp_path / bad}, {expected}"), message
