@@ -159,3 +159,50 @@ def test_a_hostile_table_is_refused_naming_its_file_and_line(tmp_path, case):
         {"particles": str(tmp_path / "p.csv"), "contacts": str(tmp_path / "c.csv")}]]}}
     message = refused(tmp_path, entry)
     assert message.startswith(f"{tmp_path / bad}, {expected}"), message
+
+
+# --- interrupted writes ------------------------------------------------------------------------------------------
+def test_a_ctrl_c_during_a_netcdf_write_ends_it_cleanly_with_no_lock_held(tmp_path, monkeypatch):
+    """Issue 57: one Ctrl-C that arrived inside xarray's write deadlocked 5 of 20 jobs on its file lock. Now the
+    signal waits until the file is renamed into place, then raises KeyboardInterrupt; the lock is free after."""
+    import xarray as xr
+    from xarray.backends.netCDF4_ import NETCDF4_PYTHON_LOCK
+
+    from forcenet.datasets import open_dataset, provenance_attrs, write_netcdf
+
+    ds = xr.Dataset({"x": xr.Variable(("n",), np.arange(5.0), attrs={"units": "1", "long_name": "x"})},
+                    attrs=provenance_attrs(system="s", realization=0, seed=0, config={}, title="t"))
+    original = xr.Dataset.to_netcdf
+
+    def interrupted(self, *args, **kwargs):
+        os.kill(os.getpid(), signal.SIGINT)  # Ctrl-C, delivered while xarray writes
+        return original(self, *args, **kwargs)
+
+    monkeypatch.setattr(xr.Dataset, "to_netcdf", interrupted)
+    target = tmp_path / "out.nc"
+    with pytest.raises(KeyboardInterrupt):
+        write_netcdf(ds, target)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["out.nc"]  # complete, no temporary file left
+    assert NETCDF4_PYTHON_LOCK.acquire(blocking=False)
+    NETCDF4_PYTHON_LOCK.release()
+    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
+    monkeypatch.setattr(xr.Dataset, "to_netcdf", original)
+    np.testing.assert_array_equal(open_dataset(target)["x"].values, np.arange(5.0))
+
+
+def test_a_write_that_fails_leaves_no_partial_file_and_restores_ctrl_c(tmp_path, monkeypatch):
+    import xarray as xr
+
+    from forcenet.datasets import provenance_attrs, write_netcdf
+
+    ds = xr.Dataset(attrs=provenance_attrs(system="s", realization=0, seed=0, config={}, title="t"))
+
+    def full_disk(self, path, *args, **kwargs):
+        Path(path).write_bytes(b"CDF half")
+        raise OSError(28, "No space left on device")
+
+    monkeypatch.setattr(xr.Dataset, "to_netcdf", full_disk)
+    with pytest.raises(OSError):
+        write_netcdf(ds, tmp_path / "out.nc")
+    assert list(tmp_path.iterdir()) == []
+    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler

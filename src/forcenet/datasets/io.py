@@ -1,10 +1,13 @@
 """Writing and reading forcenet netCDF files: provenance, compression, atomic replacement, validation."""
 from __future__ import annotations
 
+import contextlib
 import json
 import os
 import secrets
+import signal
 import subprocess
+import threading
 from functools import lru_cache
 from pathlib import Path
 from typing import Any, Mapping
@@ -215,31 +218,62 @@ def _new_private_name(path: Path) -> Path:
             continue
 
 
-def write_netcdf(ds: xr.Dataset, path: str | os.PathLike, kind: str | None = None) -> Path:
+def write_netcdf(ds: xr.Dataset, path: str | os.PathLike, kind: str | None = None,
+                 encoding: Mapping[str, Mapping[str, Any]] | None = None) -> Path:
     """Validate (against `kind`'s schema when given) and write `ds` with zlib compression, atomically: a temporary
     file in the same directory is renamed over `path` only once complete, so a killed job never leaves a file that
-    looks complete. The file's mode follows the umask like any other output's. A dataset that breaks the schema
-    (values included: a NaN force in a snapshot) raises `DatasetError` naming `path`, and nothing is written."""
+    looks complete. `encoding` replaces the default (zlib level 4) of the variables it names (a campaign record's
+    level 9 with byte shuffle). The file's mode follows the umask like any other output's. A dataset that breaks the schema
+    (values included: a NaN force in a snapshot) raises `DatasetError` naming `path`, and nothing is written. A
+    Ctrl-C during the write takes effect once it is over (`interrupts_deferred`): no lock held, no partial file."""
     problems = schema_problems(ds, kind)
     if problems:
         raise DatasetError(path, f"not written, not a valid {kind or 'forcenet'} file: " + "; ".join(problems))
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    encoding = {name: {"zlib": True, "complevel": 4} for name, var in ds.variables.items()
-                if var.dtype.kind in "fiub" and var.ndim > 0}
-    tmp_name = _new_private_name(path)
-    try:
-        ds.to_netcdf(tmp_name, engine="netcdf4", encoding=encoding)
-        os.replace(tmp_name, path)
-    except BaseException:
-        Path(tmp_name).unlink(missing_ok=True)
-        raise
+    encoding = {**{name: {"zlib": True, "complevel": 4} for name, var in ds.variables.items()
+                   if var.dtype.kind in "fiub" and var.ndim > 0}, **(encoding or {})}
+    with interrupts_deferred():
+        tmp_name = _new_private_name(path)
+        try:
+            ds.to_netcdf(tmp_name, engine="netcdf4", encoding=encoding)
+            os.replace(tmp_name, path)
+        except BaseException:
+            Path(tmp_name).unlink(missing_ok=True)
+            raise
     return path
 
 
+@contextlib.contextmanager
+def interrupts_deferred():
+    """Hold back SIGINT (Ctrl-C, and what Snakemake sends its local jobs) while xarray holds its netCDF/HDF5 lock,
+    and deliver it once the block is done (a write: renamed into place or its temporary file removed).
+
+    Why: xarray takes two locks in turn (netCDF4_.NETCDF4_PYTHON_LOCK, a CombinedLock). A KeyboardInterrupt raised
+    between the two acquisitions leaves the first held, and the close that follows in xarray's cleanup waits on it
+    for ever: 5 of 20 Ctrl-Cs in issue 57's loop hung a job until a second Ctrl-C. A file is written or read in well
+    under a second, so the first Ctrl-C still ends the run within seconds. Outside the main thread (where Python
+    runs signal handlers) the block runs as it is."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    received: list[tuple[int, Any]] = []
+    previous = signal.signal(signal.SIGINT, lambda signum, frame: received.append((signum, frame)))
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, signal.SIG_DFL if previous is None else previous)  # None: set outside Python
+        if received:
+            if callable(previous):  # Python's default_int_handler raises KeyboardInterrupt here
+                previous(*received[0])
+            elif previous == signal.SIG_DFL:
+                os.kill(os.getpid(), signal.SIGINT)
+
+
 def open_dataset(path: str | os.PathLike) -> xr.Dataset:
-    """Open a forcenet file fully into memory (files are small) and close it; no schema check (`read_dataset`)."""
-    with xr.open_dataset(path, engine="netcdf4") as ds:
+    """Open a forcenet file fully into memory (files are small) and close it; no schema check (`read_dataset`).
+    A Ctrl-C arriving meanwhile is delivered once the file is closed (`interrupts_deferred`)."""
+    with interrupts_deferred(), xr.open_dataset(path, engine="netcdf4") as ds:
         return ds.load()
 
 
