@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Compare two validation tables of one paper verdict by verdict (forcenet.report.claims.verdict_changes).
 
-    .venv/bin/python scripts/compare_verdicts.py 7d62395:docs/validation/p1.csv docs/validation/p1.csv
+    .venv/bin/python scripts/compare_verdicts.py HEAD~1:docs/validation/p1.csv docs/validation/p1.csv
     .venv/bin/python scripts/compare_verdicts.py docs/validation/p2.csv results/validation_r3/tables/p2_validation.csv
 
 Each table is a CSV path, or REV:PATH for the table as committed at a git revision (`git show REV:PATH`, run in the

@@ -5,9 +5,9 @@
         --realizations 5 --csv /tmp/p1_2d.csv --md /tmp/p1_2d.md
     .venv/bin/python scripts/p1_subset_table.py --results results/validation --systems 2d_linear 2d_hertz 3d_hertz \
         --realizations 5 3d_hertz=3 --csv /tmp/p1_3sys.csv --md /tmp/p1_3sys.md
-    .venv/bin/python scripts/compare_verdicts.py --measured 7d62395:docs/validation/p1.csv /tmp/p1_2d.csv
+    .venv/bin/python scripts/compare_verdicts.py --measured HEAD:docs/validation/p1.csv /tmp/p1_2d.csv
 
-For checking part of a campaign when not all of it is on disk (docs/validation/README.md, session 41): the same
+For checking part of a campaign when not all of it is on disk (docs/validation/README.md, "Regenerate"): the same
 judging as the table job (`forcenet.pipeline.p1_validation_table`, force unit `dyn` as config/validation.yaml),
 on `{results}/{system}/network_measures.nc` and `diagrams.nc` (or those under `--aggregates`) and the overlaps of
 each realization's snapshot at the largest ρ, for realizations 0 … N − 1 of each system (`--realizations`): an

@@ -489,8 +489,8 @@ def test_an_absolute_results_dir_is_printed_and_receives_every_output(tmp_path: 
 
 
 def test_what_snakemake_reports_before_the_workflow(tmp_path: Path):
-    """Snakemake reads every --configfile before the workflow runs, so these messages are Snakemake's; the README's
-    "When a job fails" quotes them and says what to do."""
+    """Snakemake reads every --configfile before the workflow runs, so these messages are Snakemake's;
+    docs/configuration.md's "When a job fails" quotes them and says what to do."""
     bad = tmp_path / "bad.yaml"
     bad.write_text("seed: 1\nrealizations: 3: 4\n")
     result = _snakemake("-n", "--cores", "1", "--configfile", str(bad), "--directory", str(tmp_path / "work"))

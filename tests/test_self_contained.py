@@ -37,18 +37,21 @@ def repository_files(root: Path) -> list[Path]:
     return sorted(p for p in paths if p.is_file() and not p.is_symlink())
 
 
-def outside_references(root: Path, files: list[Path]) -> list[str]:
-    """'path:line: text' for every line of a text file that cites something outside the repository."""
-    found = []
+def text_lines(files: list[Path]):
+    """(path, line number, line) for every line of the files that are text (binary files are left out)."""
     for path in files:
         try:
             text = path.read_text(encoding="utf-8")
         except (UnicodeDecodeError, OSError):
-            continue  # binary files cite nothing
+            continue  # binary
         for number, line in enumerate(text.splitlines(), start=1):
-            if OUTSIDE_REFERENCES.search(line):
-                found.append(f"{path.relative_to(root)}:{number}: {line.strip()}")
-    return found
+            yield path, number, line
+
+
+def outside_references(root: Path, files: list[Path]) -> list[str]:
+    """'path:line: text' for every line of a text file that cites something outside the repository."""
+    return [f"{path.relative_to(root)}:{number}: {line.strip()}" for path, number, line in text_lines(files)
+            if OUTSIDE_REFERENCES.search(line)]
 
 
 def test_no_file_of_the_repository_cites_a_document_outside_it():

@@ -1,6 +1,6 @@
 """Cost model of a compression run: particle count, time steps, core-hours, memory.
 
-Used for Slurm resources (workflow/rules/simulate.smk) and for the README's cost table. The throughput
+Used for Slurm resources (workflow/rules/simulate.smk) and for the cost table of docs/cluster.md. The throughput
 constant is measured by `bench/dem_scaling.py` (particle-steps per second on one core); the step count follows
 from the protocol: wall travel at `wall_speed`, plus relaxation windows in the quasi-static protocol.
 """
@@ -12,7 +12,7 @@ from dataclasses import dataclass
 from forcenet.systems import SystemSpec
 
 #: particle-steps per core-second of the DEM engine, kept below what bench/dem_scaling.py measures on this
-#: project's 2-vCPU VMs (README "Measured": 1.3–1.6·10⁷ in 2D, 4.7–5.9·10⁶ in 3D) so that estimates and the Slurm
+#: project's 2-vCPU VMs (docs/performance.md: 1.3–1.6·10⁷ in 2D, 4.7–5.9·10⁶ in 3D) so that estimates and the Slurm
 #: time limits derived from them err long
 PARTICLE_STEPS_PER_SECOND = {2: 1.0e7, 3: 4.0e6}
 
@@ -54,7 +54,7 @@ def simulation_cost(spec: SystemSpec) -> SimulationCost:
     return SimulationCost(particles, int(steps), seconds / 3600, memory_mb)
 
 
-#: analysis kernels per snapshot and force kind, per particle [s]: the README's targets (60 ms for 2000 disks,
+#: analysis kernels per snapshot and force kind, per particle [s]: docs/performance.md's targets (60 ms for 2000 disks,
 #: 300 ms for 4000 spheres; bench/analysis.py measures 28 and 115 ms), so that estimates err long, plus netCDF
 #: reading and writing (~0.1 s per snapshot, bench/workflow_overhead.py)
 ANALYSIS_SECONDS_PER_PARTICLE = {2: 3e-5, 3: 7.5e-5}

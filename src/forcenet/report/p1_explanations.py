@@ -73,7 +73,8 @@ EXPLANATIONS: dict[str | tuple[str, str], tuple[str, str]] = {
         "each give 0.019-0.033 (Hertz) against 0.007-0.015, no overlap, and this judge's ratio 2.60, robustness "
         "0.84, the Hertz packings keeping 133-1235 particles with >= 2 contacts just below rho_J (25-143 at 50 x 50).",
         PER_REALIZATION + "; the 75 x 75 runs: python scripts/p1_subset_table.py --results results/validation "
-        "--systems 2d_linear_box75 2d_hertz_box75 --realizations 5 (docs/validation/README.md, session 48)"),
+        "--systems 2d_linear_box75 2d_hertz_box75 --realizations 5 "
+        "(docs/validation/README.md, 'The current reading: P1')"),
     ("p1-5.1-b1-zero-below", "3d_hertz"): (
         "rho_J = 0.595 (inflection of Z) falls between 0.59 and 0.60 and the state at 0.59 is already jammed "
         "(rattler-free Z 4.18, percolating): its loops count as below jamming. With the cut one tolerance under "
