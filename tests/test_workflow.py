@@ -91,7 +91,7 @@ def test_the_html_report_shows_every_figure_inline(smoke_run):
 
 
 def test_a_broken_input_stops_its_job_with_one_line(smoke_run, tmp_path):
-    """Through Snakemake: an analysis file without `betti` fed to the aggregation (it used to give rc 0 and NaN)."""
+    """Through Snakemake: an analysis file without `betti` fed to the aggregation stops it (not rc 0 and NaN)."""
     workdir = tmp_path / "copy"
     shutil.copytree(smoke_run, workdir, symlinks=True)
     target = workdir / paths.analysis("results", "2d_linear", "r00", "0.880")
@@ -155,7 +155,7 @@ def test_the_readme_resume_instructions_work_after_sigkill(tmp_path):
     proc.wait()
     time.sleep(0.5)
     assert not (killed / target).exists(), "the kill should interrupt the run"
-    locked = run_readme_command(commands[1], killed)  # what the README used to say: just run it again
+    locked = run_readme_command(commands[1], killed)  # the second command alone: the lock stops it
     assert locked.returncode != 0 and "LockException" in locked.stdout + locked.stderr
     for command in commands:
         done = run_readme_command(command, killed)
