@@ -206,3 +206,71 @@ def test_a_write_that_fails_leaves_no_partial_file_and_restores_ctrl_c(tmp_path,
         write_netcdf(ds, tmp_path / "out.nc")
     assert list(tmp_path.iterdir()) == []
     assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
+
+
+# --- reading a source: once per content, at the import job --------------------------------------------------------
+@pytest.fixture
+def records(tmp_path, monkeypatch) -> Path:
+    from forcenet.importers.scan import RECORD_DIR_ENV
+
+    folder = tmp_path / "records"
+    monkeypatch.setenv(RECORD_DIR_ENV, str(folder))
+    return folder
+
+
+def test_parsing_reads_the_atoms_once_per_content_and_never_the_pairs(tmp_path, records, monkeypatch):
+    from forcenet.importers import scan
+    from forcenet.importers.scan import record_path
+    from forcenet.systems import imported_system
+
+    atoms, pairs = dumps(tmp_path)
+    entry = lammps_entry(atoms, pairs)
+    calls = []
+    original = scan.scan_atoms
+    monkeypatch.setattr(scan, "scan_atoms", lambda *args: calls.append(args) or original(*args))
+    first = imported_system("s", entry)
+    assert imported_system("s", entry) == first and len(calls) == 1  # the second call reads the record only
+    stamp = record_path(atoms).stat().st_mtime_ns
+    assert stamp == atoms.stat().st_mtime_ns  # a first record: outputs already built stay current
+    os.utime(atoms, ns=(stamp + 10**9, stamp + 10**9))  # touched, same content: scanned again, record's time kept
+    imported_system("s", entry)
+    assert len(calls) == 2 and record_path(atoms).stat().st_mtime_ns == stamp
+    # other content under an older modification time (cp -p, an archive): the record moves, the job reruns
+    atoms.write_text(GOOD_ATOMS.replace("1 1 1.0 1.0 0 0.5", "1 1 1.0 1.0 0 0.45"))
+    os.utime(atoms, ns=(stamp - 10**9, stamp - 10**9))
+    assert imported_system("s", entry).rho_grid != first.rho_grid
+    assert record_path(atoms).stat().st_mtime_ns > stamp
+    from forcenet.importers import run_files
+
+    assert run_files(entry, 0) == [str(atoms), str(pairs), str(record_path(atoms)), str(record_path(pairs))]
+    pairs.write_text("not a dump\n")  # the pairs are the import job's to read
+    imported_system("s", entry)
+    assert refused(tmp_path, entry).startswith(f"{pairs}, line 1: expected 'ITEM: TIMESTEP'")
+
+
+@pytest.mark.parametrize("content, expected", [(None, "cannot be read (No such file or directory)"),
+                                               ("", "empty (0 bytes)")])
+def test_a_missing_or_empty_pairs_file_is_named_when_the_config_is_parsed(tmp_path, records, content, expected):
+    from forcenet.systems import imported_system
+
+    atoms, pairs = dumps(tmp_path)
+    pairs.unlink()
+    if content is not None:
+        pairs.write_text(content)
+    with pytest.raises(SourceError) as caught:
+        imported_system("s", lammps_entry(atoms, pairs))
+    assert str(caught.value) == f"{pairs}: {expected}"
+
+
+def test_overlaps_past_ten_percent_are_logged_and_a_changed_rho_is_refused(tmp_path, records, caplog):
+    atoms, pairs = dumps(tmp_path, atom_rows=["1 1 1.0 1.0 0 0.5", "2 1 1.7 1.0 0 0.5", "3 1 1.0 1.9 0 0.5"])
+    config = {"realizations": 1, "systems": {"s": lammps_entry(atoms, pairs)}}
+    log = logging.getLogger("forcenet.test.import")
+    import_run(config=config, system="s", realization=0, outputs=[str(tmp_path / "out" / "rho0.147.nc")], log=log)
+    warnings = [r.getMessage() for r in caplog.records if r.levelno == logging.WARNING]
+    assert warnings == [f"{atoms}: timestep 5 has overlaps up to 30.0 % of the sum of the radii (particles 0 and 1), "
+                        "past the 10 % P1 states: check the source's units and radii"]
+    with pytest.raises(SourceError, match=r"atoms.dump, state 0 \(timestep 5\): ρ = 0.147, but the workflow named "
+                                          r"its snapshot rho0.150.nc: the source changed after snakemake read it"):
+        import_run(config=config, system="s", realization=0, outputs=[str(tmp_path / "other" / "rho0.150.nc")])
+    assert not (tmp_path / "other").exists()

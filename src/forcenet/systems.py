@@ -176,13 +176,14 @@ class ImportedSystem:
 
 
 def imported_system(name: str, entry: Mapping[str, Any]) -> ImportedSystem:
-    """The `ImportedSystem` of a ``source:`` entry: its runs' states are read (`forcenet.importers.source_states`,
-    which stops at a malformed file with its name and line) to give the ρ grid of run 0."""
-    from forcenet.importers import source_states
+    """The `ImportedSystem` of a ``source:`` entry: the ρ grid of run 0 from each state's particles and box
+    (`forcenet.importers.scan.run_outline`: the particles files read once per content, which stops at a malformed
+    one with its name and line; the other files are checked to exist here and read by the import job)."""
+    from forcenet.importers.scan import run_outline
 
     key = f"systems.{name}.source"
-    runs = [source_states(entry, run, where=key) for run in range(len(entry["source"]["runs"]))]
-    grids = [[state.rho for state in states] for states in runs]
+    runs = [run_outline(entry, run) for run in range(len(entry["source"]["runs"]))]
+    grids = [[rho for rho, _ in states] for states in runs]
     if len({len(grid) for grid in grids}) != 1:
         raise ConfigError(f"{key}.runs", f"every run needs the same number of states, got {[len(g) for g in grids]}")
     rounded = np.round(grids[0], RHO_DECIMALS)
@@ -192,7 +193,7 @@ def imported_system(name: str, entry: Mapping[str, Any]) -> ImportedSystem:
                                             "are imported one per system (source.timesteps: [t] for LAMMPS)")
     return ImportedSystem(name=name, dimension=int(entry["dimension"]),
                           rho_grid=rho_grid(grids[0], f"{key}.runs[0] (the states' packing fractions, in order)"),
-                          source=dict(entry["source"]), particles=len(runs[0][0].radius))
+                          source=dict(entry["source"]), particles=runs[0][0][1] if runs[0] else 0)
 
 
 def format_rho(rho: float) -> str:

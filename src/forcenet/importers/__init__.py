@@ -10,8 +10,9 @@ formats (`FORMATS`):
   pair forces, one or many timesteps.
 
 A malformed source stops with `SourceError`: one line naming the file and the line or column, and nothing is
-written. This package reads with the standard library and numpy only (the workflow computes an imported system's
-ρ grid from its sources when it is parsed, `source_states`).
+written. This package reads with the standard library and numpy only. When the workflow parses its config it needs
+an imported system's ρ grid: `forcenet.importers.scan` reads the particles files for it once per content and keeps
+a record of each file; the import job reads and checks every file in full (`source_states`).
 """
 from __future__ import annotations
 

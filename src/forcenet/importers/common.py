@@ -226,13 +226,21 @@ def source_states(entry: Mapping[str, Any], realization: int, *, where: str = "s
 
 
 def source_rho_grid(entry: Mapping[str, Any], realization: int = 0) -> tuple[float, ...]:
-    """The packing fractions of a run's states (computed from each state's particles and box)."""
-    return tuple(state.rho for state in source_states(entry, realization))
+    """The packing fractions of a run's states (computed from each state's particles and box; the particles files
+    read once per content, `forcenet.importers.scan.run_outline`)."""
+    from forcenet.importers.scan import run_outline
+
+    return tuple(rho for rho, _ in run_outline(entry, realization))
 
 
 def run_files(entry: Mapping[str, Any], realization: int) -> list[str]:
-    """The source files of one run of a ``source:`` entry (the inputs of its import job)."""
+    """The inputs of the import job of one run of a ``source:`` entry: its source files and the record of each
+    (`forcenet.importers.scan`, written when the workflow parsed the config; listed where it exists), whose
+    modification time moves when the file's content changes, so that new content is imported again even under an
+    older modification time."""
+    from forcenet.importers.scan import record_path
+
     run = entry["source"]["runs"][realization]
-    if entry["source"]["format"] == "lammps":
-        return [run["atoms"], run["pairs"]]
-    return [path for state in run for path in (state["particles"], state["contacts"])]
+    files = ([run["atoms"], run["pairs"]] if entry["source"]["format"] == "lammps" else
+             [path for state in run for path in (state["particles"], state["contacts"])])
+    return files + [str(record) for record in map(record_path, files) if record.exists()]

@@ -28,6 +28,7 @@ order; ``source.timesteps`` picks some of them (default: all).
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from itertools import zip_longest
 from pathlib import Path
 from typing import Any, Iterator, Mapping, Sequence
 
@@ -116,7 +117,7 @@ def read_frames(path: str | Path, kind: str) -> Iterator[Frame]:
                     raise ValueError
                 box[a] = [float(v) for v in words]
             except ValueError:
-                raise SourceError(path, f"line {last}", "expected a line of box bounds 'lo hi'"
+                raise SourceError(path, f"line {last}", "expected three lines of box bounds 'lo hi'"
                                   + (" and a tilt factor (the header says xy xz yz)" if triclinic else "")
                                   + f", found {text!r}") from None
         if not np.all(np.isfinite(box)):
@@ -141,20 +142,24 @@ def read_frames(path: str | Path, kind: str) -> Iterator[Frame]:
 def _rows(path, block: list[str], first: int, columns: list[str]) -> np.ndarray:
     """The values (rows, columns) of a frame's rows `block` (`first`: the line number of its first); a row of another
     width or a cell that is not a number raises `SourceError` naming its line."""
-    cells = [line.split() for line in block]
-    for r, row in enumerate(cells):
-        if len(row) != len(columns):
-            raise SourceError(path, f"line {first + r}", f"{len(row)} values for the {len(columns)} columns "
-                                                         f"{' '.join(columns)}")
-    try:  # numpy converts the strings in C: a 2-million-line dump in seconds, not in a Python loop per cell
-        return np.array([value for row in cells for value in row], dtype=float).reshape(len(cells), len(columns))
+    if not block:
+        return np.empty((0, len(columns)))
+    try:  # numpy's C reader: a 2-million-line dump in about a second, not a Python loop per cell
+        rows = np.loadtxt(block, dtype=float, comments=None, ndmin=2)
     except ValueError:
-        for r, row in enumerate(cells):
-            try:
-                [float(c) for c in row]
-            except ValueError:
-                raise SourceError(path, f"line {first + r}", f"not a number in {block[r]!r}") from None
-        raise
+        rows = None
+    if rows is not None and rows.shape == (len(block), len(columns)):
+        return rows
+    for r, line in enumerate(block):  # what numpy refused (or a blank line, which it skips): the first bad row
+        cells = line.split()
+        if len(cells) != len(columns):
+            raise SourceError(path, f"line {first + r}", f"{len(cells)} values for the {len(columns)} columns "
+                                                         f"{' '.join(columns)}")
+        try:
+            [float(c) for c in cells]
+        except ValueError:
+            raise SourceError(path, f"line {first + r}", f"not a number in {line!r}") from None
+    raise SourceError(path, f"line {first}", "rows numpy cannot read as numbers")  # not reached: a row is named
 
 
 def _triclinic_box(bounding: np.ndarray, tilt: np.ndarray) -> np.ndarray:
@@ -317,16 +322,17 @@ def pair_forces(path, frame: Frame, ids: np.ndarray, position: np.ndarray, colum
                               ("needs the vector's " if key == "total" else "needs 1 column (magnitude) or the vector's ")
                               + f"{dimension} or 3 components")
     touching = np.any(np.concatenate([values[key] for key in force_keys], axis=1) != 0, axis=1)
-    slot = {int(atom): k for k, atom in enumerate(ids)}
     index = {}
-    for key in ("i", "j"):
+    for key in ("i", "j"):  # ids are sorted (`atom_state`): each pair's atoms found by bisection, not a Python loop
         atoms = values[key][:, 0]
-        missing = [r for r in np.flatnonzero(touching) if int(atoms[r]) not in slot]
-        if missing:
-            r = missing[0]
+        slot = np.minimum(np.searchsorted(ids, atoms), len(ids) - 1)
+        found = ids[slot] == atoms
+        missing = np.flatnonzero(touching & ~found)
+        if missing.size:
+            r = int(missing[0])
             raise SourceError(path, f"line {frame.first_row_line + r}, column '{names[key][0]}'",
                               f"atom id {atoms[r]} is not in {atoms_path} at timestep {frame.timestep}")
-        index[key] = np.array([slot.get(int(a), -1) for a in atoms], dtype=np.int64)
+        index[key] = np.where(found, slot, -1)
     rows = np.flatnonzero(touching)
     for key in force_keys:  # a magnitude (one column) is signed the same way as in the table importer: ≥ 0
         if key != "total" and values[key].shape[1] == 1:
@@ -382,23 +388,16 @@ def read_run(run: Mapping[str, Any], dimension: int, source: Mapping[str, Any]) 
     columns = {**{key: value for key, value in DEFAULT_PAIR_COLUMNS.items()
                   if "total" not in given or key not in ("normal", "tangential")}, **given}
     wanted = source.get("timesteps")
-    atom_frames, pair_frames = list(read_frames(atoms_path, "ATOMS")), list(read_frames(pairs_path, "ENTRIES"))
-    for a, p in zip(atom_frames, pair_frames):
+    states, have = [], []
+    # frame by frame, the two dumps side by side: the memory of the raw rows is one frame's
+    for a, p in zip_longest(read_frames(atoms_path, "ATOMS"), read_frames(pairs_path, "ENTRIES")):
+        if a is None or p is None:
+            longer, shorter, extra = (atoms_path, pairs_path, a) if p is None else (pairs_path, atoms_path, p)
+            raise SourceError(longer, f"line {extra.line}", f"timestep {extra.timestep} has no match in {shorter}")
         if a.timestep != p.timestep:
             raise SourceError(pairs_path, f"line {p.line}", f"timestep {p.timestep} where {atoms_path} has timestep "
                                                             f"{a.timestep} (line {a.line}): the dumps do not match")
-    if len(atom_frames) != len(pair_frames):
-        longer, shorter = ((atoms_path, pairs_path) if len(atom_frames) > len(pair_frames) else
-                           (pairs_path, atoms_path))
-        extra = (atom_frames if longer == atoms_path else pair_frames)[min(len(atom_frames), len(pair_frames))]
-        raise SourceError(longer, f"line {extra.line}", f"timestep {extra.timestep} has no match in {shorter}")
-    if wanted is not None:
-        have = [f.timestep for f in atom_frames]
-        for step in wanted:
-            if step not in have:
-                raise SourceError(atoms_path, "source.timesteps", f"timestep {step} is not in the dump ({have})")
-    states = []
-    for a, p in zip(atom_frames, pair_frames):
+        have.append(a.timestep)
         if wanted is not None and a.timestep not in wanted:
             continue
         ids, position, radius, lo, hi, wall_force = atom_state(atoms_path, a, dimension, source.get("wall_columns"))
@@ -430,4 +429,7 @@ def read_run(run: Mapping[str, Any], dimension: int, source: Mapping[str, Any]) 
                                   force_tangential=ft, box_lo=lo, box_hi=hi, files=(str(atoms_path), str(pairs_path)),
                                   timestep=a.timestep, wall_particle=wall_atoms, wall_id=wall_id, wall_force=wall_f,
                                   periodic_axes=axes, tilt=tilt))
+    missing = [step for step in wanted or () if step not in have]
+    if missing:
+        raise SourceError(atoms_path, "source.timesteps", f"timestep {missing[0]} is not in the dump ({have})")
     return states

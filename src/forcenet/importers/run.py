@@ -2,11 +2,18 @@
 from __future__ import annotations
 
 import json
+import re
+from pathlib import Path
 from typing import Any, Mapping, Sequence
 
 import numpy as np
 
-from forcenet.importers.common import SourceError, file_sha256, source_states
+from forcenet.importers.common import SourceError, file_sha256, largest_relative_overlap, source_states
+
+#: P1 §3's bound on the overlaps ("up to 10 %" of the sum of the radii): a state past it is imported with a warning
+OVERLAP_WARNING = 0.10
+#: the ρ label in a snapshot's file name (`forcenet.datasets.paths.snapshot`: …/rho0.842.nc)
+RHO_LABEL = re.compile(r"rho(\d\.\d+)\.nc$")
 
 
 def import_run(*, config: Mapping[str, Any], system: str, realization: int, outputs: Sequence[str],
@@ -25,9 +32,22 @@ def import_run(*, config: Mapping[str, Any], system: str, realization: int, outp
         raise SourceError(f"systems.{system}.source.runs[{realization}]", "",
                           f"{len(states)} states, but run 0 has {len(outputs)}: every run of a system needs the same "
                           "number of states")
+    from forcenet.systems import format_rho
+
     hashes: dict[str, str] = {}
     datasets = []
-    for state, output in zip(states, outputs):
+    for k, (state, output) in enumerate(zip(states, outputs)):
+        label = RHO_LABEL.search(Path(output).name)
+        if label and label.group(1) != format_rho(state.rho):  # the workflow read the particles before they changed
+            raise SourceError(state.files[0], f"state {k} (timestep {state.timestep})",
+                              f"ρ = {format_rho(state.rho)}, but the workflow named its snapshot {Path(output).name}: "
+                              "the source changed after snakemake read it; run snakemake again")
+        overlap, contact = largest_relative_overlap(state)
+        if overlap > OVERLAP_WARNING and log is not None:
+            log.warning("%s: timestep %s has overlaps up to %.1f %% of the sum of the radii (particles %d and %d), "
+                        "past the %.0f %% P1 states: check the source's units and radii", state.files[0],
+                        state.timestep, 100 * overlap, state.contact_i[contact], state.contact_j[contact],
+                        100 * OVERLAP_WARNING)
         attrs = provenance_attrs(system=system, realization=realization, seed=-1, config=config,
                                  title=f"forcenet snapshot imported from {entry['source']['format']}, {system}")
         attrs.update({SOURCE_FORMAT_ATTR: entry["source"]["format"],

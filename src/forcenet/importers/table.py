@@ -241,8 +241,14 @@ def _box(box, position, radius, where) -> tuple[np.ndarray, np.ndarray]:
     """The state's box: as given, else the particles' bounding box."""
     if box is None:
         return (position - radius[:, None]).min(axis=0), (position + radius[:, None]).max(axis=0)
+    return given_box(box, position.shape[1], where)
+
+
+def given_box(box: Mapping[str, Sequence[float]], dimension: int, where) -> tuple[np.ndarray, np.ndarray]:
+    """(lo, hi) of a box the config gives; `SourceError` (naming `where`, the particles file) unless each has
+    `dimension` values, hi above lo."""
     lo, hi = np.asarray(box["lo"], dtype=float), np.asarray(box["hi"], dtype=float)
-    if lo.shape != (position.shape[1],) or hi.shape != lo.shape or np.any(hi <= lo):
-        raise SourceError(where, "box", f"box {{lo: {lo.tolist()}, hi: {hi.tolist()}}} must give {position.shape[1]} "
+    if lo.shape != (dimension,) or hi.shape != lo.shape or np.any(hi <= lo):
+        raise SourceError(where, "box", f"box {{lo: {lo.tolist()}, hi: {hi.tolist()}}} must give {dimension} "
                                         "values each, hi above lo")
     return lo, hi
