@@ -24,7 +24,7 @@ LAYERS = (
     ("measures", {"measures"}),
     ("report", {"report"}),
     ("plotting", {"plotting"}),
-    ("workflow", {"pipeline", "survey", "damping_series"}),
+    ("workflow", {"pipeline", "campaign", "survey", "damping_series"}),
 )
 #: a config is judged by the engine's own formulas: the initial lattice (dem.packing) and the damping bound
 #: (dem.stability), imported lazily; an imported system's ρ grid is read from its files by the importers

@@ -60,11 +60,15 @@ SYMBOLIC = [
 
 def test_the_documented_layout_is_what_the_functions_give():
     """Every line of the layout in the module docstring is what its function gives (the docs cannot drift)."""
-    layout = {line.split()[0] for line in paths.__doc__.splitlines() if line.startswith("    ") and line.strip()}
+    results_doc, _, records_doc = paths.__doc__.partition("``records_dir``")
+    layout, records_layout = ({line.split()[0] for line in doc.splitlines() if line.startswith("    ") and line.strip()}
+                              for doc in (results_doc, records_doc))
     given = {function("results", *args).removeprefix("results/") for function, args in SYMBOLIC}
     given.add(str(paths.staging_dir(paths.snapshot("results", "{system}", "{realization}", "{ρ}")))
               .removeprefix("results/") + "/")
     assert given == layout
+    assert records_layout == {paths.record_manifest("records").removeprefix("records/"),
+                              paths.record_file("records", "{system}", "{realization}").removeprefix("records/")}
     assert f"``{paths.campaign_table('{p1,p2}', '{md,csv}')}``" in paths.__doc__
 
 

@@ -26,7 +26,11 @@ scripts, tests and tutorial use to find a file. Imported when the workflow is pa
     readings/{reading}                       a reading beside (another value of one convention), laid out as above
 
 and ``docs/validation/{p1,p2}.{md,csv}`` (in the repository, not under a results folder) are the validation
-campaign's committed tables.
+campaign's committed tables. A config with ``records_dir`` (config/validation.yaml: ``data/validation``) keeps the
+campaign's finished runs there, in the repository (`forcenet.campaign`)::
+
+    manifest.csv                             one row per recorded run: fingerprint, commit, CPU-hours, sha256
+    {system}/{realization}/states.nc         the run's snapshots, kind "run_record" (`forcenet.datasets.records`)
 
 A realization is named ``r{NN}`` (`realization_name`, `realization_index`); a ρ label has
 `forcenet.systems.RHO_DECIMALS` decimals (`forcenet.systems.format_rho`).
@@ -48,6 +52,9 @@ STAGING_DIR = ".partial"
 CHECKPOINT = "checkpoint.npz"
 #: the lock a run in progress holds (beside its staging folder, holding its pid; `forcenet.pipeline.exclusive_stage`)
 STAGE_LOCK = STAGING_DIR + ".lock"
+#: a campaign record's file name (one per run) and the manifest of all (below a config's ``records_dir``)
+RECORD_FILE = "states.nc"
+RECORD_MANIFEST = "manifest.csv"
 #: the validation campaign's committed tables (in the repository): validation_report writes them, every other
 #: config reads them (config key ``paper_size_tables``)
 VALIDATION_DIR = "docs/validation"
@@ -82,6 +89,16 @@ def run_dir(results: Folder, system: str, realization: str) -> str:
 def snapshot(results: Folder, system: str, realization: str, rho_label: str) -> str:
     """One DEM snapshot (kind "snapshot")."""
     return f"{run_dir(results, system, realization)}/{rho_file(rho_label)}"
+
+
+def record_file(records: Folder, system: str, realization: str) -> str:
+    """The campaign record of one compression run (kind "run_record"), below a config's ``records_dir``."""
+    return f"{records}/{system}/{realization}/{RECORD_FILE}"
+
+
+def record_manifest(records: Folder) -> str:
+    """The manifest of a campaign's records: one CSV row per recorded run (`forcenet.campaign.MANIFEST_COLUMNS`)."""
+    return f"{records}/{RECORD_MANIFEST}"
 
 
 def run_cost(results: Folder, system: str, realization: str) -> str:

@@ -5,9 +5,10 @@ too: the fingerprint is computed from the `config` attribute every file records.
 from __future__ import annotations
 
 import json
-from typing import Any, Mapping
+from typing import TYPE_CHECKING, Any, Mapping
 
-import xarray as xr
+if TYPE_CHECKING:  # annotations only: the workflow imports this module when it is parsed (no xarray there)
+    import xarray as xr
 
 #: the attributes `run_expectation` gives and `run_mismatch` compares, in that order
 RUN_ATTRS = ("system", "dimension", "simulation_sha256")

@@ -195,6 +195,38 @@ DISTANCES_VARIABLES: dict[str, VariableSpec] = {
 #: `essential` is 1 (a class that never dies)
 ANALYSIS_FINITE_VARIABLES = ("mean_force", "total_persistence", "rho", "Z", "birth")
 
+# --- a campaign record: one finished compression run in one file, data/validation/{system}/{realization}/states.nc ---
+#
+# The snapshots of a run stacked over `state` (one per ρ of the grid, labelled by the grid ρ as in the file names),
+# its contacts and wall contacts as CF contiguous ragged arrays (the state's `contact_count` consecutive entries of
+# `contact`, in state order). Radii are the run's (constant over its states); the dynamics arrays (velocity,
+# angular velocity) are not kept: no analysis reads them (`forcenet.datasets.records`).
+RECORD_VARIABLES: dict[str, VariableSpec] = {
+    "radius": SNAPSHOT_VARIABLES["radius"],
+    "position": VariableSpec(("state", "particle", "spatial"), "d_ave", "particle centre position"),
+    "box_lo": VariableSpec(("state", "spatial"), "d_ave", "lower wall positions"),
+    "box_hi": VariableSpec(("state", "spatial"), "d_ave", "upper wall positions"),
+    **{name: VariableSpec(("state",), spec.units, spec.long_name, spec.dtype)
+       for name, spec in SNAPSHOT_VARIABLES.items() if spec.dims == ()},
+    "contact_count": VariableSpec(("state",), DIMENSIONLESS, "contacts of the state (consecutive in `contact`)",
+                                  dtype="int"),
+    "contact_i": SNAPSHOT_VARIABLES["contact_i"],
+    "contact_j": SNAPSHOT_VARIABLES["contact_j"],
+    "force_normal": SNAPSHOT_VARIABLES["force_normal"],
+    "force_tangential": SNAPSHOT_VARIABLES["force_tangential"],
+    "wall_contact_count": VariableSpec(("state",), DIMENSIONLESS,
+                                      "wall contacts of the state (consecutive in `wall_contact`)", dtype="int"),
+    "wall_contact_particle": SNAPSHOT_VARIABLES["wall_contact_particle"],
+    "wall_contact_wall": SNAPSHOT_VARIABLES["wall_contact_wall"],
+    "wall_contact_force": SNAPSHOT_VARIABLES["wall_contact_force"],
+}
+#: global attributes of a record beyond REQUIRED_GLOBAL_ATTRS: the record format, the run's simulation fingerprint
+#: (`forcenet.datasets.runs.simulation_sha256`), its CPU seconds summed over every process that ran it, the
+#: dimension, the global attributes its snapshots share (JSON), those of each state that differ (JSON list: the commit
+#: of a run resumed under a later one) and the snapshot variables it does not keep
+RECORD_GLOBAL_ATTRS = ("record_format", "simulation_sha256", "cpu_seconds", "dimension", "snapshot_attrs",
+                       "state_attrs", "dropped_variables")
+
 #: every file kind the pipeline reads: its variables and the coordinates a reader selects on
 FILE_KINDS: dict[str, tuple[dict[str, VariableSpec], tuple[str, ...]]] = {
     "snapshot": (SNAPSHOT_VARIABLES, ("spatial",)),
@@ -203,6 +235,7 @@ FILE_KINDS: dict[str, tuple[dict[str, VariableSpec], tuple[str, ...]]] = {
                                                       "threshold", "force_bin", "persistence_bin")),
     "diagrams": (DIAGRAMS_VARIABLES, ("force_kind",)),
     "distances": (DISTANCES_VARIABLES, ("realization", "rho", "force_kind", "homology_dim", "metric")),
+    "run_record": (RECORD_VARIABLES, ("state", "spatial")),
 }
 
 #: variables of a file kind that may be absent (when present they must match their spec)

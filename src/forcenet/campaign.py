@@ -1,0 +1,459 @@
+"""The validation campaign as committed records: every finished paper-size run kept in the repository, made once.
+
+A config with ``records_dir`` (config/validation.yaml: ``data/validation``) keeps there, for each finished
+compression run, its snapshots in one compact file (`forcenet.datasets.records`) and a row of ``manifest.csv``
+(`MANIFEST_COLUMNS`). The workflow restores the snapshots of a recorded run instead of simulating it
+(workflow/rules/simulate.smk, `restore_run`) and simulates only the runs without a record, so the campaign grows
+run by run across working copies and its tables are regenerated from the records with no DEM step.
+
+A record is the run of one system's settings: the manifest keeps the run's simulation fingerprint
+(`forcenet.datasets.runs.simulation_sha256`: the system's own config entry, the seed and the material), and a record
+whose fingerprint is not the config's is refused by name (`recorded_realizations`), never reused.
+
+    forcenet-campaign status [--configfile config/validation.yaml]     every run: recorded / finished / running / missing
+    forcenet-campaign record SYSTEM REALIZATION [--commit]             a finished run's record (and its git commit)
+    forcenet-campaign record --finished [--commit]                     every finished run without a record
+    forcenet-campaign verify                                           every record against the manifest and config
+
+Parse-time functions (`records_folder`, `recorded_realizations`) import nothing heavy: the workflow calls them when
+it is parsed, a dry run included.
+"""
+from __future__ import annotations
+
+import argparse
+import csv
+import datetime as _dt
+import fcntl
+import hashlib
+import json
+import os
+import subprocess
+import sys
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Mapping, Sequence
+
+from forcenet.datasets import paths
+from forcenet.datasets.runs import simulation_sha256
+from forcenet.errors import ForcenetError
+from forcenet.systems import ImportedSystem, realization_indices, system_from_config
+
+#: the columns of manifest.csv, one row per recorded run
+MANIFEST_COLUMNS = ("system", "realization", "simulation_sha256", "git_commit", "cpu_hours", "particles", "states",
+                    "file", "bytes", "sha256", "recorded")
+#: the config every command reads unless told otherwise
+DEFAULT_CAMPAIGN_CONFIG = "config/validation.yaml"
+
+
+class CampaignError(ForcenetError):
+    """A record that cannot be used (another system's settings, a changed file) or a run that cannot be recorded."""
+
+
+def records_folder(config: Mapping[str, Any]) -> str | None:
+    """The config's ``records_dir`` (relative to the repository root), or None: every run is simulated."""
+    value = config.get("records_dir")
+    return None if value is None else str(value).rstrip("/")
+
+
+def read_manifest(records: str | os.PathLike) -> list[dict[str, str]]:
+    """The rows of a records folder's manifest.csv (none when it has no manifest yet)."""
+    path = Path(paths.record_manifest(records))
+    if not path.exists():
+        return []
+    with open(path, newline="") as handle:
+        rows = list(csv.DictReader(handle))
+    if rows and set(rows[0]) != set(MANIFEST_COLUMNS):
+        raise CampaignError(f"{path}: columns {sorted(rows[0])}, expected {list(MANIFEST_COLUMNS)}")
+    return rows
+
+
+def write_manifest(records: str | os.PathLike, rows: Sequence[Mapping[str, Any]]) -> Path:
+    """Write manifest.csv sorted by system and realization (atomically: a temporary name renamed over it)."""
+    path = Path(paths.record_manifest(records))
+    path.parent.mkdir(parents=True, exist_ok=True)
+    temporary = path.with_name(f".{path.name}.tmp{os.getpid()}")
+    with open(temporary, "w", newline="") as handle:
+        writer = csv.DictWriter(handle, fieldnames=MANIFEST_COLUMNS, lineterminator="\n")
+        writer.writeheader()
+        writer.writerows(sorted(rows, key=lambda row: (row["system"], row["realization"])))
+    os.replace(temporary, path)
+    return path
+
+
+def file_sha256(path: str | os.PathLike) -> str:
+    digest = hashlib.sha256()
+    with open(path, "rb") as handle:
+        for block in iter(lambda: handle.read(1 << 20), b""):
+            digest.update(block)
+    return digest.hexdigest()
+
+
+def recorded_realizations(config: Mapping[str, Any], system: str) -> list[str]:
+    """The realizations of `system` (r00, …) that the config restores from its records: those of its realization
+    count with a manifest row. A row recorded under other settings of the system is refused (`CampaignError` naming
+    the record, both fingerprints and what to do): the run must be made again."""
+    records = records_folder(config)
+    if records is None:
+        return []
+    wanted = {paths.realization_name(index) for index in realization_indices(config, system)}
+    rows = [row for row in read_manifest(records) if row["system"] == system and row["realization"] in wanted]
+    if rows:
+        expected = simulation_sha256(config, system)
+        for row in rows:
+            if row["simulation_sha256"] != expected:
+                raise CampaignError(
+                    f"campaign record {records}/{row['file']} was made under other settings of system '{system}' "
+                    f"(simulation fingerprint {row['simulation_sha256'][:12]}, this config's {expected[:12]}): the run "
+                    f"must be made again — remove its record (forcenet-campaign drop {system} {row['realization']}) "
+                    f"or give the changed system a new name")
+    return sorted(row["realization"] for row in rows)
+
+
+def realizations_except(names: Sequence[str]) -> str:
+    """A Snakemake wildcard constraint (regular expression) matching every realization name (r00, r01, …, r100)
+    but `names`: the simulate rule of a system takes the realizations its restore rule does not."""
+    return rf"(?!(?:{'|'.join(names)})(?!\d))r\d\d+" if names else r"r\d\d+"
+
+
+def manifest_row(records: str, system: str, realization: str) -> dict[str, str]:
+    rows = [row for row in read_manifest(records) if row["system"] == system and row["realization"] == realization]
+    if not rows:
+        raise CampaignError(f"{paths.record_manifest(records)}: no record of {system} {realization}")
+    return rows[0]
+
+
+def restore_run(*, config: Mapping[str, Any], system: str, realization: str, outputs: Sequence[str],
+                cost_path: str | None = None) -> None:
+    """Write a recorded run's snapshots (`outputs`, in grid order) and cost record from its campaign record: the
+    record's sha256 is the manifest's, its fingerprint the config's, every state on its ρ (zero DEM steps)."""
+    from forcenet.datasets import read_dataset
+    from forcenet.datasets.records import record_global_problems, restore_snapshots
+
+    records = records_folder(config)
+    if records is None:
+        raise CampaignError(f"{system} {realization}: the config has no records_dir")
+    row = manifest_row(records, system, realization)
+    path = Path(records) / row["file"]
+    digest = file_sha256(path) if path.exists() else "missing"
+    if digest != row["sha256"]:
+        raise CampaignError(f"{path}: sha256 {digest[:12]}, the manifest's {row['sha256'][:12]}: the record was "
+                            "changed or not fetched (a Git LFS pointer?); restore it from git or make the run again")
+    record = read_dataset(path, "run_record")
+    problems = record_global_problems(record)
+    expected = simulation_sha256(config, system)
+    if record.attrs.get("simulation_sha256") != expected:
+        problems.append(f"its simulation fingerprint is not this config's ({expected[:12]})")
+    if problems:
+        raise CampaignError(f"{path}: " + "; ".join(problems))
+    restore_snapshots(path, outputs)
+    if cost_path is not None:
+        cost = {"system": system, "realization": paths.realization_index(realization),
+                "cpu_seconds": round(float(record.attrs["cpu_seconds"]), 1),
+                "particles": int(record.sizes["particle"]), "snapshots": int(record.sizes["state"])}
+        temporary = Path(f"{cost_path}.tmp{os.getpid()}")
+        temporary.write_text(json.dumps(cost, indent=1) + "\n")
+        os.replace(temporary, cost_path)
+
+
+def record_run(config: Mapping[str, Any], system: str, realization: str, *, results: str | os.PathLike,
+               records: str | None = None) -> dict[str, str]:
+    """Record one finished run of `results` (its published snapshots and run_cost.json) in `records` (default: the
+    config's ``records_dir``): the record file, checked to give back every kept value of every snapshot, and its
+    manifest row (returned). Refuses a run that has not finished or whose snapshots are of other settings."""
+    from forcenet.datasets import read_snapshot, run_expectation, write_netcdf
+    from forcenet.datasets.records import record_dataset, record_differences, record_encoding
+
+    records = records or records_folder(config)
+    if records is None:
+        raise CampaignError("the config has no records_dir: name the folder with --records")
+    spec = system_from_config(system, config)
+    if isinstance(spec, ImportedSystem):
+        raise CampaignError(f"{system} is imported, not simulated: its sources are its record")
+    outputs = [Path(paths.snapshot(results, system, realization, label)) for label in spec.rho_labels]
+    cost_path = Path(paths.run_cost(results, system, realization))
+    missing = [str(p) for p in [*outputs, cost_path] if not p.exists()]
+    if missing:
+        raise CampaignError(f"{system} {realization} has not finished in {results}: {len(missing)} of its files are "
+                            f"missing (first: {missing[0]})")
+    expect = run_expectation(config, system)
+    snapshots = [read_snapshot(path, expect=expect) for path in outputs]
+    cost = json.loads(cost_path.read_text())
+    record = record_dataset(snapshots, spec.rho_labels, simulation_sha256=expect["simulation_sha256"],
+                            cpu_seconds=float(cost["cpu_seconds"]),
+                            title=f"forcenet campaign record, {system} {realization}")
+    differences = record_differences(record, snapshots)
+    if differences:
+        raise CampaignError(f"{system} {realization}: the record would not give back the run: {differences[0]}")
+    target = Path(paths.record_file(records, system, realization))
+    write_netcdf(record, target, kind="run_record", encoding=record_encoding(record))
+    commits = sorted({str(s.attrs.get("git_commit", "unknown")) for s in snapshots})
+    row = {"system": system, "realization": realization, "simulation_sha256": expect["simulation_sha256"],
+           "git_commit": " ".join(commits), "cpu_hours": f"{float(cost['cpu_seconds']) / 3600:.3f}",
+           "particles": str(record.sizes["particle"]), "states": str(record.sizes["state"]),
+           "file": target.relative_to(records).as_posix(), "bytes": str(target.stat().st_size),
+           "sha256": file_sha256(target),
+           "recorded": _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")}
+    kept = [r for r in read_manifest(records) if (r["system"], r["realization"]) != (system, realization)]
+    write_manifest(records, [*kept, row])
+
+    return row
+
+
+@dataclass(frozen=True)
+class RunStatus:
+    """One run of a campaign config: `state` recorded / finished (published, no record yet) / running (a process
+    holds its stage) / stopped (a stage to resume, nobody running it) / missing; CPU-hours done (recorded or
+    finished) and to go (an estimate: the mean of the system's recorded runs, else the cost model)."""
+
+    system: str
+    realization: str
+    state: str
+    cpu_hours_done: float
+    cpu_hours_to_go: float
+    detail: str = ""
+
+
+def _stage_is_held(results: str | os.PathLike, system: str, realization: str) -> bool:
+    """Whether a process holds the lock of the run's stage (`forcenet.pipeline.exclusive_stage`)."""
+    lock = Path(paths.run_dir(results, system, realization)) / paths.STAGE_LOCK
+    if not lock.exists():
+        return False
+    with open(lock) as handle:
+        try:
+            fcntl.flock(handle, fcntl.LOCK_SH | fcntl.LOCK_NB)
+        except BlockingIOError:
+            return True
+        fcntl.flock(handle, fcntl.LOCK_UN)
+    return False
+
+
+def tabled_cpu_hours(folder: str | os.PathLike = paths.VALIDATION_DIR) -> dict[str, float]:
+    """CPU-hours per run of each system in the provenance of the committed validation tables (``# system NAME:
+    N=… realizations=R cpu_hours=H`` lines of docs/validation/{p1,p2}.csv): H / R, the estimate of a system with no
+    record yet."""
+    per_run = {}
+    for study in ("p1", "p2"):
+        path = Path(paths.campaign_table(study, "csv", folder))
+        if not path.exists():
+            continue
+        for line in path.read_text().splitlines():
+            if not line.startswith("#"):
+                break
+            if line.startswith("# system "):
+                name, _, fields = line[len("# system "):].partition(":")
+                values = dict(field.split("=", 1) for field in fields.split() if "=" in field)
+                if int(values.get("realizations", 0)) > 0:
+                    per_run[name] = float(values["cpu_hours"]) / int(values["realizations"])
+    return per_run
+
+
+def campaign_status(config: Mapping[str, Any], *, results: str | os.PathLike) -> list[RunStatus]:
+    """Every compression run of `config`, in config order, with its `RunStatus`."""
+    from forcenet.cost import simulation_cost
+
+    records = records_folder(config)
+    manifest = read_manifest(records) if records else []
+    tabled = tabled_cpu_hours()
+    statuses = []
+    for system in config["systems"]:
+        spec = system_from_config(system, config)
+        if isinstance(spec, ImportedSystem):
+            continue
+        fingerprint = simulation_sha256(config, system)
+        recorded = {row["realization"]: row for row in manifest if row["system"] == system}
+        measured = [float(row["cpu_hours"]) for row in recorded.values() if row["simulation_sha256"] == fingerprint]
+        if measured:
+            estimate, basis = sum(measured) / len(measured), "mean of recorded runs"
+        elif system in tabled:
+            estimate, basis = tabled[system], "mean in the committed tables' provenance"
+        else:
+            estimate, basis = simulation_cost(spec).core_hours, "cost model (errs long)"
+        for index in realization_indices(config, system):
+            name = paths.realization_name(index)
+            row = recorded.get(name)
+            if row is not None and row["simulation_sha256"] == fingerprint:
+                statuses.append(RunStatus(system, name, "recorded", float(row["cpu_hours"]), 0.0))
+                continue
+            stale = "" if row is None else "its record has other settings (remake it)"
+            cost_path = Path(paths.run_cost(results, system, name))
+            stage = Path(paths.run_dir(results, system, name)) / paths.STAGING_DIR
+            if cost_path.exists():
+                done = float(json.loads(cost_path.read_text())["cpu_seconds"]) / 3600
+                statuses.append(RunStatus(system, name, "finished", done, 0.0,
+                                          stale or "not recorded: forcenet-campaign record " + f"{system} {name}"))
+            elif stage.exists():
+                staged = len(list(stage.glob("rho*.nc")))
+                held = _stage_is_held(results, system, name)
+                left = estimate * (1 - staged / len(spec.rho_grid))
+                statuses.append(RunStatus(system, name, "running" if held else "stopped", 0.0, left,
+                                          f"{staged} of {len(spec.rho_grid)} states; {stale}".rstrip("; ")))
+            else:
+                statuses.append(RunStatus(system, name, "missing", 0.0, estimate, stale or f"estimate: {basis}"))
+    return statuses
+
+
+def status_table(statuses: Sequence[RunStatus]) -> str:
+    """The status as text: one line per run, then the totals."""
+    lines = [f"{'system':<20} {'run':<4} {'state':<9} {'CPU-h done':>10} {'CPU-h to go':>11}  detail"]
+    for s in statuses:
+        lines.append(f"{s.system:<20} {s.realization:<4} {s.state:<9} {s.cpu_hours_done:>10.2f} "
+                     f"{s.cpu_hours_to_go:>11.2f}  {s.detail}")
+    counts = {state: sum(s.state == state for s in statuses)
+              for state in ("recorded", "finished", "running", "stopped", "missing")}
+    lines.append(", ".join(f"{n} {state}" for state, n in counts.items())
+                 + f"; CPU-hours done {sum(s.cpu_hours_done for s in statuses):.2f}, "
+                 f"to go {sum(s.cpu_hours_to_go for s in statuses):.2f}")
+    return "\n".join(lines)
+
+
+def verify_records(config: Mapping[str, Any]) -> list[str]:
+    """Problems of the config's records: a manifest row whose file is missing or has another sha256, a record of a
+    system the config does not have or of other settings. Empty: every record can be restored."""
+    records = records_folder(config)
+    if records is None:
+        return ["the config has no records_dir"]
+    problems = []
+    for row in read_manifest(records):
+        path = Path(records) / row["file"]
+        if not path.exists():
+            problems.append(f"{path}: missing")
+        elif file_sha256(path) != row["sha256"]:
+            problems.append(f"{path}: sha256 differs from the manifest's")
+        if row["system"] not in config["systems"]:
+            problems.append(f"{path}: system '{row['system']}' is not in the config")
+        elif row["simulation_sha256"] != simulation_sha256(config, row["system"]):
+            problems.append(f"{path}: made under other settings of '{row['system']}' than the config's")
+    return problems
+
+
+def drop_record(config: Mapping[str, Any], system: str, realization: str) -> Path:
+    """Remove a run's record and manifest row (the run is then simulated again)."""
+    records = records_folder(config)
+    if records is None:
+        raise CampaignError("the config has no records_dir")
+    row = manifest_row(records, system, realization)
+    (Path(records) / row["file"]).unlink(missing_ok=True)
+    write_manifest(records, [r for r in read_manifest(records) if r is not row and
+                             (r["system"], r["realization"]) != (system, realization)])
+    return Path(records) / row["file"]
+
+
+#: the lines of the records folder's README.md between which `write_size_table` keeps the table of sizes
+SIZE_TABLE_START, SIZE_TABLE_END = "<!-- size table: forcenet-campaign record writes it -->", "<!-- end of size table -->"
+
+
+def size_table(config: Mapping[str, Any]) -> str:
+    """Markdown: per system of the config, its recorded runs of all, their bytes and the bytes all its runs would
+    take at the mean of those recorded; then the totals."""
+    records = records_folder(config)
+    manifest = read_manifest(records) if records else []
+    lines = ["| system | runs recorded | MB recorded | MB per run | MB when all are recorded |", "|---|---|---|---|---|"]
+    total = projected_total = 0.0
+    for system in config["systems"]:
+        if isinstance(system_from_config(system, config), ImportedSystem):
+            continue
+        rows = [row for row in manifest if row["system"] == system]
+        count = len(realization_indices(config, system))
+        size = sum(int(row["bytes"]) for row in rows) / 1e6
+        per_run = size / len(rows) if rows else float("nan")
+        projected = per_run * count
+        total += size
+        projected_total += projected if rows else 0.0
+        lines.append(f"| {system} | {len(rows)} of {count} | {size:.1f} | "
+                     + (f"{per_run:.2f} | {projected:.1f} |" if rows else "– | – |"))
+    lines.append(f"| all | {len(manifest)} | {total:.1f} | | {projected_total:.1f} (systems with a record) |")
+    return "\n".join(lines)
+
+
+def write_size_table(config: Mapping[str, Any]) -> Path | None:
+    """Replace the size table in the records folder's README.md (between `SIZE_TABLE_START` and `SIZE_TABLE_END`);
+    None when the README has no such table."""
+    readme = Path(records_folder(config) or ".") / "README.md"
+    if not readme.exists():
+        return None
+    text = readme.read_text()
+    head, start, rest = text.partition(SIZE_TABLE_START)
+    _, end, tail = rest.partition(SIZE_TABLE_END)
+    if not start or not end:
+        return None
+    readme.write_text(f"{head}{start}\n{size_table(config)}\n{end}{tail}")
+    return readme
+
+
+def _git_commit_record(records: str, rows: Sequence[Mapping[str, str]]) -> None:
+    """Commit the records of `rows` and the manifest, and nothing else staged."""
+    files = [str(Path(records) / row["file"]) for row in rows] + [paths.record_manifest(records)]
+    readme = Path(records) / "README.md"
+    files += [str(readme)] if readme.exists() else []
+    subprocess.run(["git", "add", "--", *files], check=True)
+    runs = ", ".join(f"{row['system']} {row['realization']}" for row in rows)
+    hours = sum(float(row["cpu_hours"]) for row in rows)
+    message = f"data/validation: campaign record of {runs} ({hours:.2f} CPU-hours)"
+    subprocess.run(["git", "commit", "-q", "-m", message, "--", *files], check=True)
+
+
+def _load_config(path: str) -> dict[str, Any]:
+    from forcenet.workflow_io import read_config_file
+
+    config = read_config_file(path)
+    from forcenet.systems import validate_config
+
+    validate_config(config)
+    return config
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(prog="forcenet-campaign", description=__doc__.split("\n\n")[0])
+    parser.add_argument("--configfile", default=DEFAULT_CAMPAIGN_CONFIG, help="the campaign config (%(default)s)")
+    parser.add_argument("--results", help="the results folder the runs were made in (default: the config's "
+                                          "results_dir; another checkout's, e.g. a worktree running the campaign)")
+    commands = parser.add_subparsers(dest="command", required=True)
+    commands.add_parser("status", help="every run of the config: recorded / finished / running / stopped / missing")
+    record = commands.add_parser("record", help="record finished runs in the config's records_dir")
+    record.add_argument("run", nargs="*", help="SYSTEM REALIZATION (e.g. 2d_linear r00)")
+    record.add_argument("--finished", action="store_true", help="every finished run without a record")
+    record.add_argument("--commit", action="store_true", help="git-commit the records and the manifest")
+    commands.add_parser("verify", help="every record against the manifest and the config")
+    commands.add_parser("sizes", help="the records' size per system (the table of the records folder's README)")
+    drop = commands.add_parser("drop", help="remove a run's record (it is simulated again)")
+    drop.add_argument("system")
+    drop.add_argument("realization")
+    args = parser.parse_args(argv)
+    try:
+        config = _load_config(args.configfile)
+        from forcenet.workflow_io import resolve_results_dir
+
+        results = args.results or resolve_results_dir(config.get("results_dir"), Path.cwd())[0]
+        if args.command == "status":
+            print(status_table(campaign_status(config, results=results)))
+        elif args.command == "verify":
+            problems = verify_records(config)
+            print("\n".join(problems) or f"every record of {records_folder(config)} can be restored")
+            return 1 if problems else 0
+        elif args.command == "sizes":
+            print(size_table(config))
+        elif args.command == "drop":
+            print(f"removed {drop_record(config, args.system, args.realization)}")
+        else:
+            if args.finished == bool(args.run) or (args.run and len(args.run) != 2):
+                parser.error("record takes SYSTEM REALIZATION or --finished")
+            runs = ([(s.system, s.realization) for s in campaign_status(config, results=results)
+                     if s.state == "finished"] if args.finished else [tuple(args.run)])
+            rows = []
+            for system, realization in runs:
+                row = record_run(config, system, realization, results=results)
+                print(f"recorded {system} {realization}: {row['file']} ({int(row['bytes']) / 1e6:.2f} MB, "
+                      f"{row['cpu_hours']} CPU-hours)")
+                rows.append(row)
+            if rows:
+                write_size_table(config)
+            if args.commit and rows:
+                _git_commit_record(records_folder(config), rows)
+    except ForcenetError as error:
+        print(f"forcenet-campaign: {error}", file=sys.stderr)
+        return 2
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,225 @@
+"""Campaign records (`forcenet.datasets.records`, `forcenet.campaign`): a finished run recorded gives back every kept
+value of every snapshot, bit for bit; a record of other settings, a changed file or an unfinished run is refused by
+name; the status command tells recorded / finished / running / stopped / missing runs apart."""
+from __future__ import annotations
+
+import copy
+import fcntl
+import json
+import re
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from conftest import load_config
+from forcenet import campaign, pipeline
+from forcenet.campaign import CampaignError
+from forcenet.datasets import paths, read_dataset, read_snapshot, write_snapshot
+from forcenet.datasets.records import (DROPPED_VARIABLES, RecordError, record_dataset, record_differences,
+                                       state_snapshot)
+from forcenet.datasets.runs import simulation_sha256
+from forcenet.systems import system_from_config
+from test_datasets import two_triangles_snapshot
+
+SYSTEM = "2d_linear"
+
+
+@pytest.fixture
+def config(tmp_path, monkeypatch):
+    """The smoke config with its records and results under tmp_path (the working directory)."""
+    monkeypatch.chdir(tmp_path)
+    config = copy.deepcopy(load_config("smoke.yaml"))
+    config["records_dir"] = "records"
+    config["results_dir"] = "results"
+    return config
+
+
+def fake_run(config, realization="r00", cpu_seconds=1800.0, shift=0.0):
+    """A finished run of SYSTEM in the config's results folder: one snapshot per grid ρ (four disks whose positions,
+    forces and contacts change from state to state) and its cost record."""
+    spec = system_from_config(SYSTEM, config)
+    attrs = pipeline.run_attrs(config, SYSTEM, paths.realization_index(realization), title="test")
+    outputs = []
+    for k, label in enumerate(spec.rho_labels):
+        arrays = two_triangles_snapshot(rho=float(label))
+        arrays["position"] = arrays["position"] + 0.01 * k + shift + 1e-13 * np.arange(8).reshape(4, 2)
+        keep = 5 - (k % 3)  # 5, 4, 3 contacts: the ragged arrays must keep each state's own
+        for name in ("contact_i", "contact_j", "force_normal", "force_tangential"):
+            arrays[name] = np.asarray(arrays[name])[:keep] * (1 if name.startswith("contact") else 1 + np.pi * k)
+        path = paths.snapshot(config["results_dir"], SYSTEM, realization, label)
+        write_snapshot(path, attrs={**attrs, "dem_damping_rate_time_step": 0.1 * k}, **arrays)
+        outputs.append(path)
+    Path(paths.run_cost(config["results_dir"], SYSTEM, realization)).write_text(json.dumps(
+        {"system": SYSTEM, "realization": paths.realization_index(realization), "cpu_seconds": cpu_seconds,
+         "particles": 4, "snapshots": len(outputs)}))
+    return outputs
+
+
+def test_a_record_gives_back_every_kept_value_of_every_snapshot_bit_for_bit(config, tmp_path):
+    outputs = fake_run(config)
+    row = campaign.record_run(config, SYSTEM, "r00", results="results")
+    assert row["states"] == str(len(outputs)) and row["cpu_hours"] == "0.500" and row["particles"] == "4"
+    assert campaign.read_manifest("records") == [row]
+    restored = [str(tmp_path / "again" / Path(p).name) for p in outputs]
+    campaign.restore_run(config=config, system=SYSTEM, realization="r00", outputs=restored,
+                         cost_path=str(tmp_path / "again" / "run_cost.json"))
+    for before, after in zip(outputs, restored):
+        a, b = read_snapshot(before), read_snapshot(after)
+        assert dict(a.attrs) == dict(b.attrs)  # the per-state λΔt too
+        for name in b.data_vars:
+            assert a[name].dtype == b[name].dtype and np.array_equal(a[name].values, b[name].values), name
+        assert set(a.data_vars) - set(b.data_vars) == set(DROPPED_VARIABLES)
+    cost = json.loads((tmp_path / "again" / "run_cost.json").read_text())
+    assert cost == {"system": SYSTEM, "realization": 0, "cpu_seconds": 1800.0, "particles": 4,
+                    "snapshots": len(outputs)}
+
+
+def test_record_differences_finds_a_changed_force_and_a_record_refuses_other_radii(config):
+    snapshots = [read_snapshot(p) for p in fake_run(config)]
+    labels = system_from_config(SYSTEM, config).rho_labels
+    record = record_dataset(snapshots, labels, simulation_sha256="x", cpu_seconds=1.0, title="t")
+    assert record_differences(record, snapshots) == []
+    record["force_tangential"].values[-1, 1] += 1e-15
+    assert record_differences(record, snapshots) == [f"state {labels[-1]}: 'force_tangential' differs"]
+    snapshots[1]["radius"].values[2] = 0.7
+    with pytest.raises(RecordError, match=f"state {labels[1]}: other radii"):
+        record_dataset(snapshots, labels, simulation_sha256="x", cpu_seconds=1.0, title="t")
+
+
+def test_snapshots_of_two_realizations_do_not_make_one_record(config):
+    first = [read_snapshot(p) for p in fake_run(config, "r00")]
+    second = [read_snapshot(p) for p in fake_run(config, "r01")]
+    with pytest.raises(RecordError, match=r"disagree in global attributes \[.*'realization'"):
+        record_dataset([first[0], *second[1:]], system_from_config(SYSTEM, config).rho_labels,
+                       simulation_sha256="x", cpu_seconds=1.0, title="t")
+
+
+def test_state_snapshot_slices_each_states_own_contacts(config):
+    snapshots = [read_snapshot(p) for p in fake_run(config)]
+    record = record_dataset(snapshots, system_from_config(SYSTEM, config).rho_labels, simulation_sha256="x",
+                            cpu_seconds=1.0, title="t")
+    counts = [int(s.sizes["contact"]) for s in snapshots]
+    assert counts[:3] == [5, 4, 3]
+    for index, snapshot in enumerate(snapshots):
+        _, arrays = state_snapshot(record, index)
+        assert np.array_equal(arrays["contact_j"], snapshot["contact_j"].values)
+        assert np.array_equal(arrays["force_normal"], snapshot["force_normal"].values)
+
+
+def test_an_unfinished_run_is_not_recorded(config):
+    outputs = fake_run(config)
+    Path(outputs[-1]).unlink()
+    with pytest.raises(CampaignError, match=rf"{SYSTEM} r00 has not finished in results: 1 of its files are missing"):
+        campaign.record_run(config, SYSTEM, "r00", results="results")
+
+
+def test_a_record_of_other_settings_is_refused_by_name_and_a_matching_one_restores(config):
+    fake_run(config)
+    campaign.record_run(config, SYSTEM, "r00", results="results")
+    assert campaign.recorded_realizations(config, SYSTEM) == ["r00"]
+    assert campaign.recorded_realizations(config, "2d_hertz") == []
+    changed = copy.deepcopy(config)
+    changed["systems"][SYSTEM]["friction"] = 0.25
+    with pytest.raises(CampaignError, match=rf"records/{SYSTEM}/r00/states.nc was made under other settings of "
+                                            rf"system '{SYSTEM}' .*forcenet-campaign drop {SYSTEM} r00"):
+        campaign.recorded_realizations(changed, SYSTEM)
+    # what the run does not depend on (analysis keys, other systems) keeps the record
+    other = copy.deepcopy(config)
+    other["analysis"]["thresholds"]["step"] = 0.1
+    other["systems"]["2d_hertz"]["friction"] = 0.25
+    assert campaign.recorded_realizations(other, SYSTEM) == ["r00"]
+    # a record beyond the config's realization count is not restored
+    without = copy.deepcopy(config)
+    without.pop("records_dir")
+    assert campaign.recorded_realizations(without, SYSTEM) == []
+
+
+def test_a_changed_record_file_is_refused_with_both_digests(config, tmp_path):
+    fake_run(config)
+    row = campaign.record_run(config, SYSTEM, "r00", results="results")
+    record = Path("records") / row["file"]
+    record.write_bytes(record.read_bytes() + b"\0")
+    with pytest.raises(CampaignError, match=r"states.nc: sha256 [0-9a-f]{12}, the manifest's [0-9a-f]{12}: the record "
+                                            r"was changed"):
+        campaign.restore_run(config=config, system=SYSTEM, realization="r00", outputs=[str(tmp_path / "x.nc")])
+    assert campaign.verify_records(config) == [f"{record}: sha256 differs from the manifest's"]
+
+
+def test_restoring_onto_another_grid_is_refused(config, tmp_path):
+    fake_run(config)
+    campaign.record_run(config, SYSTEM, "r00", results="results")
+    labels = system_from_config(SYSTEM, config).rho_labels
+    outputs = [str(tmp_path / "again" / f"rho{label}.nc") for label in labels]
+    outputs[0] = str(tmp_path / "again" / "rho0.123.nc")
+    with pytest.raises(RecordError, match=f"state 0 is ρ = {labels[0]}, but its output is .*rho0.123.nc"):
+        campaign.restore_run(config=config, system=SYSTEM, realization="r00", outputs=outputs)
+
+
+def test_status_tells_recorded_finished_running_stopped_and_missing_runs_apart(config):
+    config["realizations"] = {name: 1 for name in config["systems"]} | {SYSTEM: 5}
+    fake_run(config, "r00", cpu_seconds=3600.0)
+    campaign.record_run(config, SYSTEM, "r00", results="results")
+    fake_run(config, "r01", cpu_seconds=1800.0)
+    labels = system_from_config(SYSTEM, config).rho_labels
+    locks = []  # open while the status is read: a closed file releases its lock
+    for name, held in (("r02", True), ("r03", False)):
+        stage = Path(paths.run_dir("results", SYSTEM, name)) / paths.STAGING_DIR
+        stage.mkdir(parents=True)
+        (stage / f"rho{labels[0]}.nc").write_bytes(b"")
+        locks.append(open(stage.parent / paths.STAGE_LOCK, "a+"))
+        if held:
+            fcntl.flock(locks[-1], fcntl.LOCK_EX | fcntl.LOCK_NB)
+    statuses = {s.realization: s for s in campaign.campaign_status(config, results="results")
+                if s.system == SYSTEM}
+    assert [statuses[r].state for r in ("r00", "r01", "r02", "r03", "r04")] == [
+        "recorded", "finished", "running", "stopped", "missing"]
+    assert statuses["r00"].cpu_hours_done == 1.0 and statuses["r01"].cpu_hours_done == 0.5
+    # to go: the recorded run's 1.0 CPU-hour, less the share of states already staged
+    assert statuses["r04"].cpu_hours_to_go == 1.0
+    assert statuses["r02"].cpu_hours_to_go == pytest.approx(1.0 * (1 - 1 / len(labels)))
+    assert "forcenet-campaign record 2d_linear r01" in statuses["r01"].detail
+    text = campaign.status_table(list(statuses.values()))
+    assert text.splitlines()[-1].startswith("1 recorded, 1 finished, 1 running, 1 stopped, 1 missing")
+
+
+def test_the_tabled_cpu_hours_are_per_run(tmp_path):
+    (tmp_path / "p1.csv").write_text("# study: p1\n# system 2d_linear: N=2025 realizations=5 cpu_hours=0.73\n"
+                                     "# system box: N=484 realizations=1 cpu_hours=0.04\nclaim,verdict\n")
+    assert campaign.tabled_cpu_hours(tmp_path) == {"2d_linear": pytest.approx(0.146), "box": 0.04}
+
+
+@pytest.mark.parametrize("recorded, matches, refuses", [
+    ([], ["r00", "r01", "r10", "r100"], []),
+    (["r00", "r01"], ["r02", "r10", "r100", "r010"], ["r00", "r01"]),
+    (["r1"], ["r10", "r11", "r01"], ["r1"]),
+])
+def test_the_simulate_rules_constraint_leaves_out_exactly_the_recorded_runs(recorded, matches, refuses):
+    pattern = re.compile(rf"(?P<realization>{campaign.realizations_except(recorded)})/run_cost\.json$")
+    assert all(pattern.match(f"{name}/run_cost.json") for name in matches)
+    assert not any(pattern.match(f"{name}/run_cost.json") for name in refuses)
+
+
+def test_the_record_is_a_valid_run_record_file_with_units_everywhere(config):
+    fake_run(config)
+    row = campaign.record_run(config, SYSTEM, "r00", results="results")
+    record = read_dataset(Path("records") / row["file"], "run_record")
+    assert all("units" in v.attrs and "long_name" in v.attrs for v in record.variables.values())
+    assert record.attrs["simulation_sha256"] == simulation_sha256(config, SYSTEM)
+    assert json.loads(record.attrs["snapshot_attrs"])["system"] == SYSTEM
+
+
+def test_the_size_table_and_drop_follow_the_manifest(config):
+    fake_run(config)
+    row = campaign.record_run(config, SYSTEM, "r00", results="results")
+    megabytes = int(row["bytes"]) / 1e6
+    count = len(campaign.realization_indices(config, SYSTEM))
+    Path("records/README.md").write_text(f"intro\n{campaign.SIZE_TABLE_START}\nold\n{campaign.SIZE_TABLE_END}\nafter\n")
+    campaign.write_size_table(config)
+    text = Path("records/README.md").read_text()
+    assert text.startswith("intro\n") and text.endswith("after\n") and "old" not in text
+    assert f"| {SYSTEM} | 1 of {count} | {megabytes:.1f} | {megabytes:.2f} | {megabytes * count:.1f} |" in text
+    assert "| 2d_hertz | 0 of 1 | 0.0 | – | – |" in text
+    campaign.drop_record(config, SYSTEM, "r00")
+    assert campaign.read_manifest("records") == [] and not Path("records", row["file"]).exists()
+    assert campaign.recorded_realizations(config, SYSTEM) == []
