@@ -274,3 +274,43 @@ def test_overlaps_past_ten_percent_are_logged_and_a_changed_rho_is_refused(tmp_p
                                           r"its snapshot rho0.150.nc: the source changed after snakemake read it"):
         import_run(config=config, system="s", realization=0, outputs=[str(tmp_path / "other" / "rho0.150.nc")])
     assert not (tmp_path / "other").exists()
+
+
+# --- config values that passed every check and failed at job time --------------------------------------------------
+SCHEMA = Path(__file__).resolve().parents[1] / "workflow" / "schemas" / "config.schema.yaml"
+
+
+@pytest.mark.parametrize("rule, table_rho, expected", [
+    ("jammed", 0.896, "config key 'studies.p2.table_rho': is 0.896, but system '2d_poly_mu05' has 2 grid point(s) at or "
+                     "above it (its grid ends at 0.9), and the jammed states a, b, c need 3: lower table_rho or extend "
+                     "the grid"),
+    ("literal", 0.95, "config key 'studies.p2.table_rho': is 0.95, outside system '2d_poly_mu05''s grid (0.63 … 0.9): "
+                      "the literal states a, b, c are the three nearest it"),
+])
+def test_a_table_rho_beyond_the_p2_grid_is_refused_naming_the_key(rule, table_rho, expected):
+    from conftest import load_config
+    from forcenet.systems import ConfigError
+    from forcenet.workflow_io import checked_config
+
+    config = load_config()
+    config["studies"]["p2"].update(table_rho=table_rho, table_states=rule)
+    with pytest.raises(ConfigError) as caught:
+        checked_config(config, SCHEMA)
+    assert str(caught.value) == expected
+
+
+def test_a_grid_past_random_close_packing_gets_one_note_in_the_dry_run(capsys):
+    from conftest import load_config
+    from forcenet.workflow_io import checked_config
+
+    config = load_config()
+    checked_config(config, SCHEMA)
+    (note,) = capsys.readouterr().err.splitlines()
+    assert note.startswith("forcenet: note: systems.2d_linear.rho (0.88), systems.2d_hertz.rho (0.9), "
+                           "systems.3d_hertz.rho (0.7) and 2 more end past random close packing (disks ≈ 0.84, "
+                           "spheres ≈ 0.64): expect the largest overlaps above P1's 10 % of a diameter"), note
+    for name, spec in config["systems"].items():
+        spec["rho"] = {"start": spec["rho"]["start"], "stop": 0.83 if spec["dimension"] == 2 else 0.62,
+                       "step": spec["rho"].get("step", 0.01)}
+    checked_config(config, SCHEMA)
+    assert capsys.readouterr().err == ""

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import dataclasses
 import os
+import sys
 from pathlib import Path
 from typing import Any, Mapping
 
@@ -174,7 +175,55 @@ def checked_config(config: Mapping[str, Any], schema_path: str | Path) -> dict:
     problem = non_finite_number(config) or schema_problem(config, schema_path)
     if problem is not None:
         raise problem
-    return validate_config(config)
+    systems = validate_config(config)
+    problem = table_rho_problem(config, systems)
+    if problem is not None:
+        raise problem
+    for note in config_notes(systems):
+        print(f"forcenet: note: {note}", file=sys.stderr)
+    return systems
+
+
+def config_notes(systems: Mapping[str, Any]) -> list[str]:
+    """The lines a valid config should hear before it runs, each naming its keys: one for the ρ grids that end past
+    random close packing (`forcenet.checks.past_random_close_packing`; the papers' grids all do, so one line says it
+    for all of them)."""
+    from forcenet.checks import MAX_OVERLAP_FRACTION, RANDOM_CLOSE_PACKING, past_random_close_packing
+    from forcenet.systems import SystemSpec
+
+    past = [f"systems.{name}.rho ({spec.rho_grid[-1]:g})" for name, spec in systems.items()
+            if isinstance(spec, SystemSpec) and past_random_close_packing(spec)]
+    if not past:
+        return []
+    named = ", ".join(past[:3]) + (f" and {len(past) - 3} more" if len(past) > 3 else "")
+    return [f"{named} end past random close packing (disks ≈ {RANDOM_CLOSE_PACKING[2]}, spheres ≈ "
+            f"{RANDOM_CLOSE_PACKING[3]}): expect the largest overlaps above P1's 10 % of a diameter there, and a "
+            f"3D grid near the densest packing to stop at the engine's {MAX_OVERLAP_FRACTION:.0%} blow-up limit"]
+
+
+def table_rho_problem(config: Mapping[str, Any], systems: Mapping[str, Any]) -> ConfigError | None:
+    """``studies.p2.table_rho`` against each P2 system's grid, as a `ConfigError` naming the key (None when it fits):
+    the jammed rule (the default) takes its states a, b, c among the samples at or above table_rho, so at least three
+    must be; the literal rule takes the three nearest, so table_rho must lie within the grid. Issue 57: a table_rho
+    above the grid passed every check and failed at job time naming no key."""
+    from forcenet.systems import TABLE_STATES
+
+    p2 = config["studies"].get("p2", {})
+    table_rho = float(p2.get("table_rho", 0.79))
+    rule = p2.get("table_states", "jammed")
+    for name in p2.get("systems", []):
+        grid = systems[name].rho_grid
+        if rule == "jammed" and sum(rho >= table_rho - 1e-9 for rho in grid) < TABLE_STATES:
+            return ConfigError("studies.p2.table_rho", f"is {table_rho:g}, but system '{name}' has "
+                                                       f"{sum(rho >= table_rho - 1e-9 for rho in grid)} grid point(s) "
+                                                       f"at or above it (its grid ends at {grid[-1]}), and the jammed "
+                                                       f"states a, b, c need {TABLE_STATES}: lower table_rho or extend "
+                                                       "the grid")
+        if rule == "literal" and not grid[0] <= table_rho <= grid[-1]:
+            return ConfigError("studies.p2.table_rho", f"is {table_rho:g}, outside system '{name}''s grid "
+                                                       f"({grid[0]} … {grid[-1]}): the literal states a, b, c are the "
+                                                       "three nearest it")
+    return None
 
 
 def check_config_main(argv: list[str] | None = None) -> int:
@@ -183,8 +232,6 @@ def check_config_main(argv: list[str] | None = None) -> int:
     Snakemake reads a --configfile before the workflow does and reports a YAML syntax error without the file or line,
     and a key given twice not at all; this names both (and runs the schema and physical checks as the workflow
     would, and resolves `results_dir` against the current directory, as a run from it would)."""
-    import sys
-
     paths = sys.argv[1:] if argv is None else argv
     if not paths:
         print("usage: forcenet-check-config CONFIG.yaml [...]", file=sys.stderr)
