@@ -209,3 +209,35 @@ for rule in ("none", "once"):
     print(f"rattler rule {rule}: <F> = {network.mean_force:.2f}, PD0 never-dying classes {never_dying}, "
           f"PD1 points {loops}")
     assert loops == 1  # the square's loop, whatever the rattler rule
+
+# %% [markdown]
+# ## 7. A paper-size run from the campaign records
+#
+# The validation campaign's finished runs are committed under `data/validation/` (`data/validation/README.md`):
+# one file per run holding every snapshot of its ρ grid (positions, radii, contacts with their force vectors, wall
+# contacts, box, ρ, Z), listed in `manifest.csv`. Open one with xarray, see Z(ρ) of the whole run, and rebuild the
+# snapshot of its densest state to analyse it as above. (`FORCENET_RECORDS=dir` reads another records folder; with
+# no record yet this section says so.)
+
+# %%
+import pandas as pd
+
+from forcenet.datasets.records import state_snapshot
+
+RECORDS = Path(os.environ.get("FORCENET_RECORDS", Path(forcenet.__file__).resolve().parents[2] / "data" / "validation"))
+manifest_path = Path(paths.record_manifest(RECORDS))
+manifest = pd.read_csv(manifest_path) if manifest_path.exists() else pd.DataFrame()
+print(f"{len(manifest)} recorded runs in {RECORDS}")
+if len(manifest):
+    row = manifest.iloc[0]
+    record = xr.open_dataset(RECORDS / row["file"])
+    print(f"{row['system']} {row['realization']}: N = {record.sizes['particle']}, {record.sizes['state']} states, "
+          f"{row['cpu_hours']} CPU-hours, simulated at commit {str(row['git_commit'])[:12]}")
+    for label, rho, z in zip(record["state"].values[::4], record["rho"].values[::4], record["Z"].values[::4]):
+        print(f"  state {label}: rho = {rho:.4f}, Z = {z:.3f}")
+    attrs, arrays = state_snapshot(record, record.sizes["state"] - 1)  # the densest state, as simulated
+    densest = snapshot_dataset(attrs=attrs, **arrays)
+    network = snapshot_network(densest, "total", rattler_rule="once")
+    pd_densest = persistence_diagrams(network)
+    print(f"densest state: {densest.sizes['contact']} contacts, PD1 points {int(np.sum(pd_densest.homology_dim == 1))}")
+    assert float(densest.Z) == float(record["Z"].values[-1])  # the rebuilt snapshot is the recorded state

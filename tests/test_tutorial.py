@@ -32,6 +32,8 @@ def test_tutorial_runs_against_the_smoke_build(smoke_run, tmp_path, monkeypatch)
     for expected in ("B0/N =", "loaded contacts", "PD0:", "bottleneck:", "wasserstein_1:", "wasserstein_2:",
                      "rattler rule none: <F> = 1.70, PD0 never-dying classes 3, PD1 points 1"):  # §6, the table
         assert expected in text, text
+    recorded = (REPO / "data/validation/manifest.csv").exists()
+    assert "recorded runs in" in text and ("densest state:" in text) == recorded  # §7, the campaign records
     figures = sum(1 for cell in notebook.cells for out in cell.get("outputs", []) if "image/png" in out.get("data", {}))
     assert figures == 3  # B0/N(ρ), the force network, the persistence diagram
 

@@ -134,3 +134,11 @@ rule movies:
     localrule: True
     input:
         [paths.movie(RESULTS, name) for name in P1_MOVIES],
+
+
+rule figures:
+    """Every figure of the config's studies and their CSVs (and what they need; with config/validation.yaml, drawn
+    at the papers' sizes from the campaign records, data/validation/README.md)."""
+    localrule: True
+    input:
+        [paths.figure(RESULTS, name, fmt) for name in BUILT_FIGURES for fmt in paths.FIGURE_FORMATS],
