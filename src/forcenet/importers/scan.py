@@ -43,9 +43,11 @@ def record_dir() -> Path:
 
 
 def record_path(path: str | Path) -> Path:
-    """The record of source file `path`: its name and a hash of its absolute path (two files of one name differ)."""
-    absolute = os.path.abspath(path)
-    return record_dir() / f"{Path(path).name}.{hashlib.sha256(absolute.encode()).hexdigest()[:16]}.json"
+    """The record of source file `path`: its name and a hash of the path as the config gives it (two files of one
+    name differ; a relative path keeps its record when the working directory is copied or moved, as the records'
+    folder is relative to it too)."""
+    given = os.path.normpath(path)
+    return record_dir() / f"{Path(path).name}.{hashlib.sha256(given.encode()).hexdigest()[:16]}.json"
 
 
 def checked_size(path: str | Path) -> os.stat_result:
@@ -64,7 +66,7 @@ def file_record(path: str | Path, how: str | None = None, scan: Callable[[], Any
     its file when the source's size and modification time are those recorded (and it holds scan `how`), else made
     now (the file hashed, `scan` run) and stored; its modification time then changes only if the sha256 did."""
     status = checked_size(path)
-    key = {"path": os.path.abspath(path), "size": status.st_size, "mtime_ns": status.st_mtime_ns,
+    key = {"path": os.path.normpath(path), "size": status.st_size, "mtime_ns": status.st_mtime_ns,
            "version": RECORD_VERSION}
     stored = record_path(path)
     old = _load(stored)
