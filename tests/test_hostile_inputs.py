@@ -48,9 +48,13 @@ def refused(tmp_path, entry, outputs=1) -> str:
     return message
 
 
-def test_the_small_dumps_read(tmp_path):
-    (state,) = source_states(lammps_entry(*dumps(tmp_path)), 0)
+def test_the_small_dumps_read_with_any_line_ends(tmp_path):
+    atoms, pairs = dumps(tmp_path)
+    (state,) = source_states(lammps_entry(atoms, pairs), 0)
     assert state.contact_i.tolist() == [0, 0] and state.contact_j.tolist() == [1, 2]
+    atoms.write_bytes(atoms.read_bytes().replace(b"\n", b"\r\n"))  # written on Windows: still whole lines
+    (again,) = source_states(lammps_entry(atoms, pairs), 0)
+    np.testing.assert_array_equal(again.position, state.position)
 
 
 # case: (atoms text or None (the good one), pairs text or None, the file the message names, what it says)

@@ -125,7 +125,7 @@ def source_lines(path: str | Path) -> Iterator[tuple[int, str]]:
             if not line:
                 return
             number += 1
-            if not line.endswith("\n"):
+            if not line.endswith(("\n", "\r")):  # newline="": \r\n and \r end lines too
                 raise SourceError(path, f"line {number}", f"the file ends inside this line ({line[-40:]!r}), without "
                                                           "its final newline: cut short while it was being written?")
             yield number, line.rstrip("\r\n")
