@@ -107,8 +107,44 @@ def smoke_run(tmp_path_factory) -> Path:
 _BUILDING_MODULES = ("test_workflow.py", "test_workflow_import.py")
 
 
+# Test tiers. Plain `pytest` runs the unit tier: every test that needs nothing beyond the package (no pipeline
+# build, no LAMMPS, no Slurm). `pytest --all` runs every tier, as the README's test command and .ci/run do. A test's
+# tier follows from what it uses: a fixture below marks every test that needs it (directly or through another
+# fixture), so a test cannot slip into the unit tier by forgetting a marker; a module or test may also carry a tier's
+# marker itself (pyproject.toml lists them).
+#: fixture → the tier of the tests that use it
+TIER_OF_FIXTURE = {"smoke_run": "workflow", "example_run": "workflow", "lmp": "lammps", "slurm_cluster": "slurm"}
+#: the tiers beyond the unit tier, run only with --all
+OUTER_TIERS = ("workflow", "lammps", "slurm")
+
+
+def pytest_addoption(parser):
+    parser.addoption("--all", action="store_true", dest="all_tiers",
+                     help="run every tier: unit, workflow (Snakemake builds), lammps, slurm (plain pytest: the unit "
+                          "tier only)")
+
+
+def tiers_of(item) -> set[str]:
+    """The outer tiers `item` belongs to: its markers' and those of the fixtures it uses."""
+    tiers = {marker.name for marker in item.iter_markers() if marker.name in OUTER_TIERS}
+    return tiers | {TIER_OF_FIXTURE[name] for name in getattr(item, "fixturenames", ()) if name in TIER_OF_FIXTURE}
+
+
 def pytest_collection_modifyitems(config, items):
-    """Stable reorder: the tests of `_BUILDING_MODULES` first, in that order; every other test keeps its place."""
+    """Mark each test with the tiers of the fixtures it uses; without --all, deselect every test of an outer tier.
+    Then a stable reorder: the tests of `_BUILDING_MODULES` first, in that order; every other test keeps its place."""
+    deselected = []
+    for item in list(items):
+        tiers = tiers_of(item)
+        for tier in tiers:
+            item.add_marker(tier)
+        if tiers and not config.getoption("all_tiers"):
+            deselected.append(item)
+    if deselected:
+        config.hook.pytest_deselected(items=deselected)
+        left_out = set(deselected)
+        items[:] = [item for item in items if item not in left_out]
+
     def rank(item) -> int:
         name = item.path.name
         return _BUILDING_MODULES.index(name) if name in _BUILDING_MODULES else len(_BUILDING_MODULES)
