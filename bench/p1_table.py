@@ -10,7 +10,9 @@ Reads the aggregated measures and diagrams a build left (``RESULTS/<system>/netw
 
 Medians over ``--repeat`` runs after one warm-up pass. To A/B a change, run this file from both trees on the same
 results, alternately, pinned to one core (``taskset -c 1``), with ``PYTHONPATH=<tree>/src``. The last line printed
-is one JSON object. Run: ``.venv/bin/python bench/p1_table.py [--results results]``.
+is one JSON object; the run's record goes to bench/results/p1_table.json (bench/records.py), with the input it
+read (systems, realizations, ρ points, the build config's SHA-256); with no build's results there, the record says
+so. Run: ``.venv/bin/python bench/p1_table.py [--results results] [--no-record]``.
 """
 from __future__ import annotations
 
@@ -24,6 +26,8 @@ from forcenet.datasets import read_dataset
 from forcenet.report.p1 import P1_SYSTEMS
 from forcenet.report.p1_validation import p1_validation
 from forcenet.report.realizations import ROBUSTNESS_RESAMPLES
+
+import records  # bench/records.py
 
 
 def counterparts_of(ds) -> list[str]:
@@ -55,14 +59,34 @@ def timed(measures: dict, diagrams: dict, counterparts: list, resamples: int) ->
     return time.perf_counter() - start
 
 
-def main() -> None:
+def describe_input(measures: dict) -> dict:
+    """What the timed results are: per system its realizations and ρ points, and the build's config (the file under
+    config/ whose hash the measures record, where one matches; else its SHA-256)."""
+    import yaml
+
+    from forcenet.systems import config_sha256
+
+    shipped = {config_sha256(yaml.safe_load(path.read_text())): f"config/{path.name}"
+               for path in sorted((records.REPO / "config").glob("*.yaml"))}
+    hashes = sorted({ds.attrs.get("config_sha256", "") for ds in measures.values()})
+    return {"systems": {name: {"realizations": int(ds.sizes.get("realization", 1)), "rho_points": int(ds.sizes["rho"])}
+                        for name, ds in sorted(measures.items())},
+            "config": [shipped.get(sha, sha) for sha in hashes]}
+
+
+def main(argv=None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--results", type=Path, default=Path("results"), help="a build's results folder")
     parser.add_argument("--resamples", type=int, default=20, help="bootstrap resamples of the timed run")
     parser.add_argument("--repeat", type=int, default=3)
-    args = parser.parse_args()
+    records.add_no_record(parser)
+    args = parser.parse_args(argv)
+    run = records.Run("p1_table", enabled=records.wanted(args, argv),
+                      settings=dict(resamples=args.resamples, repeat=args.repeat,
+                                    job_resamples=ROBUSTNESS_RESAMPLES))
     measures, diagrams, counterparts = read_results(args.results)
     if not measures:
+        run.not_measured(f"no build's results (<system>/network_measures.nc with diagrams.nc) under {args.results}")
         raise SystemExit(f"no <system>/network_measures.nc with its diagrams.nc under {args.results}: build first "
                          f"(.venv/bin/snakemake --cores 2)")
     timed(measures, diagrams, counterparts, 0)  # warm-up: imports, first-touch caches
@@ -76,6 +100,7 @@ def main() -> None:
               "job_estimate_s": round(pass_s + ROBUSTNESS_RESAMPLES * resample_s, 1)}
     print(f"one pass {pass_s:.2f} s, one resample {resample_s:.3f} s, so about "
           f"{result['job_estimate_s']:.0f} s for {ROBUSTNESS_RESAMPLES} resamples")
+    run.write(measured={**result, "input": describe_input(measures)})
     print(json.dumps(result))
 
 

@@ -16,7 +16,9 @@ Measures
 Prints a table, then one JSON object on the last line. The Slurm part runs when `sinfo` shows this node taking
 jobs (scripts/slurm_cluster.sh up), else it is reported as skipped.
 
-Run: ``.venv/bin/python bench/workflow_overhead.py [--no-slurm] [--no-dry-run] [--keep DIR]``
+The run's record goes to bench/results/workflow_overhead.json (bench/records.py; not with ``--no-record``).
+
+Run: ``.venv/bin/python bench/workflow_overhead.py [--no-slurm] [--no-dry-run] [--keep DIR] [--no-record]``
 """
 from __future__ import annotations
 
@@ -35,6 +37,8 @@ import yaml
 
 REPO = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(REPO / "src"))
+import records  # noqa: E402  (bench/records.py)
+
 PYTHON = sys.executable
 SYSTEM = "2d_linear"
 RHOS = [0.78, 0.79, 0.80, 0.81, 0.82, 0.83, 0.84]  # jammed-ish; faster compression blows up above ~0.85
@@ -128,12 +132,16 @@ def slurm_job_seconds(workdir: Path) -> list[float]:
     return seconds
 
 
-def main() -> None:
+def main(argv=None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--no-slurm", action="store_true", help="skip the Slurm measurement")
     parser.add_argument("--no-dry-run", action="store_true", help="skip the paper dry-runs")
     parser.add_argument("--keep", type=Path, help="work in this directory and keep it")
-    args = parser.parse_args()
+    records.add_no_record(parser)
+    args = parser.parse_args(argv)
+    run = records.Run("workflow_overhead", enabled=records.wanted(args, argv),
+                      settings=dict(system=SYSTEM, rho=RHOS, slurm=not args.no_slurm, dry_run=not args.no_dry_run,
+                                    targets=dict(dry_run_s=DRY_RUN_TARGET_S, overhead_ratio=OVERHEAD_TARGET)))
     root = args.keep or Path(tempfile.mkdtemp(prefix="forcenet-overhead-"))
     root.mkdir(parents=True, exist_ok=True)
     result: dict = {}
@@ -246,6 +254,7 @@ def main() -> None:
         print(f"{name:52s} {str(value):>14s} {target:>8s}")
     if not args.keep:
         shutil.rmtree(root, ignore_errors=True)
+    run.write(measured=result)
     print(json.dumps(result))
 
 
