@@ -116,11 +116,12 @@ def test_a_hostile_lammps_dump_is_refused_naming_its_file_and_line(tmp_path, cas
     assert message.startswith(f"{tmp_path / bad}, {expected}"), message
 
 
-def corrupt_gzip(path: Path, text: str) -> None:
-    """`text` gzipped, with bytes in the middle of its compressed data overwritten (header and trailer intact)."""
+def corrupt_gzip(path: Path, text: str, at: int | None = None) -> None:
+    """`text` gzipped, with 8 bytes of its compressed data overwritten (header and trailer intact) at byte `at`
+    (default: the middle, which gzip's CRC check finds; 10, the first deflate block's header: zlib.error)."""
     data = bytearray(gzip.compress(text.encode(), mtime=0))
-    middle = len(data) // 2
-    data[middle:middle + 8] = b"\xff" * 8
+    at = len(data) // 2 if at is None else at
+    data[at:at + 8] = b"\xff" * 8
     path.write_bytes(bytes(data))
 
 
@@ -131,7 +132,11 @@ def test_a_corrupt_gzip_stream_is_refused_naming_its_file(tmp_path):
     corrupt_gzip(zipped, HEAD.format("ATOMS", len(rows)) + "ITEM: ATOMS id type x y z radius\n"
                  + "".join(r + "\n" for r in rows))
     message = refused(tmp_path, lammps_entry(zipped, pairs))
-    assert message.startswith(f"{zipped}") and "cannot be read (" in message, message
+    assert message.startswith(f"{zipped}, after line ") and ": cannot be read (CRC check failed" in message, message
+    corrupt_gzip(zipped, HEAD.format("ATOMS", len(rows)) + "ITEM: ATOMS id type x y z radius\n", at=10)
+    message = refused(tmp_path, lammps_entry(zipped, pairs))  # issue 57: an uncaught zlib.error naming no file
+    assert message == (f"{zipped}: cannot be read (Error -3 while decompressing data: invalid block type; a corrupt "
+                       "gzip stream)"), message
     table = tmp_path / "particles.csv.gz"
     corrupt_gzip(table, "id,x,y,radius\n" + "".join(f"{k},{k}.5,0.5,0.25\n" for k in range(2000)))
     entry = {"dimension": 2, "source": {"format": "table", "forces": "magnitudes",
