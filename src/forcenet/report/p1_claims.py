@@ -71,13 +71,13 @@ def _same_verdicts(context: ClaimContext, pairs: list[tuple[SystemData, SystemDa
     """P1 §3's "qualitatively the same": every per-system claim judged on both systems of each pair (each on its
     own ρ_J), the share with the same verdict ≥ same_verdicts; not evaluated, for the reason `missing`, without a
     pair."""
-    from forcenet.report.p1_validation import CLAIMS as every_claim  # this list is part of it
-
     if not pairs:
         raise NotEvaluated(missing)
+    if not context.claims:
+        raise NotEvaluated("no claims handed to the context to compare the runs with")
     same, differing = 0, []
     for reference, other in pairs:
-        for judged in every_claim:
+        for judged in context.claims:
             if not judged.per_system or (judged.scope is not None and reference.role not in judged.scope):
                 continue
             verdicts = []

@@ -164,6 +164,9 @@ class ClaimContext:
     systems: Mapping[str, SystemData]
     tolerances: ClaimTolerances
     counterparts: frozenset[str] = frozenset()
+    #: every claim being judged (`forcenet.report.p1_validation.CLAIMS`): P1 §3's "qualitatively the same" judges
+    #: each per-system claim on both runs of a pair, so the context hands the list down instead of being imported
+    claims: tuple = ()
 
     @property
     def own(self) -> dict[str, SystemData]:

@@ -160,7 +160,7 @@ def _context(present: Mapping[str, xr.Dataset], tolerances: ClaimTolerances, for
     systems = {name: replace(system_data(name, ds, cut if isinstance(cut, FMaxCut) else None, tolerances,
                                          up_to_rho_max), overlap=float((overlaps or {}).get(name, math.nan)))
                for name, ds in present.items()}
-    return ClaimContext(systems, tolerances, frozenset(counterparts))
+    return ClaimContext(systems, tolerances, frozenset(counterparts), claims=tuple(CLAIMS))
 
 
 def _cuts(present: Mapping[str, xr.Dataset], counterparts: Sequence[str] = ()) -> dict[str, FMaxCut | str]:
