@@ -1,0 +1,103 @@
+#!/usr/bin/env python
+"""How long the project's everyday commands take (benchmark, not a test): wall and CPU time of one run.
+
+usage: python bench/command_time.py NAME [--no-record]        (NAME: one of COMMANDS below; --list shows them)
+
+Runs the command with bash, from the repository root or, for the commands a newcomer runs first, in a fresh clone
+of this checkout's HEAD in a temporary folder (deleted afterwards); {scratch} in a command is an empty temporary
+folder. Measures the wall time and the CPU time of the command and its children, keeps pytest's or Snakemake's
+summary line, and leaves the record in bench/results/command_time-NAME.json (bench/records.py); a command that
+fails leaves a record that says so. Run it on a machine that is otherwise idle: the record notes the load average
+before and after.
+"""
+from __future__ import annotations
+
+import argparse
+import re
+import resource
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import records  # bench/records.py
+
+#: name → what it is, the command (bash, {scratch}: an empty temporary folder), whether it runs in a fresh clone
+COMMANDS = {
+    "main_build": dict(what="the main job, venv and install included (README)", fresh_clone=True,
+                       command="python3 -m venv .venv && .venv/bin/pip install -q -r environment.txt && "
+                               ".venv/bin/snakemake --cores 2"),
+    "main_build_again": dict(what="the main job again with nothing to do (after a build)", fresh_clone=False,
+                             command=".venv/bin/snakemake --cores 2"),
+    "test_suite": dict(what="the README's test command, every tier, venv and install included", fresh_clone=True,
+                       command="bash .ci/run"),
+    "unit_tests": dict(what="the unit tier (plain pytest)", fresh_clone=False,
+                       command=".venv/bin/python -m pytest -q -p no:cacheprovider"),
+    "smoke_build": dict(what="smoke config, full build in an empty folder", fresh_clone=False,
+                        command=".venv/bin/snakemake --cores 2 --configfile config/smoke.yaml --directory {scratch}"),
+}
+SUMMARY = (re.compile(r"^=* ?(\d+ passed.*?) in [\d.]+s", re.M), re.compile(r"^(\d+ of \d+ steps \(100%\) done)", re.M))
+
+
+def summary_line(output: str) -> str | None:
+    """pytest's "N passed, M skipped" or Snakemake's "N of N steps (100%) done", the last one printed."""
+    for pattern in SUMMARY:
+        found = pattern.findall(output)
+        if found:
+            return found[-1].strip("= ")
+    return None
+
+
+def cpu_children() -> float:
+    usage = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return usage.ru_utime + usage.ru_stime
+
+
+def run_command(name: str, repo: Path = records.REPO) -> dict:
+    """Run COMMANDS[name] once; its wall and CPU seconds, exit status and summary line."""
+    spec = COMMANDS[name]
+    with tempfile.TemporaryDirectory(prefix=f"forcenet-{name}-") as tmp:
+        tmp = Path(tmp)
+        scratch = tmp / "scratch"
+        scratch.mkdir()
+        cwd = repo
+        if spec["fresh_clone"]:
+            cwd = tmp / "clone"
+            subprocess.run(["git", "clone", "-q", str(repo), str(cwd)], check=True)
+        command = spec["command"].format(scratch=scratch)
+        cpu0, wall0 = cpu_children(), time.perf_counter()
+        result = subprocess.run(["bash", "-c", command], cwd=cwd, capture_output=True, text=True)
+        wall, cpu = time.perf_counter() - wall0, cpu_children() - cpu0
+        shutil.rmtree(tmp, ignore_errors=True)
+    output = result.stdout + result.stderr
+    return dict(wall_s=round(wall, 1), cpu_s=round(cpu, 1), returncode=result.returncode,
+                summary=summary_line(output), output_tail=output[-2000:])
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("name", nargs="?", choices=tuple(COMMANDS))
+    ap.add_argument("--list", action="store_true", help="list the commands")
+    records.add_no_record(ap)
+    args = ap.parse_args(argv)
+    if args.list or not args.name:
+        for name, spec in COMMANDS.items():
+            print(f"{name:18s} {spec['what']}: {spec['command']}{' (fresh clone)' if spec['fresh_clone'] else ''}")
+        return 0
+    spec = COMMANDS[args.name]
+    run = records.Run("command_time", variant=args.name, enabled=records.wanted(args, argv), settings=dict(spec))
+    result = run_command(args.name)
+    print(f"{args.name}: {result['wall_s']} s wall, {result['cpu_s']} s CPU, exit status {result['returncode']}"
+          f"{'; ' + result['summary'] if result['summary'] else ''}")
+    if result["returncode"] != 0:
+        print(result["output_tail"], file=sys.stderr)
+        run.not_measured(f"the command failed (exit status {result['returncode']})")
+        return 1
+    run.write(measured={k: v for k, v in result.items() if k != "output_tail"})
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

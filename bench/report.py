@@ -1,0 +1,303 @@
+#!/usr/bin/env python
+"""The measured-figures tables of docs/performance.md, made from the benchmarks' latest records (bench/results/).
+
+usage: python bench/report.py [--check] [--page docs/performance.md] [--results bench/results]
+
+Each table sits between ``<!-- bench:NAME -->`` and ``<!-- /bench:NAME -->`` in the page; everything between the two
+markers is rewritten from the records, everything outside them (the prose on methods) is left as it is. Below each
+table one line per record names its file, date, machine, load, commit and command. A benchmark whose record says
+"not measured" (LAMMPS cannot be installed, no build's results) or that has no record yet gets a row that says so.
+With --check nothing is written and the exit status is 1 when the page differs from what the records make
+(tests/test_bench_records.py checks the same).
+"""
+from __future__ import annotations
+
+import argparse
+import difflib
+import re
+import sys
+from pathlib import Path
+
+import records  # bench/records.py
+
+PAGE = records.REPO / "docs" / "performance.md"
+MARKER = re.compile(r"(<!-- bench:(?P<name>[\w-]+) -->\n)(?P<body>.*?)(<!-- /bench:(?P=name) -->)", re.S)
+SUPERSCRIPT = str.maketrans("-0123456789", "⁻⁰¹²³⁴⁵⁶⁷⁸⁹")
+SAME_STATE_CASES = ("2d_linear", "2d_hertz", "3d_linear", "3d_hertz")
+DEM_CASES = ("2d", "3d")
+
+
+# --- number formats -------------------------------------------------------------------------------------------
+def sci(value: float, digits: int = 3) -> str:
+    """`digits` significant digits, powers of ten written out below 0.001 and from 1000: 1.57·10⁷, 8.0·10⁻¹⁵,
+    0.470, 25.3."""
+    if value == 0:
+        return "0"
+    mantissa, exponent = f"{value:.{digits - 1}e}".split("e")
+    exponent = int(exponent)
+    if -3 < exponent < 3:
+        return f"{value:.{max(digits - 1 - exponent, 0)}f}"
+    return f"{mantissa}·10{str(exponent).translate(SUPERSCRIPT)}"
+
+
+def fixed(value: float, digits: int = 3) -> str:
+    """`digits` significant digits without an exponent (≥ 1: at most `digits` - 1 decimals)."""
+    if value == 0:
+        return "0"
+    decimals = max(digits - 1 - int(f"{abs(value):e}".split("e")[1]), 0)
+    return f"{value:.{decimals}f}"
+
+
+def seconds(value: float) -> str:
+    return f"{fixed(value, 2)} s" if value < 60 else f"{int(value // 60)} min {round(value % 60):d} s"
+
+
+def percent(ratio: float) -> str:
+    return f"{fixed(100 * ratio, 2)} %"
+
+
+# --- provenance -----------------------------------------------------------------------------------------------
+def provenance(items: list[tuple[str, dict]]) -> list[str]:
+    """One line per group of records from the same command, day, commit and machine (load: lowest before to
+    highest after)."""
+    groups: dict[tuple, list[tuple[str, dict]]] = {}
+    for stem, record in items:
+        machine = record.get("machine", {})
+        key = (record.get("command"), record.get("date", "")[:10], record.get("commit"), record.get("dirty"),
+               machine.get("cpu"), machine.get("cores"), tuple(machine.get("affinity") or ()))
+        groups.setdefault(key, []).append((stem, record))
+    lines = []
+    for (command, day, commit, dirty, cpu, cores, affinity), group in groups.items():
+        files = ", ".join(f"`{stem}.json`" for stem, _ in group)
+        pinned = (f", run on CPU {','.join(map(str, affinity))}" if affinity and cores and len(affinity) < cores
+                  else "")
+        before = [r["machine"]["load_before"][0] for _, r in group if r["machine"].get("load_before")]
+        after = [r["machine"]["load_after"][0] for _, r in group if r["machine"].get("load_after")]
+        load = f", load average {min(before):.1f} → {max(after):.1f}" if before and after else ""
+        tree = f"commit {commit[:10]}{' with uncommitted changes' if dirty else ''}" if commit else "no git commit"
+        lines.append(f"<sub>Record {files}: {day}, {cpu}, {cores} cores{pinned}{load}; {tree}; "
+                     f"`{command}`.</sub>")
+    return lines
+
+
+def not_measured(record: dict | None, how: str) -> str:
+    if record is None:
+        return f"no record yet (`{how}`)"
+    return f"not measured on this machine: {record.get('reason') or 'no reason recorded'}"
+
+
+def measured(record: dict | None) -> bool:
+    return record is not None and record.get("status") == "measured"
+
+
+def table(header: list[str], rows: list[list[str]]) -> list[str]:
+    return ["| " + " | ".join(header) + " |", "|" + "---|" * len(header),
+            *("| " + " | ".join(row) + " |" for row in rows)]
+
+
+def lines_with_provenance(body: list[str], used: list[tuple[str, dict]]) -> str:
+    return "\n".join([*body, *(line for p in provenance(used) for line in ("", p))]) + "\n"
+
+
+# --- the tables -----------------------------------------------------------------------------------------------
+def same_state_table(recs: dict) -> str:
+    rows, used, classic_rows, classic_used = [], [], [], []
+    for case in SAME_STATE_CASES:
+        dim, law = case.split("_")
+        label = f"{dim.upper()} {'Hertz' if law == 'hertz' else law}"
+        record = recs.get(f"lammps_same_state-{case}")
+        if not measured(record):
+            rows.append([label, "–", "–", "–", "–", not_measured(record, "bench/lammps_same_state.py"), "", "", ""])
+        else:
+            used.append((f"lammps_same_state-{case}", record))
+            for probe, r in record["measured"]["probes"].items():
+                rows.append([label, probe, str(r["N"]), str(r["steps"]), str(r["capped"]), sci(r["force"], 2),
+                             sci(r["torque_lever_r"], 2), sci(r["torque"], 2), "yes" if r["passed"] else "**no**"])
+        classic = recs.get(f"lammps_same_state-{case}-classic_walls")
+        if measured(classic):
+            classic_used.append((f"lammps_same_state-{case}-classic_walls", classic))
+            for probe, r in classic["measured"]["probes"].items():
+                classic_rows.append([label, probe, sci(r["force"], 3), sci(r["torque_lever_r"], 3)])
+    body = table(["case", "probe", "N", "spring increments", "contacts at the Coulomb cap", "force",
+                  "torque, lever r_i", "torque as computed", "round-off (≤ 10⁻⁹)"], rows)
+    if classic_rows:
+        body += ["", "With LAMMPS's classic wall styles (`--classic-walls`), largest relative difference:", "",
+                 *table(["case", "probe", "force", "torque, lever r_i"], classic_rows)]
+    return lines_with_provenance(body, used + classic_used)
+
+
+def dem_vs_lammps_table(recs: dict) -> str:
+    rows, used = [], []
+    for case in DEM_CASES:
+        record = recs.get(f"dem_vs_lammps-{case}")
+        if not measured(record):
+            label = f"{case.upper()} Hertz"
+            rows.append([label, not_measured(record, "bench/dem_vs_lammps.py"), "", "", ""])
+            continue
+        used.append((f"dem_vs_lammps-{case}", record))
+        spec, ours, peer = record["settings"]["case"], record["measured"], record["peer"]["figures"]
+        phi_end = ours["runs"][-1]["phi_end"]
+        runs = ", ".join(f"{r:.2f}" for r in ours["ratio_runs"])
+        rows.append([f"{spec['dim']}D Hertz, N = {ours['runs'][-1]['N']}, φ {spec['phi']:.2f} → {phi_end:.3f}",
+                     sci(ours["particle_steps_per_cpu_s"]), sci(peer["particle_steps_per_cpu_s"]),
+                     f"**{ours['ratio']:.2f}** (runs: {runs})",
+                     f"{ours['contacts_per_particle_end']:.3f} / {peer['contacts_per_particle_end']:.3f}"])
+    header = ["state", "ours (particle-steps per CPU-s)", "LAMMPS", "ours / LAMMPS",
+              "contacts/particle at the end (ours / LAMMPS)"]
+    lammps = {r["peer"].get("version") for _, r in used if r.get("peer")}
+    note = [f"LAMMPS {', '.join(sorted(v for v in lammps if v))}, walls `--walls "
+            f"{used[0][1]['settings']['walls']}`; medians over {used[0][1]['settings']['repeat']} alternating runs.",
+            ""] if used else []
+    return lines_with_provenance(note + table(header, rows), used)
+
+
+def dem_scaling_table(recs: dict) -> str:
+    body, used = [], []
+    for dim in ("2d", "3d"):
+        record = recs.get(f"dem_scaling-{dim}")
+        if body:
+            body.append("")
+        if not measured(record):
+            body += table([f"N ({dim.upper()})"], [[not_measured(record, f"bench/dem_scaling.py --dim {dim[0]}")]])
+            continue
+        used.append((f"dem_scaling-{dim}", record))
+        sizes, settings = record["measured"]["sizes"], record["settings"]
+        law = "linear" if settings.get("system") == "2d_linear" else "Hertz"
+        low, high = (f"{f(s['rho'] for s in sizes):.2f}" for f in (min, max))
+        rho = low if low == high else f"{low}–{high}"
+        body += table([f"N ({dim.upper()} {law}, ρ {rho}, {settings['steps']} steps)",
+                       *(str(s["N"]) for s in sizes)],
+                      [["particle-steps per CPU-s", *(sci(s["particle_steps_per_cpu_s"]) for s in sizes)],
+                       ["contacts per particle", *(f"{s['contacts_per_particle']:.2f}" for s in sizes)]])
+    return lines_with_provenance(body, used)
+
+
+def analysis_table(recs: dict) -> str:
+    record = recs.get("analysis")
+    if not measured(record):
+        return lines_with_provenance(table(["", "measured", "target"],
+                                           [["analysis", not_measured(record, "bench/analysis.py"), ""]]), [])
+    m, targets = record["measured"], record["settings"].get("targets_ms", {})
+
+    def target(key: str) -> str:
+        return f"≤ {targets[key]:.0f} ms" if key in targets else "–"
+
+    rows = []
+    for dim in ("2d", "3d"):
+        net = m["networks"][dim]
+        rows.append([f"{dim.upper()}, N = {net['N']}, {net['contacts']} contacts", f"{fixed(m[f'snapshot_ms_{dim}'])} ms",
+                     target(f"snapshot_ms_{dim}")])
+    rows.append(["distances between two consecutive 2D diagrams (PD0 + PD1, d_B, d_W1, d_W2)",
+                 f"{fixed(m['distances_ms_2d'])} ms", target("distances_ms_2d")])
+    if "distances_ms_2d_small_change" in m:
+        rows.append(["the same for a gentler step (forces 1 %, 0.5 % of contacts opened)",
+                     f"{fixed(m['distances_ms_2d_small_change'])} ms", "–"])
+    return lines_with_provenance(table(["", "measured", "target"], rows), [("analysis", record)])
+
+
+def p1_table_table(recs: dict) -> str:
+    record = recs.get("p1_table")
+    header = ["input", "one pass (no resamples)", "one bootstrap resample", "pass + the job's resamples"]
+    if not measured(record):
+        return lines_with_provenance(table(header, [[not_measured(record, "bench/p1_table.py"), "", "", ""]]), [])
+    m = record["measured"]
+    systems = m["input"]["systems"]
+    shapes = sorted({(s["realizations"], s["rho_points"]) for s in systems.values()})
+    shape = "; ".join(f"{r} realization{'s' if r != 1 else ''} × {p} ρ" for r, p in shapes)
+    source = ", ".join(m["input"]["config"])
+    return lines_with_provenance(table(header, [[
+        f"{source}: {', '.join(systems)} ({shape} each)", seconds(m["pass_s"]), seconds(m["resample_s"]),
+        f"{seconds(m['job_estimate_s'])} ({record['settings'].get('job_resamples', '?')} resamples)"]]),
+        [("p1_table", record)])
+
+
+def workflow_table(recs: dict) -> str:
+    record = recs.get("workflow_overhead")
+    header = ["what", "measured", "target"]
+    if not measured(record):
+        return lines_with_provenance(table(header, [["workflow overhead",
+                                                     not_measured(record, "bench/workflow_overhead.py"), ""]]), [])
+    m, targets = record["measured"], record["settings"].get("targets", {})
+    ratio_target = f"≤ {percent(targets['overhead_ratio'])}" if "overhead_ratio" in targets else ""
+    rows = []
+    for profile in ("default", "slurm"):
+        if f"dry_run_s_{profile}" in m:
+            rows.append([f"paper config dry-run ({m.get('paper_jobs')} jobs), {profile} profile",
+                         seconds(m[f"dry_run_s_{profile}"]),
+                         f"≤ {seconds(targets['dry_run_s'])}" if "dry_run_s" in targets else ""])
+    rows.append(["simulation job overhead (start, imports, bookkeeping, writing) against the kernel, paper 2D",
+                 f"{seconds(m['simulation_overhead_s'])} per run against "
+                 f"{seconds(m['paper_simulation_kernel_per_snapshot_s'])} of kernel per snapshot: "
+                 f"{percent(m['simulation_overhead_ratio_paper'])}", ratio_target])
+    rows.append([f"analysis, paper-size 2D snapshot (N = {m['particles']}, {m['contacts']} contacts): kernels / read "
+                 f"+ write / job wall per snapshot, local",
+                 f"{seconds(m['analysis_kernels_s'])} / {seconds(m['analysis_read_s'] + m['analysis_write_s'])} / "
+                 f"{seconds(m['analysis_job_wall_local_s'])}", ""])
+    for where in ("local", "slurm"):
+        ratios = m.get(f"snapshot_overhead_ratio_{where}")
+        label = f"per-snapshot overhead ÷ kernels (simulation + analysis), paper config, {where}"
+        if ratios:
+            rows.append([label, ", ".join(f"{name} {percent(r)}" for name, r in ratios.items()), ratio_target])
+        elif where == "slurm":
+            rows.append([label, f"not measured on this machine: {m.get('slurm', 'skipped')}", ratio_target])
+    if "analysis_job_wall_slurm_s" in m:
+        rows.append(["analysis job wall per snapshot inside a Slurm allocation",
+                     seconds(m["analysis_job_wall_slurm_s"]), ""])
+    return lines_with_provenance(table(header, rows), [("workflow_overhead", record)])
+
+
+def commands_table(recs: dict) -> str:
+    import command_time  # bench/command_time.py: the commands it times
+
+    rows, used = [], []
+    for name, spec in command_time.COMMANDS.items():
+        record = recs.get(f"command_time-{name}")
+        command = spec["command"].format(scratch="$(mktemp -d)")
+        what = f"{spec['what']}: `{command}`" + (" in a fresh clone" if spec.get("fresh_clone") else "")
+        if not measured(record):
+            rows.append([what, not_measured(record, f"bench/command_time.py {name}")])
+            continue
+        used.append((f"command_time-{name}", record))
+        m = record["measured"]
+        result = f"; {m['summary']}" if m.get("summary") else ""
+        rows.append([what, f"{seconds(m['wall_s'])} (CPU {seconds(m['cpu_s'])}){result}"])
+    return lines_with_provenance(table(["command", "measured"], rows), used)
+
+
+TABLES = {"lammps_same_state": same_state_table, "dem_vs_lammps": dem_vs_lammps_table,
+          "dem_scaling": dem_scaling_table, "analysis": analysis_table, "p1_table": p1_table_table,
+          "workflow_overhead": workflow_table, "commands": commands_table}
+
+
+def render(page: str, recs: dict) -> str:
+    """`page` with every marked table rewritten from `recs` ({file stem: record})."""
+    def replace(match: re.Match) -> str:
+        name = match.group("name")
+        if name not in TABLES:
+            raise KeyError(f"unknown table marker bench:{name} (known: {', '.join(TABLES)})")
+        return match.group(1) + TABLES[name](recs) + match.group(4)
+    return MARKER.sub(replace, page)
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--page", type=Path, default=PAGE)
+    ap.add_argument("--results", type=Path, default=records.RESULTS)
+    ap.add_argument("--check", action="store_true", help="write nothing; exit 1 when the page is out of date")
+    args = ap.parse_args(argv)
+    old = args.page.read_text(encoding="utf-8")
+    new = render(old, records.read_records(args.results))
+    if args.check:
+        if new != old:
+            sys.stdout.writelines(difflib.unified_diff(old.splitlines(True), new.splitlines(True), str(args.page),
+                                                       "from the records"))
+            return 1
+        return 0
+    if new != old:
+        args.page.write_text(new, encoding="utf-8")
+        print(f"{args.page}: tables rewritten from {args.results}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
