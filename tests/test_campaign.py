@@ -4,6 +4,7 @@ name; the status command tells recorded / finished / running / stopped / missing
 from __future__ import annotations
 
 import copy
+import subprocess
 import fcntl
 import json
 import re
@@ -223,3 +224,34 @@ def test_the_size_table_and_drop_follow_the_manifest(config):
     campaign.drop_record(config, SYSTEM, "r00")
     assert campaign.read_manifest("records") == [] and not Path("records", row["file"]).exists()
     assert campaign.recorded_realizations(config, SYSTEM) == []
+
+
+def test_run_missing_records_each_run_as_it_lands_and_starts_none_that_cannot_finish(config, monkeypatch):
+    from forcenet import campaign_cli
+
+    monkeypatch.setattr(campaign_cli, "POLL_SECONDS", 0.0)
+    config["systems"] = {SYSTEM: config["systems"][SYSTEM]}
+    config["realizations"] = {SYSTEM: 4}
+    fake_run(config, "r00", cpu_seconds=360.0)  # finished before: recorded first
+    started, said = [], []
+
+    def start(command, log):
+        realization = Path(command[command.index("-m") + 2]).parent.name  # …/sim/{system}/{realization}/run_cost.json
+        started.append((realization, command[:3], "--nolock" in command, Path(log).name))
+        if realization == "r02":
+            return subprocess.Popen(["false"])  # this run fails: named, not recorded
+        fake_run(config, realization, cpu_seconds=720.0)
+        return subprocess.Popen(["true"])
+
+    rows = campaign_cli.run_missing(config, configfile="c.yaml", results="results", jobs=2, systems=[SYSTEM],
+                                    say=said.append, start=start)
+    assert [row["realization"] for row in rows] == ["r00", "r01", "r03"]
+    assert [s[0] for s in started] == ["r01", "r02", "r03"]
+    assert all(s[1] == ["nice", "-n", "10"] and s[2] and s[3] == f"{s[0]}.log" for s in started)
+    assert any(line.startswith(f"failed: {SYSTEM} r02 (exit 1") for line in said)
+    assert [row["realization"] for row in campaign.read_manifest("records")] == ["r00", "r01", "r03"]
+    # the budget: r02 still missing, its estimate (the mean of the recorded 0.1, 0.2, 0.2 h) × margin does not fit
+    said.clear()
+    assert campaign_cli.run_missing(config, configfile="c.yaml", results="results", hours=0.1, margin=1.5,
+                                    say=said.append, start=start) == []
+    assert said == [f"not started: {SYSTEM} r02 needs about 0.25 h (0.17 × 1.5), 0.10 h left"]

@@ -24,7 +24,7 @@ LAYERS = (
     ("measures", {"measures"}),
     ("report", {"report"}),
     ("plotting", {"plotting"}),
-    ("workflow", {"pipeline", "campaign", "survey", "damping_series"}),
+    ("workflow", {"pipeline", "campaign", "campaign_cli", "survey", "damping_series"}),
 )
 #: a config is judged by the engine's own formulas: the initial lattice (dem.packing) and the damping bound
 #: (dem.stability), imported lazily; an imported system's ρ grid is read from its files by the importers
@@ -131,3 +131,4 @@ def test_the_layer_check_flags_an_upward_import(name, source, problem):
 ])
 def test_the_kernel_check_flags_a_kernel_importing_more_than_numpy_numba_math(source, problem):
     assert kernel_problems({"k.py": source}) == ([] if problem is None else [problem])
+

@@ -19,7 +19,7 @@ SYSTEMS = ("2d_linear", "3d_hertz")  # one per dimension
 
 
 def campaign_command(workdir, config, *args):
-    return subprocess.run([sys.executable, "-m", "forcenet.campaign", "--configfile", str(config), *args],
+    return subprocess.run([sys.executable, "-m", "forcenet.campaign_cli", "--configfile", str(config), *args],
                           cwd=workdir, capture_output=True, text=True, timeout=300)
 
 

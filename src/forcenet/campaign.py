@@ -10,25 +10,20 @@ A record is the run of one system's settings: the manifest keeps the run's simul
 (`forcenet.datasets.runs.simulation_sha256`: the system's own config entry, the seed and the material), and a record
 whose fingerprint is not the config's is refused by name (`recorded_realizations`), never reused.
 
-    forcenet-campaign status [--configfile config/validation.yaml]     every run: recorded / finished / running / missing
-    forcenet-campaign record SYSTEM REALIZATION [--commit]             a finished run's record (and its git commit)
-    forcenet-campaign record --finished [--commit]                     every finished run without a record
-    forcenet-campaign verify                                           every record against the manifest and config
+The command `forcenet-campaign` (`forcenet.campaign_cli`) lists the runs, records finished ones and works through
+the missing ones.
 
 Parse-time functions (`records_folder`, `recorded_realizations`) import nothing heavy: the workflow calls them when
 it is parsed, a dry run included.
 """
 from __future__ import annotations
 
-import argparse
 import csv
 import datetime as _dt
 import fcntl
 import hashlib
 import json
 import os
-import subprocess
-import sys
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Mapping, Sequence
@@ -378,82 +373,3 @@ def write_size_table(config: Mapping[str, Any]) -> Path | None:
         return None
     readme.write_text(f"{head}{start}\n{size_table(config)}\n{end}{tail}")
     return readme
-
-
-def _git_commit_record(records: str, rows: Sequence[Mapping[str, str]]) -> None:
-    """Commit the records of `rows` and the manifest, and nothing else staged."""
-    files = [str(Path(records) / row["file"]) for row in rows] + [paths.record_manifest(records)]
-    readme = Path(records) / "README.md"
-    files += [str(readme)] if readme.exists() else []
-    subprocess.run(["git", "add", "--", *files], check=True)
-    runs = ", ".join(f"{row['system']} {row['realization']}" for row in rows)
-    hours = sum(float(row["cpu_hours"]) for row in rows)
-    message = f"data/validation: campaign record of {runs} ({hours:.2f} CPU-hours)"
-    subprocess.run(["git", "commit", "-q", "-m", message, "--", *files], check=True)
-
-
-def _load_config(path: str) -> dict[str, Any]:
-    from forcenet.workflow_io import read_config_file
-
-    config = read_config_file(path)
-    from forcenet.systems import validate_config
-
-    validate_config(config)
-    return config
-
-
-def main(argv: Sequence[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(prog="forcenet-campaign", description=__doc__.split("\n\n")[0])
-    parser.add_argument("--configfile", default=DEFAULT_CAMPAIGN_CONFIG, help="the campaign config (%(default)s)")
-    parser.add_argument("--results", help="the results folder the runs were made in (default: the config's "
-                                          "results_dir; another checkout's, e.g. a worktree running the campaign)")
-    commands = parser.add_subparsers(dest="command", required=True)
-    commands.add_parser("status", help="every run of the config: recorded / finished / running / stopped / missing")
-    record = commands.add_parser("record", help="record finished runs in the config's records_dir")
-    record.add_argument("run", nargs="*", help="SYSTEM REALIZATION (e.g. 2d_linear r00)")
-    record.add_argument("--finished", action="store_true", help="every finished run without a record")
-    record.add_argument("--commit", action="store_true", help="git-commit the records and the manifest")
-    commands.add_parser("verify", help="every record against the manifest and the config")
-    commands.add_parser("sizes", help="the records' size per system (the table of the records folder's README)")
-    drop = commands.add_parser("drop", help="remove a run's record (it is simulated again)")
-    drop.add_argument("system")
-    drop.add_argument("realization")
-    args = parser.parse_args(argv)
-    try:
-        config = _load_config(args.configfile)
-        from forcenet.workflow_io import resolve_results_dir
-
-        results = args.results or resolve_results_dir(config.get("results_dir"), Path.cwd())[0]
-        if args.command == "status":
-            print(status_table(campaign_status(config, results=results)))
-        elif args.command == "verify":
-            problems = verify_records(config)
-            print("\n".join(problems) or f"every record of {records_folder(config)} can be restored")
-            return 1 if problems else 0
-        elif args.command == "sizes":
-            print(size_table(config))
-        elif args.command == "drop":
-            print(f"removed {drop_record(config, args.system, args.realization)}")
-        else:
-            if args.finished == bool(args.run) or (args.run and len(args.run) != 2):
-                parser.error("record takes SYSTEM REALIZATION or --finished")
-            runs = ([(s.system, s.realization) for s in campaign_status(config, results=results)
-                     if s.state == "finished"] if args.finished else [tuple(args.run)])
-            rows = []
-            for system, realization in runs:
-                row = record_run(config, system, realization, results=results)
-                print(f"recorded {system} {realization}: {row['file']} ({int(row['bytes']) / 1e6:.2f} MB, "
-                      f"{row['cpu_hours']} CPU-hours)")
-                rows.append(row)
-            if rows:
-                write_size_table(config)
-            if args.commit and rows:
-                _git_commit_record(records_folder(config), rows)
-    except ForcenetError as error:
-        print(f"forcenet-campaign: {error}", file=sys.stderr)
-        return 2
-    return 0
-
-
-if __name__ == "__main__":
-    sys.exit(main())
