@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Compress one system of a config under overrides and print each snapshot's state (forcenet.survey).
+"""Compress one system of a config under overrides and print each snapshot's state (forcenet.research.survey).
 
     .venv/bin/python scripts/compression_survey.py --config config/config.yaml --system 2d_hertz \
         --set time_step=0.02 --set damping_model=linear_law --realizations 0 1
@@ -21,7 +21,7 @@ import yaml
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "src"))
 
-from forcenet.survey import BULK_MARGIN, apply_overrides, run_survey  # noqa: E402
+from forcenet.research.survey import BULK_MARGIN, apply_overrides, run_survey  # noqa: E402
 
 
 def main() -> None:

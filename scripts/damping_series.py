@@ -10,7 +10,7 @@ taken from the folder name, up to `_g`), or `FOLDER:SYSTEM` for any other run fo
 a campaign (`results/validation:2d_hertz:3`). `--linear` names a results folder holding the linear
 system's `2d_linear/network_measures.nc` (P1's paper-size protocol), whose B0/N ridge is printed beside the Hertz
 rows. `--verdicts` adds each folder's P1 verdicts (from its `tables/p1_validation.csv`). What each column means:
-`forcenet.damping_series`.
+`forcenet.research.damping_series`.
 """
 from __future__ import annotations
 
@@ -24,7 +24,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "src"))
 import pandas as pd  # noqa: E402
 
 from forcenet.report.claims import markdown_table, read_validation_csv  # noqa: E402
-from forcenet.damping_series import SeriesRun, network_readings, series_row  # noqa: E402
+from forcenet.research.damping_series import SeriesRun, network_readings, series_row  # noqa: E402
 
 COLUMNS = [
     ("system", "system"), ("realization", "run"), ("N", "N"), ("gamma_n", "γ_n"), ("e_at_v0", "e (mean pair, v0)"),

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Tabulate the snapshots of finished compression runs (forcenet.survey.run_states), one markdown table per run.
+"""Tabulate the snapshots of finished compression runs (forcenet.research.survey.run_states), one markdown table per run.
 
     .venv/bin/python scripts/run_states.py --results results/validation --system 2d_hertz --realizations 0 1
 
@@ -21,7 +21,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "src"))
 from forcenet.datasets import read_snapshot  # noqa: E402
 from forcenet.datasets.paths import realization_name, rho_file, run_dir  # noqa: E402
 from forcenet.pipeline import force_constants  # noqa: E402
-from forcenet.survey import BULK_MARGIN, run_states  # noqa: E402
+from forcenet.research.survey import BULK_MARGIN, run_states  # noqa: E402
 
 
 def main() -> None:

@@ -1,10 +1,10 @@
-"""The damping series' readings (forcenet.damping_series) on hand-made states."""
+"""The damping series' readings (forcenet.research.damping_series) on hand-made states."""
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
-from forcenet.damping_series import approach_speeds
+from forcenet.research.damping_series import approach_speeds
 
 
 def test_approach_speeds_count_only_near_pairs_that_close():
@@ -39,7 +39,7 @@ def test_approach_speeds_match_a_slow_reference():
 def test_a_series_run_is_named_by_folder_system_and_realization():
     from pathlib import Path
 
-    from forcenet.damping_series import SeriesRun
+    from forcenet.research.damping_series import SeriesRun
 
     assert SeriesRun.parse("results/damping/2d_hertz_g22.1807") == SeriesRun(
         Path("results/damping/2d_hertz_g22.1807"), "2d_hertz", 0)
@@ -56,7 +56,7 @@ def test_a_run_without_its_aggregate_is_read_from_its_own_analyses(smoke_run, tm
 
     import numpy as np
 
-    from forcenet.damping_series import SeriesRun, network_readings, run_network_measures
+    from forcenet.research.damping_series import SeriesRun, network_readings, run_network_measures
 
     results = smoke_run / "results"
     whole = SeriesRun(results, "2d_hertz", 0)

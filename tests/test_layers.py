@@ -24,7 +24,8 @@ LAYERS = (
     ("measures", {"measures"}),
     ("report", {"report"}),
     ("plotting", {"plotting"}),
-    ("workflow", {"pipeline", "campaign", "campaign_cli", "survey", "damping_series"}),
+    ("workflow", {"pipeline", "campaign", "campaign_cli"}),
+    ("research", {"research"}),
 )
 #: a config is judged by the engine's own formulas: the initial lattice (dem.packing) and the damping bound
 #: (dem.stability), imported lazily; an imported system's ρ grid is read from its files by the importers

@@ -1,4 +1,4 @@
-"""forcenet.survey.snapshot_row / run_states: the state of a snapshot, on a hand-countable chain of disks."""
+"""forcenet.research.survey.snapshot_row / run_states: the state of a snapshot, on a hand-countable chain of disks."""
 from __future__ import annotations
 
 import math
@@ -8,7 +8,7 @@ import pytest
 
 from forcenet.datasets import provenance_attrs, read_snapshot, write_snapshot
 from forcenet.datasets.paths import rho_file
-from forcenet.survey import run_states, snapshot_row
+from forcenet.research.survey import run_states, snapshot_row
 
 
 def chain_snapshot_arrays(rho: float, overlap: float = 0.1) -> dict:

@@ -98,7 +98,7 @@ class SeriesRun:
 def _snapshot_states(run: SeriesRun) -> list[dict]:
     """`survey.snapshot_row` of every snapshot of the run, in grid order: the published ones, or, for a run that
     stopped (a blow-up publishes nothing), the ones it left in its staging folder."""
-    from forcenet.survey import snapshot_row
+    from forcenet.research.survey import snapshot_row
 
     states = []
     paths = sorted(run.sim.glob(rho_file("*"))) or sorted((run.sim / STAGING_DIR).glob(rho_file("*")))

@@ -140,7 +140,7 @@ def run_survey(config: Mapping[str, Any], system: str, realization: int = 0, log
 
     spec = system_from_config(system, config)
     seed = realization_seed(config["seed"], system, realization)
-    log = log or logging.getLogger(f"forcenet.survey.{system}")
+    log = log or logging.getLogger(f"forcenet.research.survey.{system}")
     failure = None
     with tempfile.TemporaryDirectory(prefix="forcenet-survey-") as folder:
         paths = [Path(folder) / rho_file(label) for label in spec.rho_labels]
