@@ -145,6 +145,14 @@ def test_a_corrupt_gzip_stream_is_refused_naming_its_file(tmp_path):
     assert message.startswith(f"{table}: cannot be read (") and "\n" not in message, message
 
 
+def test_a_gzipped_dump_named_without_gz_is_said_to_be_one(tmp_path):
+    atoms, pairs = dumps(tmp_path)
+    atoms.write_bytes(gzip.compress(atoms.read_bytes()))
+    message = refused(tmp_path, lammps_entry(atoms, pairs))
+    assert message == (f"{atoms}: cannot be read ('utf-8' codec can't decode byte 0x8b in position 1: invalid start "
+                       "byte; the file is gzip-compressed: name it atoms.dump.gz)"), message
+
+
 TABLE_PARTICLES = "id,x,y,radius\n1,1.0,1.0,0.5\n2,1.9,1.0,0.5\n3,1.0,1.9,0.5\n"
 TABLE_CONTACTS = "i,j,fn,ft\n1,2,1.0,0.1\n1,3,0.5,0.0\n"
 TABLE_CASES = {

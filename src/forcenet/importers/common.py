@@ -91,7 +91,7 @@ def read_source_text(path: str | Path) -> str:
                 return handle.read()
         return Path(path).read_text(encoding="utf-8")
     except READ_ERRORS as error:
-        raise SourceError(path, "", f"cannot be read ({_reason(error)})") from None
+        raise SourceError(path, "", f"cannot be read ({_reason(error, path)})") from None
 
 
 #: what reading a damaged file raises: gzip.BadGzipFile is an OSError, a cut gzip stream an EOFError, corrupt
@@ -99,9 +99,19 @@ def read_source_text(path: str | Path) -> str:
 READ_ERRORS = (OSError, EOFError, UnicodeDecodeError, zlib.error)
 
 
-def _reason(error: BaseException) -> str:
+def _reason(error: BaseException, path: str | Path = "") -> str:
+    """Why a source file could not be read, in words (a gzip file named without ``.gz`` is said to be one)."""
     text = getattr(error, "strerror", None) or str(error) or type(error).__name__
-    return f"{text}; a corrupt gzip stream" if isinstance(error, zlib.error) else text
+    if isinstance(error, zlib.error):
+        return f"{text}; a corrupt gzip stream"
+    if isinstance(error, UnicodeDecodeError) and path and not str(path).endswith(".gz"):
+        try:
+            with open(path, "rb") as handle:
+                if handle.read(2) == b"\x1f\x8b":
+                    return f"{text}; the file is gzip-compressed: name it {Path(path).name}.gz"
+        except OSError:
+            pass
+    return text
 
 
 def source_lines(path: str | Path) -> Iterator[tuple[int, str]]:
@@ -114,14 +124,14 @@ def source_lines(path: str | Path) -> Iterator[tuple[int, str]]:
         handle = (gzip.open(path, "rt", encoding="utf-8", newline="") if str(path).endswith(".gz")
                   else open(path, encoding="utf-8", newline=""))
     except READ_ERRORS as error:
-        raise SourceError(path, "", f"cannot be read ({_reason(error)})") from None
+        raise SourceError(path, "", f"cannot be read ({_reason(error, path)})") from None
     with handle:
         while True:
             try:
                 line = handle.readline()
             except READ_ERRORS as error:
                 raise SourceError(path, f"after line {number}" if number else "",
-                                  f"cannot be read ({_reason(error)})") from None
+                                  f"cannot be read ({_reason(error, path)})") from None
             if not line:
                 return
             number += 1
