@@ -6,7 +6,8 @@ Reads the aggregated measures and diagrams a build left (``RESULTS/<system>/netw
 
 - pass_s: one judging pass, no bootstrap (every claim, every system, the readings beside not included);
 - resample_s: the extra cost of one bootstrap resample of the realizations, from a run with ``--resamples``
-  resamples (the job makes `ROBUSTNESS_RESAMPLES` = 100 of them).
+  resamples (the job makes `ROBUSTNESS_RESAMPLES` = 100 of them). Not timed (null) when every system has one
+  realization, as in a smoke build: there is nothing to resample.
 
 Medians over ``--repeat`` runs after one warm-up pass. To A/B a change, run this file from both trees on the same
 results, alternately, pinned to one core (``taskset -c 1``), with ``PYTHONPATH=<tree>/src``. The last line printed
@@ -91,15 +92,19 @@ def main(argv=None) -> None:
                          f"(.venv/bin/snakemake --cores 2)")
     timed(measures, diagrams, counterparts, 0)  # warm-up: imports, first-touch caches
     passes = [timed(measures, diagrams, counterparts, 0) for _ in range(args.repeat)]
-    with_resamples = [timed(measures, diagrams, counterparts, args.resamples) for _ in range(args.repeat)]
     pass_s = statistics.median(passes)
-    resample_s = (statistics.median(with_resamples) - pass_s) / max(args.resamples, 1)
-    result = {"systems": sorted(measures), "realizations": {name: int(ds.sizes.get("realization", 1))
-                                                            for name, ds in sorted(measures.items())},
-              "pass_s": round(pass_s, 3), "resample_s": round(resample_s, 3),
-              "job_estimate_s": round(pass_s + ROBUSTNESS_RESAMPLES * resample_s, 1)}
-    print(f"one pass {pass_s:.2f} s, one resample {resample_s:.3f} s, so about "
-          f"{result['job_estimate_s']:.0f} s for {ROBUSTNESS_RESAMPLES} resamples")
+    realizations = {name: int(ds.sizes.get("realization", 1)) for name, ds in sorted(measures.items())}
+    result = {"systems": sorted(measures), "realizations": realizations, "pass_s": round(pass_s, 3),
+              "resample_s": None, "job_estimate_s": None}
+    if max(realizations.values()) < 2:  # one realization per system: a resample is the same sample, not timed
+        print(f"one pass {pass_s:.2f} s; one realization per system, so no resample is timed")
+    else:
+        with_resamples = [timed(measures, diagrams, counterparts, args.resamples) for _ in range(args.repeat)]
+        resample_s = (statistics.median(with_resamples) - pass_s) / max(args.resamples, 1)
+        result.update(resample_s=round(resample_s, 3),
+                      job_estimate_s=round(pass_s + ROBUSTNESS_RESAMPLES * resample_s, 1))
+        print(f"one pass {pass_s:.2f} s, one resample {resample_s:.3f} s, so about "
+              f"{result['job_estimate_s']:.0f} s for {ROBUSTNESS_RESAMPLES} resamples")
     run.write(measured={**result, "input": describe_input(measures)})
     print(json.dumps(result))
 

@@ -127,8 +127,9 @@ def _plain(value):
 def make_record(benchmark: str, *, variant: str | None = None, measured: dict | None = None,
                 peer: dict | None = None, settings: dict | None = None, status: str = "measured",
                 reason: str | None = None, load_before: list[float] | None = None, date: str | None = None,
-                command: str | None = None) -> dict:
-    commit, dirty, dirty_files = git_state()
+                command: str | None = None, git: tuple | None = None) -> dict:
+    """The record of one run; `date`, `command` and `git` (commit, dirty, dirty files) default to now's."""
+    commit, dirty, dirty_files = git or git_state()
     return _plain(dict(
         schema=SCHEMA, benchmark=benchmark, variant=variant, status=status, reason=reason,
         date=date or datetime.now(timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ"),
@@ -154,7 +155,8 @@ def read_records(results: Path = RESULTS) -> dict[str, dict]:
 
 
 class Run:
-    """One benchmark run: notes the load and date at the start; `write` or `not_measured` leaves its record."""
+    """One benchmark run: notes the load, date and commit at the start (the code the run measures);
+    `write` or `not_measured` leaves its record."""
 
     def __init__(self, benchmark: str, *, variant: str | None = None, settings: dict | None = None,
                  enabled: bool = True, results: Path = RESULTS):
@@ -163,12 +165,14 @@ class Run:
         self.load_before = load_average()
         self.date = datetime.now(timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ")
         self.command = command_line()
+        self.git = git_state()
 
     def _write(self, **fields) -> Path | None:
         if not self.enabled:
             return None
         record = make_record(self.benchmark, variant=self.variant, settings=self.settings,
-                             load_before=self.load_before, date=self.date, command=self.command, **fields)
+                             load_before=self.load_before, date=self.date, command=self.command, git=self.git,
+                             **fields)
         path = write_record(record, self.results)
         print(f"record: {path.relative_to(REPO) if path.is_relative_to(REPO) else path}", file=sys.stderr)
         return path

@@ -53,7 +53,7 @@ def seconds(value: float) -> str:
 
 
 def percent(ratio: float) -> str:
-    return f"{fixed(100 * ratio, 2)} %"
+    return f"{100 * ratio:.2g} %"
 
 
 # --- provenance -----------------------------------------------------------------------------------------------
@@ -205,9 +205,13 @@ def p1_table_table(recs: dict) -> str:
     shapes = sorted({(s["realizations"], s["rho_points"]) for s in systems.values()})
     shape = "; ".join(f"{r} realization{'s' if r != 1 else ''} × {p} ρ" for r, p in shapes)
     source = ", ".join(m["input"]["config"])
+    if m.get("resample_s") is None:
+        resample = estimate = "– (one realization per system: nothing to resample)"
+    else:
+        resample = seconds(m["resample_s"])
+        estimate = f"{seconds(m['job_estimate_s'])} ({record['settings'].get('job_resamples', '?')} resamples)"
     return lines_with_provenance(table(header, [[
-        f"{source}: {', '.join(systems)} ({shape} each)", seconds(m["pass_s"]), seconds(m["resample_s"]),
-        f"{seconds(m['job_estimate_s'])} ({record['settings'].get('job_resamples', '?')} resamples)"]]),
+        f"{source}: {', '.join(systems)} ({shape} each)", seconds(m["pass_s"]), resample, estimate]]),
         [("p1_table", record)])
 
 
@@ -222,7 +226,8 @@ def workflow_table(recs: dict) -> str:
     rows = []
     for profile in ("default", "slurm"):
         if f"dry_run_s_{profile}" in m:
-            rows.append([f"paper config dry-run ({m.get('paper_jobs')} jobs), {profile} profile",
+            rows.append([f"paper config dry-run ({m.get('paper_jobs')} jobs), {profile.replace('slurm', 'Slurm')} "
+                         "profile",
                          seconds(m[f"dry_run_s_{profile}"]),
                          f"≤ {seconds(targets['dry_run_s'])}" if "dry_run_s" in targets else ""])
     rows.append(["simulation job overhead (start, imports, bookkeeping, writing) against the kernel, paper 2D",
@@ -235,11 +240,12 @@ def workflow_table(recs: dict) -> str:
                  f"{seconds(m['analysis_job_wall_local_s'])}", ""])
     for where in ("local", "slurm"):
         ratios = m.get(f"snapshot_overhead_ratio_{where}")
-        label = f"per-snapshot overhead ÷ kernels (simulation + analysis), paper config, {where}"
+        label = ("per-snapshot overhead ÷ kernels (simulation + analysis), paper config, "
+                 f"{'local' if where == 'local' else 'under Slurm'}")
         if ratios:
             rows.append([label, ", ".join(f"{name} {percent(r)}" for name, r in ratios.items()), ratio_target])
         elif where == "slurm":
-            rows.append([label, f"not measured on this machine: {m.get('slurm', 'skipped')}", ratio_target])
+            rows.append([label, f"not measured: {m.get('slurm', 'skipped')}", ratio_target])
     if "analysis_job_wall_slurm_s" in m:
         rows.append(["analysis job wall per snapshot inside a Slurm allocation",
                      seconds(m["analysis_job_wall_slurm_s"]), ""])
