@@ -1,0 +1,127 @@
+"""The benchmarks' records (bench/records.py) and the performance page made from them (bench/report.py): a record
+has every key the page needs, the generator turns records into tables, and docs/performance.md holds exactly the
+tables the committed records under bench/results/ make, so the page cannot drift from the records. Runs no
+benchmark."""
+from __future__ import annotations
+
+import json
+import sys
+
+import pytest
+
+from conftest import REPO
+
+sys.path.insert(0, str(REPO / "bench"))
+import records  # noqa: E402  (bench/records.py)
+import report  # noqa: E402  (bench/report.py)
+
+#: the benchmark scripts of bench/ that each leave at least one record
+BENCHMARKS = ("analysis", "dem_scaling", "dem_vs_lammps", "lammps_same_state", "p1_table", "workflow_overhead")
+
+
+def fixture_record(benchmark: str, variant: str | None, measured: dict, *, settings: dict | None = None,
+                   peer: dict | None = None, status: str = "measured", reason: str | None = None) -> dict:
+    return {"schema": 1, "benchmark": benchmark, "variant": variant, "status": status, "reason": reason,
+            "date": "2030-01-02T03:04:05Z", "commit": "0123456789abcdef0123456789abcdef01234567", "dirty": False,
+            "dirty_files": [], "command": f"bench/{benchmark}.py --fixture",
+            "machine": {"cpu": "Test CPU", "cores": 2, "affinity": [1], "memory_gib": 8.0, "os": "Linux",
+                        "python": "3.11", "numpy": "2", "numba": "0.6", "load_before": [1.0, 1.0, 1.0],
+                        "load_after": [1.5, 1.0, 1.0]},
+            "settings": settings or {}, "measured": measured, "peer": peer}
+
+
+def test_a_written_record_has_every_required_key(tmp_path):
+    run = records.Run("demo", variant="2d", settings={"steps": 10}, results=tmp_path)
+    path = run.write({"rate": 1.5e7}, peer={"name": "Peer", "figures": {"rate": 5e6}})
+    assert path == tmp_path / "demo-2d.json"
+    record = json.loads(path.read_text())
+    assert set(records.REQUIRED_KEYS) <= set(record)
+    assert set(records.MACHINE_KEYS) <= set(record["machine"])
+    assert record["status"] == "measured" and record["measured"] == {"rate": 1.5e7}
+    assert record["peer"]["figures"] == {"rate": 5e6}
+    assert record["date"].endswith("Z") and record["machine"]["cores"] >= 1
+    assert record["commit"] is None or len(record["commit"]) == 40
+    assert [p.name for p in tmp_path.iterdir()] == ["demo-2d.json"]  # the temporary file was renamed
+
+    missing = records.Run("demo", results=tmp_path).not_measured("no LAMMPS here")
+    record = json.loads(missing.read_text())
+    assert set(records.REQUIRED_KEYS) <= set(record)
+    assert (record["status"], record["reason"], record["measured"]) == ("not measured", "no LAMMPS here", {})
+
+
+def test_a_run_without_recording_writes_nothing(tmp_path):
+    assert records.Run("demo", enabled=False, results=tmp_path).write({"x": 1}) is None
+    assert not list(tmp_path.iterdir())
+
+
+def test_records_are_written_from_the_command_line_only():
+    """A benchmark's main(argv) called from Python (a test) leaves the committed records alone."""
+    class Args:
+        no_record = False
+    assert records.wanted(Args, None)
+    assert not records.wanted(Args, ["--only", "2d"])
+    Args.no_record = True
+    assert not records.wanted(Args, None)
+
+
+@pytest.mark.parametrize("value, text", [(1.5678e7, "1.57·10⁷"), (8.04e-15, "8.04·10⁻¹⁵"), (0.4675, "0.468"),
+                                         (25.34, "25.3"), (2.0e-4, "2.00·10⁻⁴"), (0, "0")])
+def test_numbers_are_written_with_powers_of_ten(value, text):
+    assert report.sci(value) == text
+
+
+def test_the_generator_makes_the_tables_from_records():
+    recs = {
+        "dem_vs_lammps-2d": fixture_record(
+            "dem_vs_lammps", "2d",
+            {"particle_steps_per_cpu_s": 1.57e7, "ratio": 2.61, "ratio_runs": [2.61, 2.66, 2.62],
+             "contacts_per_particle_end": 3.374, "runs": [{"N": 2000, "phi_end": 0.83}]},
+            settings={"case": {"dim": 2, "n": 2000, "phi": 0.82}, "repeat": 3, "walls": "block"},
+            peer={"name": "LAMMPS", "version": "22 Jul 2025 - Update 4",
+                  "figures": {"particle_steps_per_cpu_s": 6.0e6, "contacts_per_particle_end": 3.397}}),
+        "dem_vs_lammps-3d": fixture_record("dem_vs_lammps", "3d", {}, status="not measured",
+                                           reason="LAMMPS cannot be set up here"),
+        "analysis": fixture_record(
+            "analysis", None,
+            {"snapshot_ms_2d": 25.04, "snapshot_ms_3d": 90.2, "distances_ms_2d": 140.0,
+             "networks": {"2d": {"N": 2025, "contacts": 3966}, "3d": {"N": 4000, "contacts": 12001}}},
+            settings={"targets_ms": {"snapshot_ms_2d": 60.0, "snapshot_ms_3d": 300.0, "distances_ms_2d": 200.0}}),
+    }
+    page = ("# Title\n\nprose stays\n\n<!-- bench:dem_vs_lammps -->\nold table\n<!-- /bench:dem_vs_lammps -->\n"
+            "\nmore prose\n<!-- bench:analysis -->\n<!-- /bench:analysis -->\n"
+            "<!-- bench:p1_table -->\n<!-- /bench:p1_table -->\n")
+    out = report.render(page, recs)
+    assert out.startswith("# Title\n\nprose stays\n\n<!-- bench:dem_vs_lammps -->\n") and "old table" not in out
+    assert ("| 2D Hertz, N = 2000, φ 0.82 → 0.830 | 1.57·10⁷ | 6.00·10⁶ | **2.61** (runs: 2.61, 2.66, 2.62) "
+            "| 3.374 / 3.397 |") in out
+    assert "| 3D Hertz | not measured on this machine: LAMMPS cannot be set up here |" in out
+    assert "LAMMPS 22 Jul 2025 - Update 4, walls `--walls block`; medians over 3 alternating runs." in out
+    assert "| 2D, N = 2025, 3966 contacts | 25.0 ms | ≤ 60 ms |" in out
+    assert "| 3D, N = 4000, 12001 contacts | 90.2 ms | ≤ 300 ms |" in out
+    assert "| distances between two consecutive 2D diagrams (PD0 + PD1, d_B, d_W1, d_W2) | 140 ms | ≤ 200 ms |" in out
+    assert "no record yet (`bench/p1_table.py`)" in out  # no record at all
+    assert ("<sub>Record `analysis.json`: 2030-01-02, Test CPU, 2 cores, run on CPU 1, load average 1.0 → 1.5; "
+            "commit 0123456789; `bench/analysis.py --fixture`.</sub>") in out
+    assert "\nmore prose\n" in out
+    assert report.render(out, recs) == out  # idempotent
+    with pytest.raises(KeyError, match="unknown table marker"):
+        report.render("<!-- bench:nonsense -->\n<!-- /bench:nonsense -->\n", recs)
+
+
+def test_every_committed_record_is_complete_and_every_benchmark_has_one():
+    recs = records.read_records()
+    for stem, record in recs.items():
+        assert set(records.REQUIRED_KEYS) <= set(record), stem
+        assert set(records.MACHINE_KEYS) <= set(record["machine"]), stem
+        assert stem == records.record_name(record["benchmark"], record["variant"])
+        assert record["status"] in ("measured", "not measured"), stem
+        assert record["status"] == "measured" or record["reason"], stem
+    for benchmark in BENCHMARKS:
+        assert any(record["benchmark"] == benchmark for record in recs.values()), f"no record of {benchmark}"
+
+
+def test_the_performance_page_is_what_the_committed_records_make():
+    page = report.PAGE.read_text(encoding="utf-8")
+    assert {m.group("name") for m in report.MARKER.finditer(page)} == set(report.TABLES)
+    assert report.render(page, records.read_records()) == page, (
+        "docs/performance.md differs from bench/results/*.json: run .venv/bin/python bench/report.py")
