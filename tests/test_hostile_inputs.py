@@ -99,6 +99,14 @@ LAMMPS_CASES = {
                               "line 11: 5 values for the 6 columns"),
     "a word for a number": (GOOD_ATOMS.replace("2 1 1.9", "2 1 x1.9"), None, "atoms.dump",
                             "line 11: not a number in '2 1 x1.9 1.0 0 0.5'"),
+    "no atoms": (HEAD.format("ATOMS", 0) + "ITEM: ATOMS id type x y z radius\n", None, "atoms.dump",
+                 "timestep 5 (line 1): no atoms"),
+    "a negative count": (GOOD_ATOMS.replace("ATOMS\n3", "ATOMS\n-3"), None, "atoms.dump",
+                         "line 4: a negative number of rows (-3)"),
+    "infinite box bounds": (GOOD_ATOMS.replace("0 4\n0 4", "0 inf\n0 4"), None, "atoms.dump",
+                            "line 6: box bounds that are NaN or infinite"),
+    "box bounds hi below lo": (GOOD_ATOMS.replace("0 4\n0 4", "0 4\n4 0"), None, "atoms.dump",
+                               "line 7: box bounds 4 0: hi must exceed lo"),
     "timestep not an integer": (GOOD_ATOMS.replace("TIMESTEP\n5", "TIMESTEP\n5.5"), None, "atoms.dump",
                                 "line 2: expected one integer after 'ITEM: TIMESTEP', found '5.5'"),
 }
@@ -145,6 +153,23 @@ def test_a_corrupt_gzip_stream_is_refused_naming_its_file(tmp_path):
     assert message.startswith(f"{table}: cannot be read (") and "\n" not in message, message
 
 
+def test_a_byte_order_mark_and_a_frame_without_pairs_read(tmp_path):
+    atoms, pairs = dumps(tmp_path, pair_rows=[])
+    atoms.write_text("\ufeff" + GOOD_ATOMS)  # a Windows editor's UTF-8
+    (state,) = source_states(lammps_entry(atoms, pairs), 0)
+    assert len(state.radius) == 3 and len(state.contact_i) == 0
+
+
+def test_particles_that_do_not_fit_their_box_are_named_when_the_config_is_parsed(tmp_path, records):
+    from forcenet.systems import imported_system
+
+    atoms, pairs = dumps(tmp_path, atom_rows=["1 1 1.0 1.0 0 0.5", "2 1 1.9 1.0 0 50", "3 1 1.0 1.9 0 0.5"])
+    with pytest.raises(SourceError) as caught:
+        imported_system("s", lammps_entry(atoms, pairs))
+    assert str(caught.value) == (f"{atoms}, timestep 5: ρ = 491: the particles' area is not below the box's (radii and "
+                                 "box in different units? diameters given as radii?)")
+
+
 def test_a_gzipped_dump_named_without_gz_is_said_to_be_one(tmp_path):
     atoms, pairs = dumps(tmp_path)
     atoms.write_bytes(gzip.compress(atoms.read_bytes()))
@@ -156,6 +181,8 @@ def test_a_gzipped_dump_named_without_gz_is_said_to_be_one(tmp_path):
 TABLE_PARTICLES = "id,x,y,radius\n1,1.0,1.0,0.5\n2,1.9,1.0,0.5\n3,1.0,1.9,0.5\n"
 TABLE_CONTACTS = "i,j,fn,ft\n1,2,1.0,0.1\n1,3,0.5,0.0\n"
 TABLE_CASES = {
+    "a byte-order mark is no part of the header": ("\ufeff" + TABLE_PARTICLES.replace("2,1.9", "2,x"), None, "p.csv",
+                                                   "line 3, column 'x': 'x' is not a number"),
     "a row with more cells than its header": (TABLE_PARTICLES.replace("2,1.9,1.0,0.5", "2,1.9,1.0,0.5,7"), None,
                                              "p.csv", "line 3: 5 cells, but the header (line 1) names 4 columns"),
     "coincident particles": (TABLE_PARTICLES.replace("3,1.0,1.9", "3,1.0,1.0"), None, "p.csv",

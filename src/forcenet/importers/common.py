@@ -87,13 +87,16 @@ def read_source_text(path: str | Path) -> str:
     ``local/gz``, a gzipped table); a file that cannot be read raises `SourceError` naming it and why."""
     try:
         if str(path).endswith(".gz"):
-            with gzip.open(path, "rt", encoding="utf-8") as handle:
+            with gzip.open(path, "rt", encoding=ENCODING) as handle:
                 return handle.read()
-        return Path(path).read_text(encoding="utf-8")
+        return Path(path).read_text(encoding=ENCODING)
     except READ_ERRORS as error:
         raise SourceError(path, "", f"cannot be read ({_reason(error, path)})") from None
 
 
+#: sources are UTF-8; "-sig" drops a leading byte-order mark (Excel's "CSV UTF-8" writes one), which would otherwise
+#: become part of the first column's name or of the first ITEM line
+ENCODING = "utf-8-sig"
 #: what reading a damaged file raises: gzip.BadGzipFile is an OSError, a cut gzip stream an EOFError, corrupt
 #: compressed data a zlib.error (not an OSError: issue 57 found it uncaught, naming no file)
 READ_ERRORS = (OSError, EOFError, UnicodeDecodeError, zlib.error)
@@ -121,8 +124,8 @@ def source_lines(path: str | Path) -> Iterator[tuple[int, str]]:
     every line), raises `SourceError` naming the file and the line."""
     number = 0
     try:
-        handle = (gzip.open(path, "rt", encoding="utf-8", newline="") if str(path).endswith(".gz")
-                  else open(path, encoding="utf-8", newline=""))
+        handle = (gzip.open(path, "rt", encoding=ENCODING, newline="") if str(path).endswith(".gz")
+                  else open(path, encoding=ENCODING, newline=""))
     except READ_ERRORS as error:
         raise SourceError(path, "", f"cannot be read ({_reason(error, path)})") from None
     with handle:
@@ -159,7 +162,8 @@ def negative_magnitude(values: np.ndarray) -> int | None:
     """The first row of force magnitudes (C,) or (C, 1) below zero, or None. Both importers refuse it: a magnitude is
     stored along the repulsive normal (or perpendicular to it), so a negative one would flip the force's direction
     while |F| counted it as repulsive."""
-    negative = np.asarray(values).reshape(len(values), -1) < 0
+    values = np.asarray(values)
+    negative = values.reshape(len(values), -1) < 0 if values.size else np.zeros((0, 1), bool)
     rows = np.flatnonzero(negative.any(axis=1))
     return int(rows[0]) if rows.size else None
 

@@ -122,6 +122,9 @@ def read_frames(path: str | Path, kind: str) -> Iterator[Frame]:
                                   + f", found {text!r}") from None
         if not np.all(np.isfinite(box)):
             raise SourceError(path, f"line {last - 2}", "box bounds that are NaN or infinite")
+        if np.any(box[:, 1] <= box[:, 0]):
+            a = int(np.argmax(box[:, 1] <= box[:, 0]))
+            raise SourceError(path, f"line {last - 2 + a}", f"box bounds {box[a, 0]:g} {box[a, 1]:g}: hi must exceed lo")
         tilt = box[:, 2] if triclinic else np.zeros(3)
         box = _triclinic_box(box[:, :2], tilt) if triclinic else box
         # "pp ff pp": per axis, LAMMPS's boundary style at its lo and hi faces
@@ -254,6 +257,8 @@ def _positions(path, frame: Frame, axes: Sequence[str]) -> np.ndarray:
 
 def atom_state(path, frame: Frame, dimension: int, wall_columns: Sequence[str] | None = None):
     """(ids, position (N, d), radius, box_lo, box_hi, wall force (N, d) or None) of one atoms frame."""
+    if len(frame.rows) == 0:
+        raise SourceError(path, f"timestep {frame.timestep} (line {frame.line})", "no atoms")
     ids = _ids(path, frame, "id", "the atom ids")
     name = _position_column(frame, "z")
     if dimension == 3 and name is None:

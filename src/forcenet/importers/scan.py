@@ -132,8 +132,14 @@ def scan_particles(path: str | Path, dimension: int) -> dict[str, Any]:
             "hi": (position + radius[:, None]).max(axis=0).tolist()}
 
 
-def _rho(volume: float, lo, hi) -> float:
-    return float(volume / np.prod(np.asarray(hi, float) - np.asarray(lo, float)))
+def _rho(volume: float, lo, hi, path, where: str) -> float:
+    """ρ of a state; one at or above 1 raises `SourceError` naming the file and the state: its particles do not fit
+    their box (radii and box in different length units, or diameters given as radii)."""
+    rho = float(volume / np.prod(np.asarray(hi, float) - np.asarray(lo, float)))
+    if not 0.0 < rho < 1.0:
+        raise SourceError(path, where, f"ρ = {rho:.4g}: the particles' {'area' if len(lo) == 2 else 'volume'} is not "
+                                       "below the box's (radii and box in different units? diameters given as radii?)")
+    return rho
 
 
 def run_outline(entry: Mapping[str, Any], realization: int) -> list[tuple[float, int]]:
@@ -155,8 +161,8 @@ def run_outline(entry: Mapping[str, Any], realization: int) -> list[tuple[float,
                 raise SourceError(run["atoms"], "source.timesteps", f"timestep {missing[0]} is not in the dump ({have})")
             frames = [frame for frame in frames if frame["timestep"] in wanted]
         box = source.get("box")
-        return [(_rho(f["volume"], box["lo"] if box else f["lo"], box["hi"] if box else f["hi"]), f["particles"])
-                for f in frames]
+        return [(_rho(f["volume"], box["lo"] if box else f["lo"], box["hi"] if box else f["hi"], run["atoms"],
+                      f"timestep {f['timestep']}"), f["particles"]) for f in frames]
     states = []
     for state in run:
         file_record(state["contacts"])
@@ -164,5 +170,5 @@ def run_outline(entry: Mapping[str, Any], realization: int) -> list[tuple[float,
                            lambda: scan_particles(state["particles"], dimension))["scans"][f"table:{dimension}"]
         box = state.get("box", source.get("box"))
         lo, hi = (scan["lo"], scan["hi"]) if box is None else given_box(box, dimension, state["particles"])
-        states.append((_rho(scan["volume"], lo, hi), scan["particles"]))
+        states.append((_rho(scan["volume"], lo, hi, state["particles"], "box" if box else ""), scan["particles"]))
     return states
