@@ -293,13 +293,15 @@ def test_parsing_reads_the_atoms_once_per_content_and_never_the_pairs(tmp_path, 
 
 
 @pytest.mark.parametrize("content, expected", [(None, "cannot be read (No such file or directory)"),
-                                               ("", "empty (0 bytes)")])
+                                               ("", "empty (0 bytes)"), ("/", "not a file (a folder?)")])
 def test_a_missing_or_empty_pairs_file_is_named_when_the_config_is_parsed(tmp_path, records, content, expected):
     from forcenet.systems import imported_system
 
     atoms, pairs = dumps(tmp_path)
     pairs.unlink()
-    if content is not None:
+    if content == "/":
+        pairs.mkdir()
+    elif content is not None:
         pairs.write_text(content)
     with pytest.raises(SourceError) as caught:
         imported_system("s", lammps_entry(atoms, pairs))

@@ -21,6 +21,7 @@ import hashlib
 import json
 import math
 import os
+import stat
 import time
 from pathlib import Path
 from typing import Any, Callable, Mapping
@@ -51,11 +52,13 @@ def record_path(path: str | Path) -> Path:
 
 
 def checked_size(path: str | Path) -> os.stat_result:
-    """The file's status; a missing, unreadable or empty file raises `SourceError` naming it."""
+    """The file's status; a missing or empty file, or a folder, raises `SourceError` naming it."""
     try:
         status = os.stat(path)
     except OSError as error:
         raise SourceError(path, "", f"cannot be read ({error.strerror or error})") from None
+    if not stat.S_ISREG(status.st_mode):
+        raise SourceError(path, "", "not a file (a folder?)")
     if status.st_size == 0:
         raise SourceError(path, "", "empty (0 bytes)")
     return status
