@@ -17,7 +17,7 @@ from pathlib import Path
 
 import yaml
 
-from forcenet.pipeline import p2_sampling_study
+from forcenet.pipeline_p2 import p2_sampling_study
 
 
 def main() -> None:

@@ -13,7 +13,7 @@ import pytest
 import xarray as xr
 
 from conftest import load_config
-from forcenet import pipeline
+from forcenet import pipeline, pipeline_p2
 from forcenet.datasets import (DatasetError, open_dataset, provenance_attrs, read_dataset, write_netcdf,
                                write_snapshot)
 from forcenet.datasets.aggregate import distances_on_grid
@@ -121,7 +121,7 @@ def test_a_broken_input_stops_the_job_with_one_line_and_writes_nothing(good, tmp
                                       pdf=str(out / "f.pdf"), png=str(out / "f.png"), csv=str(out / "f.csv"),
                                       log_path=str(log))
     else:
-        job = lambda: pipeline.p2_validation_table(distances=inputs, tables=[], frictional="2d_poly_mu05",  # noqa: E731
+        job = lambda: pipeline_p2.p2_validation_table(distances=inputs, tables=[], frictional="2d_poly_mu05",  # noqa: E731
                                                    frictionless=None, md=str(out / "v.md"), csv=str(out / "v.csv"),
                                                    measures=[], states=str(tmp_path / "states.csv"),
                                                    log_path=str(log))

@@ -18,7 +18,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Iterator, Mapping, Sequence
 
-from forcenet.datasets.paths import CHECKPOINT, STAGE_LOCK, realization_index, rho_file, staging_dir
+from forcenet.datasets.paths import CHECKPOINT, STAGE_LOCK, realization_index, staging_dir
 from forcenet.errors import ForcenetError
 from forcenet.systems import material_from_config, realization_seed, system_from_config
 
@@ -419,7 +419,7 @@ def common_analysis_attrs(datasets: Sequence[Any]) -> dict[str, str]:
             **flag_complex_attrs(common_attribute(datasets, "flag_complex", "flag complexes"))}
 
 
-def _open_by_system(paths: Sequence[str], kind: str) -> dict[str, Any]:
+def open_by_system(paths: Sequence[str], kind: str) -> dict[str, Any]:
     """{system: dataset} of files of one kind (`forcenet.datasets.schema.FILE_KINDS`), each checked on reading."""
     from forcenet.datasets import read_dataset
 
@@ -455,7 +455,7 @@ def figure(*, name: str, systems: Sequence[str], inputs: Mapping[str, Sequence[s
 
 def _chosen_states(paths: Sequence[str], inputs: Mapping[str, Sequence[str]], reader) -> list:
     """The files of the realization that ``inputs["states"]`` (rule p2_table_states) chose, opened by `reader`."""
-    return _chosen(paths, inputs["states"][0], reader)
+    return chosen_datasets(paths, inputs["states"][0], reader)
 
 
 def _read_state_snapshots(paths, inputs):
@@ -479,9 +479,9 @@ def _read_distances(paths, inputs):
 #: input kind of a figure (`forcenet.plotting.registry.INPUT_KINDS`) → how its files are opened:
 #: reader(files of that kind, every input of the rule)
 FIGURE_INPUT_READERS = {
-    "measures": lambda paths, inputs: _open_by_system(paths, "network_measures"),
-    "diagrams": lambda paths, inputs: _open_by_system(paths, "diagrams"),
-    "example_snapshots": lambda paths, inputs: _open_by_system(paths, "snapshot"),
+    "measures": lambda paths, inputs: open_by_system(paths, "network_measures"),
+    "diagrams": lambda paths, inputs: open_by_system(paths, "diagrams"),
+    "example_snapshots": lambda paths, inputs: open_by_system(paths, "snapshot"),
     "state_snapshots": _read_state_snapshots,
     "state_analysis": _read_state_analysis,
     "distances": _read_distances,
@@ -500,7 +500,7 @@ def movie(*, kind: str, system: str, inputs: Sequence[str], output: str, rattler
         if kind == "network":
             frames = movies.network_movie([read_snapshot(p) for p in inputs], output, rattler_rule=rattler_rule)
         elif kind == "b0_surface":
-            frames = movies.b0_surface_movie(_open_by_system(inputs, "network_measures"), system, output,
+            frames = movies.b0_surface_movie(open_by_system(inputs, "network_measures"), system, output,
                                              force_unit=force_unit)
         else:
             raise ValueError(f"unknown movie kind {kind!r}; known: network, b0_surface")
@@ -533,167 +533,22 @@ def p1_validation_table(*, measures: Sequence[str], systems: Sequence[str], csv:
                 overlaps[name] = max(overlaps.get(name, 0.0), largest_relative_overlap(snapshot))
         # a reading without measures of its own (no 3D system for the tetrahedra) would only repeat the primary
         readings = {label: files for label, files in (beside or {}).items() if files.get("measures")}
-        table = p1_validation(_open_by_system(measures, "network_measures"), force_unit=force_unit,
+        table = p1_validation(open_by_system(measures, "network_measures"), force_unit=force_unit,
                               resamples=ROBUSTNESS_RESAMPLES, overlaps=overlaps,
-                              diagrams=_open_by_system(diagrams, "diagrams"),
-                              beside={label: _open_by_system(files.get("measures", ()), "network_measures")
+                              diagrams=open_by_system(diagrams, "diagrams"),
+                              beside={label: open_by_system(files.get("measures", ()), "network_measures")
                                       for label, files in readings.items()},
-                              beside_diagrams={label: _open_by_system(files.get("diagrams", ()), "diagrams")
+                              beside_diagrams={label: open_by_system(files.get("diagrams", ()), "diagrams")
                                                for label, files in readings.items()},
                               counterparts=counterparts)
         write_p1_validation(table, csv, md, paper_size=paper_size)
         log.info("P1 validation: %d rows, claim verdicts %s", len(table), verdict_counts(table))
 
 
-def p2_distances(*, analyses: Sequence[str], realizations: Sequence[int], output: str, essential_convention: str,
-                 config: Mapping[str, Any], system: str, log_path: str | None = None) -> None:
-    """P2 §III D: d_B, d_W1, d_W2 between consecutive snapshots of every realization → distances.nc, with the
-    config's ρ grid as the `rho` coordinate (`forcenet.datasets.aggregate.distances_on_grid`)."""
-    from forcenet.datasets import provenance_attrs, read_dataset, run_expectation, write_netcdf
-    from forcenet.datasets.aggregate import distances_on_grid
-    from forcenet.report.p2_distances import consecutive_distances, stack_distances
-
-    with job_logger(log_path, f"p2_distances.{system}") as log:
-        per_realization_count, left = divmod(len(analyses), len(realizations))
-        if left or not per_realization_count:
-            raise ValueError(f"{len(analyses)} analyses cannot be split evenly over realizations {list(realizations)}")
-        expect = run_expectation(config, system)  # every file checked, and of this run, before any work
-        datasets = [read_dataset(path, "analysis", expect=expect) for path in analyses]
-        results = []
-        for index, realization in enumerate(realizations):
-            run = datasets[index * per_realization_count:(index + 1) * per_realization_count]
-            results.append(consecutive_distances(run, essential_convention))
-            log.info("%s realization %d: %d consecutive pairs", system, realization, len(run) - 1)
-        spec = system_from_config(system, config)
-        attrs = provenance_attrs(system=system, realization=-1, seed=config["seed"], config=config,
-                                 title=f"forcenet distances between consecutive persistence diagrams, {system}")
-        attrs.update(dimension=spec.dimension, force_law=spec.force_law)
-        attrs.update(common_analysis_attrs(datasets))  # the rule and complex that made every compared diagram
-        stacked = distances_on_grid(stack_distances(results, realizations, attrs), spec.rho_grid[1:])
-        write_netcdf(stacked, output, kind="distances")
-
-
-def p2_table_states(*, analyses: Sequence[str], csv: str, rule: str = "jammed", table_rho: float = 0.79,
-                    dimension: int = 2, log_path: str | None = None) -> None:
-    """Which states a, b, c (`rule` of `forcenet.report.p2_tables.TABLE_STATE_RULES`, config key
-    ``studies.p2.table_states``) and which realization give Tables I–III and Figs 1, 3 (P2 Fig. 1's criterion,
-    `forcenet.report.p2_tables.TABLE_STATE_CRITERION`): one row per realization, written to `csv`."""
-    from forcenet.datasets import read_dataset
-    from forcenet.report.p2_tables import table_state_candidates
-
-    with job_logger(log_path, "p2_table_states") as log:
-        table = table_state_candidates([read_dataset(p, "analysis") for p in analyses], rule, table_rho, dimension)
-        Path(csv).parent.mkdir(parents=True, exist_ok=True)
-        table.to_csv(csv, index=False)
-        chosen = table[table["chosen"]].iloc[0]
-        log.info("states a, b, c: realization %d (score %.3g of %s)", chosen["realization"], chosen["score"],
-                 ", ".join(f"{s:.3g}" for s in table["score"]))
-
-
-def _chosen(paths: Sequence[str], states_csv: str, reader) -> list:
+def chosen_datasets(paths: Sequence[str], states_csv: str, reader) -> list:
     """The datasets among `paths` (read with `reader`) of the realization `states_csv` chose, in increasing ρ."""
     import pandas as pd
 
     from forcenet.report.p2_tables import chosen_states
 
     return chosen_states([reader(p) for p in paths], pd.read_csv(states_csv))
-
-
-def p2_tables(*, snapshots: Sequence[str], states: str, csv: Sequence[str], md: Sequence[str],
-              rattler_rule: bool | str, essential_convention: str, log_path: str | None = None) -> None:
-    """P2 Tables I–III from the states a, b, c of the realization `states` (the `p2_table_states` CSV) chose,
-    whole box and quadrants, networks made with the P2 study's `rattler_rule`; `csv` and `md` are the paths
-    `forcenet.report.p2_tables.write_p2_tables` writes (``{directory}/p2_table{1,2,3}.{csv,md}``)."""
-    from forcenet.datasets import read_snapshot
-    from forcenet.report.p2_tables import p2_tables as compute_tables, write_p2_tables
-
-    with job_logger(log_path, "p2_tables") as log:
-        chosen = _chosen(snapshots, states, read_snapshot)
-        tables = compute_tables(chosen, remove_rattlers=rattler_rule, essential_convention=essential_convention)
-        written = write_p2_tables(tables, Path(csv[0]).parent)
-        expected = sorted(Path(p).resolve() for p in (*csv, *md))
-        if sorted(p.resolve() for p in written) != expected:
-            raise ValueError(f"P2 tables written as {[str(p) for p in written]}, expected {[str(p) for p in expected]}")
-        log.info("P2 tables from realization %s, rho %s", chosen[0].attrs.get("realization"),
-                 ", ".join(f"{float(s.rho):.4f}" for s in chosen))
-
-
-def p2_validation_table(*, distances: Sequence[str], tables: Sequence[str], measures: Sequence[str], states: str,
-                        frictional: str, frictionless: str | None, md: str, csv: str, paper_size: str | None = None,
-                        diagrams: Sequence[str] = (), beside: Mapping[str, Mapping[str, Sequence[str]]] | None = None,
-                        log_path: str | None = None) -> None:
-    """Each claim of P2 §IV with its measured evidence, verdict and, where it does not hold, the explanation
-    (results/tables/p2_validation.md); `measures` (network_measures.nc) and `states` (the p2_table_states CSV)
-    feed the explanations' diagnostics; `diagrams` (diagrams.nc) the PD point counts; `paper_size` (the campaign's
-    ``docs/validation/p2.csv``, or None in a paper-size config) adds our paper-size values beside P2's; `beside`
-    ({reading label: {"distances": […], "tables": […]}}, `readings_beside`; either key may be left out) the
-    readings judged beside P2's conventions."""
-    import pandas as pd
-
-    from forcenet.report.claims import verdict_counts
-    from forcenet.report.p2_tables import read_table
-    from forcenet.report.realizations import ROBUSTNESS_RESAMPLES
-    from forcenet.report.p2_validation import p2_validation, write_p2_validation
-
-    with job_logger(log_path, "p2_validation") as log:
-        def read_tables(paths: Sequence[str]) -> dict[str, pd.DataFrame]:
-            return {f"table{i + 1}": read_table(path) for i, path in enumerate(sorted(paths))}
-
-        readings = {label: {**({"distances": _open_by_system(files["distances"], "distances")}
-                               if files.get("distances") else {}),
-                            **({"tables": read_tables(files["tables"])} if files.get("tables") else {})}
-                    for label, files in (beside or {}).items()}
-        table = p2_validation(_open_by_system(distances, "distances"), read_tables(tables),
-                              frictional=frictional, frictionless=frictionless or "",
-                              measures=_open_by_system(measures, "network_measures"), states=pd.read_csv(states),
-                              diagrams=_open_by_system(diagrams, "diagrams"), resamples=ROBUSTNESS_RESAMPLES,
-                              beside=readings)
-        write_p2_validation(table, csv, md, paper_size=paper_size)
-        log.info("P2 validation: claim verdicts %s", verdict_counts(table))
-
-
-def p2_sampling_study(*, config: Mapping[str, Any], system: str, wall_speeds: Sequence[float], count: int,
-                      lags: Sequence[int], rattler_rule: str, out: str | os.PathLike,
-                      simulate_only: bool = False) -> str:
-    """Distances between states k samples apart at several wall speeds, one realization (docs/p2_sampling.md).
-
-    For each speed, realization 0 of `system` (its config entry with ``wall_speed`` and a ρ grid of `count`
-    states from 0.63 to 0.90) is compressed into ``{out}/v{speed}/`` (reused when complete); the normal-force
-    diagrams of every state (rattler rule `rattler_rule`) are compared at each lag. Returns the Markdown
-    table of `forcenet.report.p2_distances.lagged_distance_summary` (also written to ``{out}/p2_sampling.md``), or ""
-    when `simulate_only`.
-    """
-    import time
-
-    from forcenet.datasets import read_snapshot
-    from forcenet.report.p2_distances import lagged_distance_markdown, lagged_distance_summary, snapshot_diagrams
-
-    runs = {}
-    for speed in wall_speeds:
-        entry = {**config["systems"][system], "wall_speed": float(speed),
-                 "rho": {"start": 0.63, "stop": 0.90, "count": int(count)}}
-        run_config = {**config, "realizations": 1, "systems": {system: entry}}
-        spec = system_from_config(system, run_config)
-        directory = Path(out) / f"v{speed:g}"
-        files = [str(directory / rho_file(label)) for label in spec.rho_labels]
-        seconds = float("nan")
-        if not all(Path(p).exists() for p in files):
-            start = time.perf_counter()
-            simulate(config=run_config, system=system, realization="r00", outputs=files,
-                     log_path=str(directory / "simulate.log"))
-            seconds = time.perf_counter() - start
-        runs[float(speed)] = (files, seconds)
-    if simulate_only:
-        return ""
-    summaries = {}
-    for speed, (files, seconds) in runs.items():
-        snapshots = [read_snapshot(p) for p in files]
-        diagrams = [snapshot_diagrams(s, "normal", rattler_rule) for s in snapshots]
-        rho = [float(s["rho"]) for s in snapshots]
-        z = [float(s["Z"]) for s in snapshots]
-        summaries[speed] = (rho, z, diagrams, seconds)
-    table = lagged_distance_markdown(lagged_distance_summary(summaries, lags,
-                                                             dimension=int(config["systems"][system]["dimension"])))
-    Path(out).mkdir(parents=True, exist_ok=True)
-    (Path(out) / "p2_sampling.md").write_text(table)
-    return table

@@ -1,5 +1,5 @@
-"""Distances between consecutive persistence diagrams: thin wrapper around forcenet.pipeline.p2_distances."""
-from forcenet.pipeline import p2_distances
+"""Distances between consecutive persistence diagrams: thin wrapper around forcenet.pipeline_p2.p2_distances."""
+from forcenet.pipeline_p2 import p2_distances
 
 p2_distances(  # noqa: F821 — `snakemake` is injected by Snakemake
     analyses=list(snakemake.input), realizations=snakemake.params.realizations, output=snakemake.output[0],

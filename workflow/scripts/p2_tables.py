@@ -1,5 +1,5 @@
-"""P2 Tables I-III: thin wrapper around forcenet.pipeline.p2_tables."""
-from forcenet.pipeline import p2_tables
+"""P2 Tables I-III: thin wrapper around forcenet.pipeline_p2.p2_tables."""
+from forcenet.pipeline_p2 import p2_tables
 
 p2_tables(  # noqa: F821 — `snakemake` is injected by Snakemake
     snapshots=list(snakemake.input.snapshots), states=snakemake.input.states, csv=list(snakemake.output.csv),

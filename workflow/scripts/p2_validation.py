@@ -1,5 +1,5 @@
-"""P2 validation of the paper's claims: thin wrapper around forcenet.pipeline.p2_validation_table."""
-from forcenet.pipeline import p2_validation_table
+"""P2 validation of the paper's claims: thin wrapper around forcenet.pipeline_p2.p2_validation_table."""
+from forcenet.pipeline_p2 import p2_validation_table
 
 p2_validation_table(  # noqa: F821 — `snakemake` is injected by Snakemake
     distances=list(snakemake.input.distances), tables=list(snakemake.input.tables),
