@@ -137,8 +137,10 @@ def make_record(benchmark: str, *, variant: str | None = None, measured: dict | 
         machine=machine(load_before), settings=settings or {}, measured=measured or {}, peer=peer))
 
 
-def write_record(record: dict, results: Path = RESULTS) -> Path:
-    """Write `record` as results/<benchmark>[-<variant>].json, atomically (temporary file, then rename)."""
+def write_record(record: dict, results: Path | None = None) -> Path:
+    """Write `record` as results/<benchmark>[-<variant>].json (results: bench/results/), atomically (temporary
+    file, then rename)."""
+    results = RESULTS if results is None else results
     results.mkdir(parents=True, exist_ok=True)
     path = results / f"{record_name(record['benchmark'], record['variant'])}.json"
     with tempfile.NamedTemporaryFile("w", dir=results, prefix=f".{path.stem}.", suffix=".tmp", delete=False,
@@ -149,8 +151,9 @@ def write_record(record: dict, results: Path = RESULTS) -> Path:
     return path
 
 
-def read_records(results: Path = RESULTS) -> dict[str, dict]:
-    """{file stem: record} of every record under `results`."""
+def read_records(results: Path | None = None) -> dict[str, dict]:
+    """{file stem: record} of every record under `results` (bench/results/)."""
+    results = RESULTS if results is None else results
     return {path.stem: json.loads(path.read_text(encoding="utf-8")) for path in sorted(results.glob("*.json"))}
 
 
@@ -159,7 +162,7 @@ class Run:
     `write` or `not_measured` leaves its record."""
 
     def __init__(self, benchmark: str, *, variant: str | None = None, settings: dict | None = None,
-                 enabled: bool = True, results: Path = RESULTS):
+                 enabled: bool = True, results: Path | None = None):
         self.benchmark, self.variant, self.settings = benchmark, variant, settings or {}
         self.enabled, self.results = enabled, results
         self.load_before = load_average()
@@ -193,4 +196,4 @@ def wanted(args, argv) -> bool:
 def add_no_record(parser) -> None:
     """The `--no-record` option every benchmark has."""
     parser.add_argument("--no-record", action="store_true",
-                        help=f"do not write the run's record under {RESULTS.relative_to(REPO)}/")
+                        help="do not write the run's record under bench/results/")

