@@ -5,10 +5,11 @@ usage: python bench/command_time.py NAME [--no-record]        (NAME: one of COMM
 
 Runs the command with bash, from the repository root or, for the commands a newcomer runs first, in a fresh clone
 of this checkout's HEAD in a temporary folder (deleted afterwards); {scratch} in a command is an empty temporary
-folder. Measures the wall time and the CPU time of the command and its children, keeps pytest's or Snakemake's
-summary line, and leaves the record in bench/results/command_time-NAME.json (bench/records.py); a command that
-fails leaves a record that says so. Run it on a machine that is otherwise idle: the record notes the load average
-before and after.
+folder, {venv} this checkout's venv (for a fresh clone that needs no install of its own; numba's cache starts
+empty there, as the clone's source files are new to it). Measures the wall time and the CPU time of the command
+and its children, keeps pytest's or Snakemake's summary line, and leaves the record in
+bench/results/command_time-NAME.json (bench/records.py); a command that fails leaves a record that says so. Run it
+on a machine that is otherwise idle: the record notes the load average before and after.
 """
 from __future__ import annotations
 
@@ -35,6 +36,8 @@ COMMANDS = {
                        command="bash .ci/run"),
     "unit_tests": dict(what="the unit tier (plain pytest)", fresh_clone=False,
                        command=".venv/bin/python -m pytest -q -p no:cacheprovider"),
+    "example_import": dict(what="the shipped imports (config/example_import.yaml)", fresh_clone=True,
+                           command="{venv}/bin/snakemake --cores 2 --configfile config/example_import.yaml"),
     "smoke_build": dict(what="smoke config, full build in an empty folder", fresh_clone=False,
                         command=".venv/bin/snakemake --cores 2 --configfile config/smoke.yaml --directory {scratch}"),
 }
@@ -66,7 +69,7 @@ def run_command(name: str, repo: Path = records.REPO) -> dict:
         if spec["fresh_clone"]:
             cwd = tmp / "clone"
             subprocess.run(["git", "clone", "-q", str(repo), str(cwd)], check=True)
-        command = spec["command"].format(scratch=scratch)
+        command = spec["command"].format(scratch=scratch, venv=repo / ".venv")
         cpu0, wall0 = cpu_children(), time.perf_counter()
         result = subprocess.run(["bash", "-c", command], cwd=cwd, capture_output=True, text=True)
         wall, cpu = time.perf_counter() - wall0, cpu_children() - cpu0

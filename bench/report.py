@@ -107,7 +107,8 @@ def same_state_table(recs: dict) -> str:
         label = f"{dim.upper()} {'Hertz' if law == 'hertz' else law}"
         record = recs.get(f"lammps_same_state-{case}")
         if not measured(record):
-            rows.append([label, "–", "–", "–", "–", not_measured(record, "bench/lammps_same_state.py"), "", "", ""])
+            missing = not_measured(record, "bench/lammps_same_state.py")
+            rows.append([label, "–", "–", "–", "–", missing, "", "", ""])
         else:
             used.append((f"lammps_same_state-{case}", record))
             for probe, r in record["measured"]["probes"].items():
@@ -185,8 +186,8 @@ def analysis_table(recs: dict) -> str:
     rows = []
     for dim in ("2d", "3d"):
         net = m["networks"][dim]
-        rows.append([f"{dim.upper()}, N = {net['N']}, {net['contacts']} contacts", f"{fixed(m[f'snapshot_ms_{dim}'])} ms",
-                     target(f"snapshot_ms_{dim}")])
+        rows.append([f"{dim.upper()}, N = {net['N']}, {net['contacts']} contacts",
+                     f"{fixed(m[f'snapshot_ms_{dim}'])} ms", target(f"snapshot_ms_{dim}")])
     rows.append(["distances between two consecutive 2D diagrams (PD0 + PD1, d_B, d_W1, d_W2)",
                  f"{fixed(m['distances_ms_2d'])} ms", target("distances_ms_2d")])
     if "distances_ms_2d_small_change" in m:
@@ -258,8 +259,9 @@ def commands_table(recs: dict) -> str:
     rows, used = [], []
     for name, spec in command_time.COMMANDS.items():
         record = recs.get(f"command_time-{name}")
-        command = spec["command"].format(scratch="$(mktemp -d)")
-        what = f"{spec['what']}: `{command}`" + (" in a fresh clone" if spec.get("fresh_clone") else "")
+        command = spec["command"].format(scratch="$(mktemp -d)", venv=".venv")
+        what = f"{spec['what']}: `{command}`" + (" in a fresh clone" if spec.get("fresh_clone") else "") + \
+            (" (with this checkout's venv)" if "{venv}" in spec["command"] else "")
         if not measured(record):
             rows.append([what, not_measured(record, f"bench/command_time.py {name}")])
             continue

@@ -114,6 +114,22 @@ def test_command_times_keep_the_summary_line():
     assert "no record yet (`bench/command_time.py test_suite`)" in page
 
 
+def test_a_command_is_timed_in_a_fresh_clone_into_its_record(recording_into, monkeypatch):
+    import command_time
+
+    monkeypatch.setitem(command_time.COMMANDS, "probe", dict(
+        what="probe", fresh_clone=True,
+        command="test -f Snakefile && test -d {scratch} && echo '== 2 passed in 0.01s =='"))
+    assert command_time.main(["probe"]) == 0
+    record = records.read_records(recording_into)["command_time-probe"]
+    assert record["status"] == "measured" and record["measured"]["returncode"] == 0
+    assert record["measured"]["summary"] == "2 passed" and record["measured"]["wall_s"] >= 0
+    monkeypatch.setitem(command_time.COMMANDS, "probe", dict(what="probe", fresh_clone=False, command="exit 3"))
+    assert command_time.main(["probe"]) == 1
+    record = records.read_records(recording_into)["command_time-probe"]
+    assert record["status"] == "not measured" and "exit status 3" in record["reason"]
+
+
 @pytest.mark.parametrize("value, text", [(1.5678e7, "1.57·10⁷"), (8.04e-15, "8.04·10⁻¹⁵"), (0.4675, "0.468"),
                                          (25.34, "25.3"), (2.0e-4, "2.00·10⁻⁴"), (0, "0")])
 def test_numbers_are_written_with_powers_of_ten(value, text):
