@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Compare two validation tables of one paper verdict by verdict (forcenet.report.claims.verdict_changes).
+"""Compare two validation tables of one paper verdict by verdict (forcenet.report.claims_table.verdict_changes).
 
     .venv/bin/python scripts/compare_verdicts.py HEAD~1:docs/validation/p1.csv docs/validation/p1.csv
     .venv/bin/python scripts/compare_verdicts.py docs/validation/p2.csv results/validation_r3/tables/p2_validation.csv
@@ -23,8 +23,9 @@ from pathlib import Path
 REPO = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(REPO / "src"))
 
-from forcenet.report.claims import (COMPARED_COLUMNS, markdown_table, printed_value,  # noqa: E402
-                                    read_validation_csv, verdict_changes, verdict_summary)
+from forcenet.report.claims import verdict_summary  # noqa: E402
+from forcenet.report.claims_table import (COMPARED_COLUMNS, markdown_table, printed_value,  # noqa: E402
+                                          read_validation_csv, verdict_changes)
 from forcenet.report.p1_validation import P1_LAYOUT  # noqa: E402
 from forcenet.report.p2_validation import P2_LAYOUT  # noqa: E402
 

@@ -23,7 +23,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "src"))
 
 import pandas as pd  # noqa: E402
 
-from forcenet.report.claims import markdown_table, read_validation_csv  # noqa: E402
+from forcenet.report.claims_table import markdown_table, read_validation_csv  # noqa: E402
 from forcenet.research.damping_series import SeriesRun, network_readings, series_row  # noqa: E402
 
 COLUMNS = [

@@ -24,7 +24,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "src"))
 
 from forcenet.datasets import read_dataset  # noqa: E402
 from forcenet.datasets.paths import network_measures  # noqa: E402
-from forcenet.report.claims import markdown_table  # noqa: E402
+from forcenet.report.claims_table import markdown_table  # noqa: E402
 from forcenet.report.p1 import P1_LARGE_THRESHOLD  # noqa: E402
 from forcenet.report.p1_diagnostics import (SHAPE_READINGS, common_rho, network_rows, shape_readings,  # noqa: E402
                                             with_shape_reading)

@@ -13,8 +13,8 @@ import pandas as pd
 import pytest
 import xarray as xr
 
-from forcenet.report import claims, p1_validation, p2_validation, realizations
-from forcenet.report.claims import PAPER_SIZE, PAPER_SIZE_HEADER
+from forcenet.report import claims, claims_table, p1_validation, p2_validation, realizations
+from forcenet.report.claims_table import PAPER_SIZE, PAPER_SIZE_HEADER
 
 
 # --- reductions over realizations -------------------------------------------------------------------------------
@@ -178,13 +178,13 @@ def campaign_csv(path, rows: list[dict]) -> str:
 
 
 def test_paper_size_values_stand_beside_the_papers_matched_by_id_and_system(tmp_path):
-    table = claims.claims_frame(judged_rows(), p1_validation.P1_LAYOUT)
+    table = claims_table.claims_frame(judged_rows(), p1_validation.P1_LAYOUT)
     docs = campaign_csv(tmp_path / "p1.csv", [
         {"table": "P1 validation table", "kind": "value", "id": "rho_J", "system": "2d_hertz", "measured": 0.80512,
          "verdict": ""},
         {"table": "P1 validation table", "kind": "claim", "id": "p1-4-x", "system": "2d_hertz", "measured": 0.25,
          "verdict": "does not hold"}])
-    shown = claims.with_paper_size(table, p1_validation.P1_LAYOUT, docs)
+    shown = claims_table.with_paper_size(table, p1_validation.P1_LAYOUT, docs)
     columns = list(shown.columns)
     assert columns.index(PAPER_SIZE) == columns.index("paper") + 1
     assert list(shown[PAPER_SIZE]) == ["0.8051", "0.25 (does not hold)", f"not in {docs}"]
@@ -192,21 +192,21 @@ def test_paper_size_values_stand_beside_the_papers_matched_by_id_and_system(tmp_
 
 
 def test_a_missing_campaign_table_gives_the_placeholder(tmp_path):
-    table = claims.claims_frame(judged_rows(), p1_validation.P1_LAYOUT)
+    table = claims_table.claims_frame(judged_rows(), p1_validation.P1_LAYOUT)
     missing = tmp_path / "docs" / "p1.csv"
-    shown = claims.with_paper_size(table, p1_validation.P1_LAYOUT, missing)
+    shown = claims_table.with_paper_size(table, p1_validation.P1_LAYOUT, missing)
     assert set(shown[PAPER_SIZE]) == {f"not yet run ({missing} missing)"}
 
 
 def test_a_campaign_table_without_the_key_columns_is_refused(tmp_path):
-    table = claims.claims_frame(judged_rows(), p1_validation.P1_LAYOUT)
+    table = claims_table.claims_frame(judged_rows(), p1_validation.P1_LAYOUT)
     docs = campaign_csv(tmp_path / "p1.csv", [{"claim": "x", "verdict": "holds"}])
     with pytest.raises(ValueError, match="not a validation table"):
-        claims.with_paper_size(table, p1_validation.P1_LAYOUT, docs)
+        claims_table.with_paper_size(table, p1_validation.P1_LAYOUT, docs)
 
 
 def test_p1_table_writes_the_paper_size_column_in_csv_and_markdown(tmp_path):
-    table = claims.claims_frame(judged_rows(), p1_validation.P1_LAYOUT)
+    table = claims_table.claims_frame(judged_rows(), p1_validation.P1_LAYOUT)
     docs = campaign_csv(tmp_path / "p1.csv", [{"id": "rho_J", "system": "2d_hertz", "measured": 0.805,
                                                "verdict": ""}])
     p1_validation.write_p1_validation(table, tmp_path / "t.csv", tmp_path / "t.md", paper_size=docs)
@@ -225,7 +225,7 @@ def test_p2_table_shows_the_campaign_evidence_and_verdict_beside_p2s_words(tmp_p
     row = claims.JudgedClaim(id="IV.C-1", section="§IV C", statement="jams later", system="mu05 vs mu0",
                              paper="rho_J(mu=0) > rho_J(mu=0.5)", criterion="c", measured=math.nan,
                              evidence="rho_J 0.80, 0.83", verdict=claims.HOLDS)
-    table = claims.claims_frame([row], p2_validation.P2_LAYOUT)
+    table = claims_table.claims_frame([row], p2_validation.P2_LAYOUT)
     docs = campaign_csv(tmp_path / "p2.csv", [
         {"table": "P2 validation table", "claim_id": "IV.C-1", "system": "mu05 vs mu0", "measured": "rho_J 0.802, 0.833",
          "verdict": "holds"},
@@ -280,17 +280,17 @@ def test_verdict_changes_lists_each_changed_verdict_marker_or_robustness_and_not
     # only the measured values move: no change (a new realization moves every number)
     moved = pd.DataFrame(campaign_rows({("p1-4-x", "2d_hertz", ""): dict(measured="0.51"),
                                           ("rho_J", "2d_hertz", ""): dict(measured="0.819")}))
-    assert claims.verdict_changes(before, moved).empty
+    assert claims_table.verdict_changes(before, moved).empty
     # unless the measured values are compared too (the same runs made again must give the same text)
-    measured = claims.verdict_changes(before, moved, compared=("measured", *claims.COMPARED_COLUMNS))
+    measured = claims_table.verdict_changes(before, moved, compared=("measured", *claims_table.COMPARED_COLUMNS))
     assert list(zip(measured["id"], measured["change"])) == [("rho_J", "measured"), ("p1-4-x", "measured")]
     with pytest.raises(ValueError, match="cannot compare"):
-        claims.verdict_changes(before, moved, compared=("evidence",))
+        claims_table.verdict_changes(before, moved, compared=("evidence",))
     after = pd.DataFrame(campaign_rows({("p1-4-x", "2d_hertz", ""): dict(verdict=claims.FAILS, robustness="0.4",
                                                                             measured="0.45"),
                                           ("p1-4-x", "3d_hertz", ""): dict(marker=""),
                                           ("p1-4-x", "3d_hertz", "other"): dict(robustness="0.8")}))
-    changes = claims.verdict_changes(before, after)
+    changes = claims_table.verdict_changes(before, after)
     assert list(changes["change"]) == ["verdict, robustness", "marker", "robustness"]
     assert list(changes["system"]) == ["2d_hertz", "3d_hertz", "3d_hertz"]
     assert list(changes["reading"]) == ["", "", "other"]  # the reading beside is its own row
@@ -303,40 +303,40 @@ def test_verdict_changes_lists_each_changed_verdict_marker_or_robustness_and_not
 def test_verdict_changes_names_the_rows_only_one_table_has():
     before = pd.DataFrame(campaign_rows({("p1-4-x", "3d_hertz", "other"): dict(drop=True)}))
     after = pd.DataFrame(campaign_rows({("p1-4-x", "2d_hertz", ""): dict(drop=True)}))
-    changes = claims.verdict_changes(before, after)
+    changes = claims_table.verdict_changes(before, after)
     assert list(zip(changes["system"], changes["reading"], changes["change"])) == [
         ("3d_hertz", "other", "only after"), ("2d_hertz", "", "only before")]
     only_after = changes.iloc[0]
     assert (only_after["verdict before"], only_after["verdict after"]) == ("", claims.HOLDS)
-    assert claims.verdict_changes(before, before).empty
+    assert claims_table.verdict_changes(before, before).empty
 
 
 def test_verdict_changes_refuses_a_table_of_the_other_paper_or_with_a_repeated_row():
     p1 = pd.DataFrame(campaign_rows())
     p2 = p1.rename(columns={"id": "claim_id"})
     with pytest.raises(ValueError, match="no column 'id'"):
-        claims.verdict_changes(p1, p2)
+        claims_table.verdict_changes(p1, p2)
     doubled = pd.concat([p1, p1.iloc[[1]]])
     with pytest.raises(ValueError, match="rows with the same"):
-        claims.verdict_changes(p1, doubled)
+        claims_table.verdict_changes(p1, doubled)
     # P2's tables: the claim id is `claim_id`, and Tables I–III rows (no claim id) are not compared
     p2_rows = p2.assign(table="P2 validation table")
     p2_rows.loc[len(p2_rows)] = dict(table="Table I", kind="", claim_id="", system="", reading="", measured="",
                                      verdict="", marker="", robustness="")
-    assert claims.verdict_changes(p2_rows, p2_rows.iloc[:-1], id_column="claim_id").empty
+    assert claims_table.verdict_changes(p2_rows, p2_rows.iloc[:-1], id_column="claim_id").empty
 
 
 def test_a_campaign_table_is_read_as_text_without_its_provenance(tmp_path):
     path = campaign_csv(tmp_path / "p1.csv", campaign_rows())
-    table = claims.read_validation_csv(path)
+    table = claims_table.read_validation_csv(path)
     assert list(table["id"]) == ["rho_J", "p1-4-x", "p1-4-x", "p1-4-x"]
     assert table.loc[0, "verdict"] == "" and table.loc[1, "robustness"] == "1.0"  # text, empty cells ""
     # a "#" inside a cell is text, not a comment: only the leading provenance lines are skipped
     with_hash = campaign_csv(tmp_path / "hash.csv", campaign_rows({("p1-4-x", "2d_hertz", ""): dict(
         marker="see issue #24", measured="0.5")}))
-    kept = claims.read_validation_csv(with_hash)
+    kept = claims_table.read_validation_csv(with_hash)
     assert kept.loc[1, "marker"] == "see issue #24" and kept.loc[1, "robustness"] == "1.0"
-    typed = claims.read_validation_csv(with_hash, as_text=False)
+    typed = claims_table.read_validation_csv(with_hash, as_text=False)
     assert typed.loc[1, "measured"] == 0.5 and math.isnan(typed.loc[0, "robustness"])
 
 
@@ -381,7 +381,7 @@ def test_the_campaign_report_stacks_each_table_unchanged_under_its_provenance(tm
     text = (tmp_path / "p1.csv").read_text()
     assert text.startswith("# study: p1\n# git_commit: abc\n")
     assert "# system 2d_hertz: N=2025 realizations=2 cpu_hours=1.0\n" in text
-    back = claims.read_validation_csv(tmp_path / "p1.csv")
+    back = claims_table.read_validation_csv(tmp_path / "p1.csv")
     assert list(back.columns) == ["table", *frame.columns]
     assert set(back["table"]) == {"P1 validation table"}
     pd.testing.assert_frame_equal(back.drop(columns="table"), frame.astype(str).replace("nan", ""))

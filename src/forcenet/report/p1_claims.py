@@ -14,8 +14,8 @@ import math
 import numpy as np
 import xarray as xr
 
-from forcenet.report.claims import (Claim, ClaimTolerances, Judgement, NotEvaluated, claim_register, contrast_margin,
-                                    relative_margin, smallest_margin)
+from forcenet.report.claims import (Claim, ClaimTolerances, Judgement, NotEvaluated, claim_register,
+                                    contrast_margin, relative_margin, smallest_margin)
 from forcenet.report.p1 import (HERTZ_2D, HERTZ_3D, LINEAR_2D, P1_HALF, P1_LARGE_THRESHOLD, P1_PERCOLATION_MAJORITY,
                                 P1_SMALL_THRESHOLD, PAPER_CLUSTER_SIZE_PEAK, PAPER_PHI_C, PAPER_RHO_MAX_BY_ROLE,
                                 PAPER_Z_AT_JAMMING, value_at, finite_max, force_bins, percolation_fraction,

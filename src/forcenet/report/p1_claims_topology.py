@@ -11,8 +11,8 @@ from typing import Callable
 import numpy as np
 import xarray as xr
 
-from forcenet.report.claims import (Claim, ClaimTolerances, Judgement, NotEvaluated, claim_register, contrast_margin,
-                                    ratio_margin, relative_margin, smallest_margin)
+from forcenet.report.claims import (Claim, ClaimTolerances, Judgement, NotEvaluated, claim_register,
+                                    contrast_margin, ratio_margin, relative_margin, smallest_margin)
 from forcenet.report.p1 import (HERTZ_2D, HERTZ_3D, LINEAR_2D, P1_LARGE_THRESHOLD, P1_OPEN_PATH_MIN, P1_SHAPE_BOUNDS,
                                 P1_SMALL_THRESHOLD, finite_max, finite_min, first_max_index, rho_values)
 from forcenet.report.p1_judging import (ALL_2D, ClaimContext, Peak, SystemData, betti_curve, bin_curve,

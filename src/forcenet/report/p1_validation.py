@@ -18,10 +18,11 @@ import pandas as pd
 import xarray as xr
 
 from forcenet.report import p1_claims, p1_claims_topology
-from forcenet.report.claims import (BELOW_TOLERANCE, FAILS, IMPORTED_NOT_EVALUATED, NOT_EVALUATED, VERDICT_COLUMNS,
-                                    Claim, ClaimTolerances, Explanation, JudgedClaim, Judgement, NotEvaluated,
-                                    TableLayout, TableSection, claims_frame, judge_claim, rows_beside,
-                                    validation_markdown, verdict_summary, with_paper_size, write_validation_table)
+from forcenet.report.claims import (BELOW_TOLERANCE, FAILS, IMPORTED_NOT_EVALUATED, NOT_EVALUATED, Claim,
+                                    ClaimTolerances, Explanation, JudgedClaim, Judgement, NotEvaluated, judge_claim,
+                                    rows_beside, verdict_summary)
+from forcenet.report.claims_table import (VERDICT_COLUMNS, TableLayout, TableSection, claims_frame,
+                                          validation_markdown, with_paper_size, write_validation_table)
 from forcenet.report.p1 import (DEFAULT_P1_FORCE_UNIT, P1_FORCE_UNITS, P1_RHO_STEP, P1_ROLES, P1_SYSTEMS, PAPER_PHI_C,
                                 PAPER_RHO_J, PAPER_RHO_MAX, PAPER_Z_AT_JAMMING, FMaxCut, cut_at_rho_max, f_max_cut,
                                 isostatic_crossing, jamming_point, rho_values, select_total, never_dying_at_minus_one,
@@ -350,7 +351,7 @@ def write_p1_validation(table: pd.DataFrame, csv_path: str | os.PathLike | None,
                         paper_size: str | os.PathLike | None = None) -> None:
     """Write the validation table as CSV and Markdown (the arguments of `write_p2_validation`); with `paper_size`
     (the campaign's ``docs/validation/p1.csv``) a column beside P1's values gives our value at P1's sizes
-    (`forcenet.report.claims.with_paper_size`)."""
+    (`forcenet.report.claims_table.with_paper_size`)."""
     force_unit = table.attrs.get("force_unit", DEFAULT_P1_FORCE_UNIT)
     if paper_size is not None:
         table = with_paper_size(table, P1_LAYOUT, paper_size)

@@ -16,8 +16,8 @@ from typing import Callable, Sequence
 import numpy as np
 import pandas as pd
 
-from forcenet.report.claims import (Claim, ClaimTolerances, Judgement, NotEvaluated, claim_register, contrast_margin,
-                                    ratio_margin, relative_margin, smallest_margin)
+from forcenet.report.claims import (Claim, ClaimTolerances, Judgement, NotEvaluated, claim_register,
+                                    contrast_margin, ratio_margin, relative_margin, smallest_margin)
 from forcenet.report.p2 import (METRIC_SYMBOLS, METRICS, P2_HOMOLOGY_DIMS, TABLE_PAIRS, diagram_point_counts,
                                 jamming_density_per_realization, table_column)
 from forcenet.report.p2_judging import (B, NORMAL, TANGENTIAL, W1, W2, Context, Curves, coefficient_of_variation, fmt,

@@ -12,9 +12,10 @@ from typing import Any, Mapping
 import pandas as pd
 import xarray as xr
 
-from forcenet.report.claims import (HOLDS, IMPORTED_NOT_EVALUATED, NotEvaluated, VERDICT_COLUMNS, ClaimTolerances, Explanation, Judgement, TableLayout,
-                                    TableSection, claims_frame, judge_claim, rows_beside, validation_markdown,
-                                    verdict_summary, with_paper_size, write_validation_table)
+from forcenet.report.claims import (HOLDS, IMPORTED_NOT_EVALUATED, NotEvaluated, ClaimTolerances, Explanation,
+                                    Judgement, judge_claim, rows_beside, verdict_summary)
+from forcenet.report.claims_table import (VERDICT_COLUMNS, TableLayout, TableSection, claims_frame,
+                                          validation_markdown, with_paper_size, write_validation_table)
 from forcenet.report.p1 import system_dimension
 from forcenet.report.p2 import FRICTIONAL, FRICTIONLESS, format_number
 from forcenet.report.p2_claims import CLAIMS
@@ -165,7 +166,7 @@ def write_p2_validation(table: pd.DataFrame, csv_path: str | os.PathLike | None,
                         paper_size: str | os.PathLike | None = None) -> None:
     """Write the validation table as CSV (skipped when `csv_path` is None) and Markdown (the arguments of
     `write_p1_validation`); with `paper_size` (the campaign's ``docs/validation/p2.csv``) a column beside P2's
-    values gives our value at P2's size (`forcenet.report.claims.with_paper_size`)."""
+    values gives our value at P2's size (`forcenet.report.claims_table.with_paper_size`)."""
     if paper_size is not None:
         table = with_paper_size(table, P2_LAYOUT, paper_size)
     write_validation_table(table, P2_LAYOUT, csv_path, md_path, _markdown_head(table), _markdown_sections(table))

@@ -6,7 +6,7 @@ of every compression run (`results/sim/{system}/r{NN}/run_cost.json`). It writes
 provenance that is generated, never typed: git commit, config sha256, date, and per system N, realizations and the
 CPU-hours the runs took (summed over every session that resumed them).
 
-CSV files carry the provenance as leading ``# key: value`` lines (`forcenet.report.claims.read_validation_csv` skips
+CSV files carry the provenance as leading ``# key: value`` lines (`forcenet.report.claims_table.read_validation_csv` skips
 them; a "#" inside a cell stays).
 """
 from __future__ import annotations
@@ -19,7 +19,7 @@ from typing import Any, Mapping, Sequence
 
 import pandas as pd
 
-from forcenet.report.claims import read_validation_csv
+from forcenet.report.claims_table import read_validation_csv
 
 __all__ = ["RunCost", "read_run_costs", "provenance", "provenance_markdown", "provenance_csv_lines",
            "write_validation_report"]
