@@ -136,7 +136,7 @@ def restore_run(*, config: Mapping[str, Any], system: str, realization: str, out
     record = read_dataset(path, "run_record")
     problems = record_global_problems(record)
     expected = simulation_sha256(config, system)
-    if record.attrs.get("simulation_sha256") != expected:
+    if not problems and record.attrs["simulation_sha256"] != expected:
         problems.append(f"its simulation fingerprint is not this config's ({expected[:12]})")
     if problems:
         raise CampaignError(f"{path}: " + "; ".join(problems))
@@ -181,7 +181,7 @@ def record_run(config: Mapping[str, Any], system: str, realization: str, *, resu
         raise CampaignError(f"{system} {realization}: the record would not give back the run: {differences[0]}")
     target = Path(paths.record_file(records, system, realization))
     write_netcdf(record, target, kind="run_record", encoding=record_encoding(record))
-    commits = sorted({str(s.attrs.get("git_commit", "unknown")) for s in snapshots})
+    commits = sorted({str(s.attrs["git_commit"]) for s in snapshots})  # a contract attribute of every snapshot
     row = {"system": system, "realization": realization, "simulation_sha256": expect["simulation_sha256"],
            "git_commit": " ".join(commits), "cpu_hours": f"{float(cost['cpu_seconds']) / 3600:.3f}",
            "particles": str(record.sizes["particle"]), "states": str(record.sizes["state"]),

@@ -12,8 +12,8 @@ from dataclasses import dataclass
 from forcenet.systems import SystemSpec
 
 #: particle-steps per core-second of the DEM engine, kept below what bench/dem_scaling.py measures on this
-#: project's 2-vCPU VMs (docs/performance.md: 1.3–1.6·10⁷ in 2D, 4.7–5.9·10⁶ in 3D) so that estimates and the Slurm
-#: time limits derived from them err long
+#: project's 2-vCPU VMs (bench/results/dem_scaling-2d.json, -3d.json; the table in docs/performance.md) so that
+#: estimates and the Slurm time limits derived from them err long
 PARTICLE_STEPS_PER_SECOND = {2: 1.0e7, 3: 4.0e6}
 
 
