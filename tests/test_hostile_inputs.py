@@ -360,3 +360,25 @@ def test_a_grid_past_random_close_packing_gets_one_note_in_the_dry_run(capsys):
                        "step": spec["rho"].get("step", 0.01)}
     checked_config(config, SCHEMA)
     assert capsys.readouterr().err == ""
+
+
+def test_forcenet_check_config_reads_every_source_file_in_full(tmp_path, records, capsys):
+    """The workflow reads only the particles files when it parses a config; the checker reads what the import jobs
+    will, so a cut pairs dump is named before any job."""
+    import yaml
+
+    from conftest import load_config
+    from forcenet.workflow_io import check_config_main
+
+    atoms, pairs = dumps(tmp_path)
+    config = load_config("example_import.yaml")
+    config["systems"] = {"s": lammps_entry(atoms, pairs)}
+    config["studies"] = {"p1": {"systems": ["s"]}}
+    path = tmp_path / "config.yaml"
+    path.write_text(yaml.safe_dump(config))
+    assert check_config_main([str(path)]) == 0
+    pairs.write_text(_cut(GOOD_PAIRS, "ITEM: NUMBER OF ENTRIES"))
+    assert check_config_main([str(path)]) == 1
+    assert capsys.readouterr().err.splitlines()[-1] == (
+        f"{path}: invalid: {pairs}, line 4: the file ends where the integer after 'ITEM: NUMBER OF ENTRIES' (line 3) "
+        "should be: cut short?")

@@ -196,6 +196,18 @@ def imported_system(name: str, entry: Mapping[str, Any]) -> ImportedSystem:
                           source=dict(entry["source"]), particles=runs[0][0][1] if runs[0] else 0)
 
 
+def read_all_sources(config: Mapping[str, Any], systems: Mapping[str, Any]) -> None:
+    """Read every run of every imported system in `systems` in full, as its import job will
+    (`forcenet.importers.source_states`; parsing a config reads the particles files only): `forcenet-check-config`
+    finds a bad pairs or contacts file before any job. Raises the first `forcenet.importers.SourceError`."""
+    from forcenet.importers import source_states
+
+    for name, spec in systems.items():
+        if isinstance(spec, ImportedSystem):
+            for realization in realization_indices(config, name):
+                source_states(config["systems"][name], realization, where=f"systems.{name}.source")
+
+
 def format_rho(rho: float) -> str:
     return f"{rho:.{RHO_DECIMALS}f}"
 

@@ -11,7 +11,7 @@ from typing import Any, Mapping
 import yaml
 
 from forcenet.errors import ForcenetError
-from forcenet.systems import ConfigError, config_sha256, non_finite_number, validate_config
+from forcenet.systems import ConfigError, config_sha256, non_finite_number, read_all_sources, validate_config
 
 
 def write_resolved_config(config: Mapping[str, Any], path: str | Path, results_dir: str | Path) -> None:
@@ -231,7 +231,9 @@ def check_config_main(argv: list[str] | None = None) -> int:
 
     Snakemake reads a --configfile before the workflow does and reports a YAML syntax error without the file or line,
     and a key given twice not at all; this names both (and runs the schema and physical checks as the workflow
-    would, and resolves `results_dir` against the current directory, as a run from it would)."""
+    would, and resolves `results_dir` against the current directory, as a run from it would). It also reads every
+    source file of an imported system in full, as its import job will (`read_all_sources`): the workflow itself reads
+    only the particles files when it parses a config, so a bad pairs or contacts file is found here before any job."""
     paths = sys.argv[1:] if argv is None else argv
     if not paths:
         print("usage: forcenet-check-config CONFIG.yaml [...]", file=sys.stderr)
@@ -243,6 +245,7 @@ def check_config_main(argv: list[str] | None = None) -> int:
             config = read_config_file(path)
             systems = checked_config(config, schema)
             _, results = resolve_results_dir(config.get("results_dir"), Path.cwd())
+            read_all_sources(config, systems)
         except ForcenetError as error:
             print(f"{path}: invalid: {error}", file=sys.stderr)
             status = 1
