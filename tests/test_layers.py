@@ -133,3 +133,74 @@ def test_the_layer_check_flags_an_upward_import(name, source, problem):
 def test_the_kernel_check_flags_a_kernel_importing_more_than_numpy_numba_math(source, problem):
     assert kernel_problems({"k.py": source}) == ([] if problem is None else [problem])
 
+
+
+def module_of(name: str) -> str:
+    """The dotted module of a file below src/forcenet ('report/p1_claims.py' → 'forcenet.report.p1_claims')."""
+    parts = Path(name).with_suffix("").parts
+    return ".".join(["forcenet", *(parts[:-1] if parts[-1] == "__init__" else parts)])
+
+
+def import_graph(files: dict[str, str]) -> dict[str, set[str]]:
+    """module → the package's modules it imports, at any depth of the file (a function-local import is an import);
+    `from forcenet.report import p1_claims` counts as importing the submodule, a package's own face is skipped."""
+    modules = {module_of(name) for name in files}
+    graph = {}
+    for name, source in files.items():
+        me = module_of(name)
+        targets = set()
+        for node in ast.walk(ast.parse(source)):
+            names = []
+            if isinstance(node, ast.Import):
+                names = [alias.name for alias in node.names]
+            elif isinstance(node, ast.ImportFrom) and node.module:
+                names = [f"{node.module}.{alias.name}" for alias in node.names] + [node.module]
+            for candidate in names:
+                if candidate in modules and candidate != me and not me.startswith(candidate + "."):
+                    targets.add(candidate)
+                    break
+        graph[me] = targets
+    return graph
+
+
+def import_circles(graph: dict[str, set[str]]) -> list[list[str]]:
+    """Every set of modules that import each other in a loop (strongly connected, more than one), sorted."""
+    index, low, stack, on_stack, circles, counter = {}, {}, [], set(), [], [0]
+
+    def visit(node):  # Tarjan's algorithm
+        index[node] = low[node] = counter[0]
+        counter[0] += 1
+        stack.append(node)
+        on_stack.add(node)
+        for other in graph.get(node, ()):
+            if other not in index:
+                visit(other)
+                low[node] = min(low[node], low[other])
+            elif other in on_stack:
+                low[node] = min(low[node], index[other])
+        if low[node] == index[node]:
+            component = []
+            while True:
+                member = stack.pop()
+                on_stack.discard(member)
+                component.append(member)
+                if member == node:
+                    break
+            if len(component) > 1:
+                circles.append(sorted(component))
+
+    for node in sorted(graph):
+        if node not in index:
+            visit(node)
+    return sorted(circles)
+
+
+def test_no_modules_import_each_other_in_a_circle():
+    assert import_circles(import_graph(package_sources())) == []
+
+
+def test_the_circle_check_sees_a_circle_hidden_in_a_function():
+    files = {"a.py": "def f():\n    from forcenet.b import g\n", "b.py": "from forcenet import a\n",
+             "c.py": "from forcenet.a import f\n"}
+    assert import_circles(import_graph(files)) == [["forcenet.a", "forcenet.b"]]
+    assert import_circles(import_graph({"a.py": "from forcenet.b import g\n", "b.py": "import math\n"})) == []

@@ -200,7 +200,7 @@ def read_all_sources(config: Mapping[str, Any], systems: Mapping[str, Any]) -> N
     """Read every run of every imported system in `systems` in full, as its import job will
     (`forcenet.importers.source_states`; parsing a config reads the particles files only): `forcenet-check-config`
     finds a bad pairs or contacts file before any job. Raises the first `forcenet.importers.SourceError`."""
-    from forcenet.importers import source_states
+    from forcenet.importers.sources import source_states
 
     for name, spec in systems.items():
         if isinstance(spec, ImportedSystem):

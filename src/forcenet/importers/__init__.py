@@ -16,12 +16,27 @@ a record of each file; the import job reads and checks every file in full (`sour
 """
 from __future__ import annotations
 
-from forcenet.importers.common import (SourceError, SourceState, file_sha256, run_files, source_rho_grid,
-                                       source_states)
-from forcenet.importers.run import import_run
+import importlib
+from typing import Any
 
 #: the formats a config's ``source.format`` may name
 FORMATS = ("table", "lammps")
 
-__all__ = ["FORMATS", "SourceError", "SourceState", "file_sha256", "import_run", "run_files", "source_rho_grid",
-           "source_states"]
+#: public name → the submodule that defines it, imported on first use (PEP 562): the configuration reads a source's
+#: ρ grid through `sources` without loading `run`, which writes snapshots through `forcenet.datasets`
+_EXPORTS = {"SourceError": "common", "SourceState": "common", "file_sha256": "common", "import_run": "run",
+            "run_files": "sources", "source_rho_grid": "sources", "source_states": "sources"}
+
+__all__ = ["FORMATS", *sorted(_EXPORTS)]
+
+
+def __getattr__(name: str) -> Any:
+    if name not in _EXPORTS:
+        raise AttributeError(f"module 'forcenet.importers' has no attribute {name!r}")
+    value = getattr(importlib.import_module(f"forcenet.importers.{_EXPORTS[name]}"), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted([*globals(), *_EXPORTS])

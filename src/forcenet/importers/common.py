@@ -223,38 +223,3 @@ def order_pairs(i: np.ndarray, j: np.ndarray, fn: np.ndarray, ft: np.ndarray):
     i, j = np.where(swap, j, i), np.where(swap, i, j)
     sign = np.where(swap, -1.0, 1.0)[:, None]
     return i, j, fn * sign, ft * sign
-
-
-def source_states(entry: Mapping[str, Any], realization: int, *, where: str = "source") -> list[SourceState]:
-    """Every state of one run (`realization`) of a config system's ``source:`` entry, read by its format's reader,
-    in the order the source gives them."""
-    from forcenet.importers import lammps, table
-
-    source, dimension = entry["source"], int(entry["dimension"])
-    run = source["runs"][realization]
-    if source["format"] == "table":
-        return table.read_run(run, dimension, source)
-    if source["format"] == "lammps":
-        return lammps.read_run(run, dimension, source)
-    raise SourceError(where, "", f"unknown format {source['format']!r}")
-
-
-def source_rho_grid(entry: Mapping[str, Any], realization: int = 0) -> tuple[float, ...]:
-    """The packing fractions of a run's states (computed from each state's particles and box; the particles files
-    read once per content, `forcenet.importers.scan.run_outline`)."""
-    from forcenet.importers.scan import run_outline
-
-    return tuple(rho for rho, _ in run_outline(entry, realization))
-
-
-def run_files(entry: Mapping[str, Any], realization: int) -> list[str]:
-    """The inputs of the import job of one run of a ``source:`` entry: its source files and the record of each
-    (`forcenet.importers.scan`, written when the workflow parsed the config; listed where it exists), whose
-    modification time moves when the file's content changes, so that new content is imported again even under an
-    older modification time."""
-    from forcenet.importers.scan import record_path
-
-    run = entry["source"]["runs"][realization]
-    files = ([run["atoms"], run["pairs"]] if entry["source"]["format"] == "lammps" else
-             [path for state in run for path in (state["particles"], state["contacts"])])
-    return files + [str(record) for record in map(record_path, files) if record.exists()]

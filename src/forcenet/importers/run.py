@@ -8,7 +8,8 @@ from typing import Any, Mapping, Sequence
 
 import numpy as np
 
-from forcenet.importers.common import SourceError, file_sha256, largest_relative_overlap, source_states
+from forcenet.importers.common import SourceError, file_sha256, largest_relative_overlap
+from forcenet.importers.sources import source_states
 
 #: P1 §3's bound on the overlaps ("up to 10 %" of the sum of the radii): a state past it is imported with a warning
 OVERLAP_WARNING = 0.10
