@@ -5,8 +5,7 @@ The names below are imported on first use (PEP 562), so that `forcenet.datasets.
 `forcenet.datasets.schema` load without xarray: the workflow imports `paths` when it is parsed."""
 from __future__ import annotations
 
-import importlib
-from typing import Any
+from forcenet._lazy import lazy_exports
 
 #: public name → the submodule that defines it
 _EXPORTS = {
@@ -20,13 +19,4 @@ _EXPORTS = {
 __all__ = sorted(_EXPORTS)
 
 
-def __getattr__(name: str) -> Any:
-    if name not in _EXPORTS:
-        raise AttributeError(f"module 'forcenet.datasets' has no attribute {name!r}")
-    value = getattr(importlib.import_module(f"forcenet.datasets.{_EXPORTS[name]}"), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted([*globals(), *_EXPORTS])
+__getattr__, __dir__ = lazy_exports(__name__, _EXPORTS, globals())

@@ -16,8 +16,7 @@ a record of each file; the import job reads and checks every file in full (`sour
 """
 from __future__ import annotations
 
-import importlib
-from typing import Any
+from forcenet._lazy import lazy_exports
 
 #: the formats a config's ``source.format`` may name
 FORMATS = ("table", "lammps")
@@ -30,13 +29,4 @@ _EXPORTS = {"SourceError": "common", "SourceState": "common", "file_sha256": "co
 __all__ = ["FORMATS", *sorted(_EXPORTS)]
 
 
-def __getattr__(name: str) -> Any:
-    if name not in _EXPORTS:
-        raise AttributeError(f"module 'forcenet.importers' has no attribute {name!r}")
-    value = getattr(importlib.import_module(f"forcenet.importers.{_EXPORTS[name]}"), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__() -> list[str]:
-    return sorted([*globals(), *_EXPORTS])
+__getattr__, __dir__ = lazy_exports(__name__, _EXPORTS, globals())
