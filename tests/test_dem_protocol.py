@@ -632,3 +632,24 @@ def test_a_relaxation_criterion_outside_the_two_is_named(tmp_path):
     config["systems"]["2d_linear"]["relaxation"]["criterion"] = "annealing"
     with pytest.raises(ConfigError, match="criterion"):
         system_from_config("2d_linear", config)
+
+
+@pytest.mark.parametrize("gap, warned", [(0.85, True), (0.95, False), (2.0, False)])
+def test_a_snapshot_past_p1s_overlap_bound_is_logged_with_the_pair_and_rho(gap, warned, caplog):
+    """Two unit disks whose centres are `gap` apart overlap by 1 - gap of the sum of their radii: 15 % is past P1's
+    10 % and logged, naming the pair and ρ; 5 % and no contact are not."""
+    from forcenet.dem.protocol import warn_of_overlaps
+
+    touching = gap < 1.0
+    arrays = {"position": np.array([[0.0, 0.0], [gap, 0.0], [5.0, 5.0]]), "radius": np.full(3, 0.5),
+              "contact_i": np.array([0] if touching else [], dtype=int),
+              "contact_j": np.array([1] if touching else [], dtype=int), "rho": 0.8812}
+    with caplog.at_level("WARNING", logger="forcenet.test"):
+        largest = warn_of_overlaps(arrays, "2d_test", logging.getLogger("forcenet.test"))
+    assert largest == pytest.approx(max(0.0, 1.0 - gap) if touching else 0.0)
+    messages = [record.getMessage() for record in caplog.records]
+    if warned:
+        assert messages == ["2d_test: overlaps up to 15.0 % of the sum of the radii at ρ = 0.8812 (particles 0 and "
+                            "1), past the 10 % P1 §3 states: expect the overlap claims to fail from here on"]
+    else:
+        assert messages == []

@@ -36,6 +36,7 @@ from typing import Sequence
 import numpy as np
 
 from forcenet import datasets
+from forcenet.boxes import P1_OVERLAP_BOUND, relative_overlaps
 from forcenet.dem import calibration, packing, stability
 from forcenet.dem._kernels.law import LAW_GAMMA_N, LAW_GAMMA_T
 from forcenet.dem.engine import ContactLaw, Simulation, SimulationBlowUp
@@ -119,6 +120,22 @@ def snapshot_arrays(sim: Simulation, relaxation_steps: int) -> dict:
         Z=2.0 * len(forces.contact_i) / sim.n_mobile, kinetic_energy=sim.kinetic_energy(),
         pressure=sim.wall_pressure(forces.wall_normal_load), time=sim.time, step=sim.step,
         relaxation_steps=int(relaxation_steps))
+
+
+def warn_of_overlaps(arrays: dict, system: str, log: logging.Logger) -> float:
+    """Log a warning when a snapshot's largest particle overlap passes P1 §3's bound (`boxes.P1_OVERLAP_BOUND`, 10 %
+    of the sum of the radii): a ρ grid compressed past where P1's protocol stops (the engine stops only at 20 %).
+    `arrays`: the snapshot's (`snapshot_arrays`). Returns the largest overlap (0 without contacts)."""
+    overlaps = relative_overlaps(arrays["position"], arrays["radius"], arrays["contact_i"], arrays["contact_j"])
+    if not overlaps.size:
+        return 0.0
+    k = int(np.argmax(overlaps))
+    if overlaps[k] > P1_OVERLAP_BOUND:
+        log.warning("%s: overlaps up to %.1f %% of the sum of the radii at ρ = %.4f (particles %d and %d), past the "
+                    "%.0f %% P1 §3 states: expect the overlap claims to fail from here on", system,
+                    100 * overlaps[k], float(arrays["rho"]), int(arrays["contact_i"][k]), int(arrays["contact_j"][k]),
+                    100 * P1_OVERLAP_BOUND)
+    return float(overlaps[k])
 
 
 def save_checkpoint(path: Path, sim: Simulation, *, next_index: int, fingerprint: str,
@@ -433,8 +450,10 @@ def run_compression(system: SystemSpec, *, seed: int, snapshot_paths: Sequence[s
             raise SimulationBlowUp(f"{error.reason}; {cause}", step=error.step, particle=error.particle,
                                    rho=error.rho, cause=error.cause) from None
         damping_dt = check_damping_is_integrable(sim, system)
+        arrays = snapshot_arrays(sim, relaxation_steps)
         datasets.write_snapshot(paths[index], attrs={**file_attrs, "dem_damping_rate_time_step": damping_dt},
-                                **snapshot_arrays(sim, relaxation_steps))
+                                **arrays)
+        warn_of_overlaps(arrays, system.name, log)
         cpu_seconds = cpu_before + time.process_time() - cpu_start
         save_checkpoint(Path(checkpoint_path), sim, next_index=index + 1, fingerprint=fingerprint, rng=rng,
                         cpu_seconds=cpu_seconds)

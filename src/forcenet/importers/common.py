@@ -12,7 +12,7 @@ from typing import Any, Iterator, Mapping
 
 import numpy as np
 
-from forcenet.boxes import box_periods, branch_vectors
+from forcenet.boxes import box_periods, branch_vectors, relative_overlaps
 from forcenet.errors import ForcenetError
 
 #: wall ids of the contract (`forcenet.datasets.schema`: wall_contact_wall), by name as a contacts table writes them
@@ -175,9 +175,7 @@ def largest_relative_overlap(state: "SourceState") -> tuple[float, int]:
     if len(state.contact_i) == 0:
         return 0.0, -1
     period = box_periods(state.periodic_axes, state.box_lo, state.box_hi, state.tilt)
-    distance = np.linalg.norm(branch_vectors(state.position, state.contact_i, state.contact_j, period), axis=1)
-    reach = state.radius[state.contact_i] + state.radius[state.contact_j]
-    overlap = (reach - distance) / reach
+    overlap = relative_overlaps(state.position, state.radius, state.contact_i, state.contact_j, period)
     k = int(np.argmax(overlap))
     return float(overlap[k]), k
 

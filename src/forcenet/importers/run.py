@@ -8,11 +8,10 @@ from typing import Any, Mapping, Sequence
 
 import numpy as np
 
+from forcenet.boxes import P1_OVERLAP_BOUND
 from forcenet.importers.common import SourceError, file_sha256, largest_relative_overlap
 from forcenet.importers.sources import source_states
 
-#: P1 §3's bound on the overlaps ("up to 10 %" of the sum of the radii): a state past it is imported with a warning
-OVERLAP_WARNING = 0.10
 #: the ρ label in a snapshot's file name (`forcenet.datasets.paths.snapshot`: …/rho0.842.nc)
 RHO_LABEL = re.compile(r"rho(\d\.\d+)\.nc$")
 
@@ -44,11 +43,11 @@ def import_run(*, config: Mapping[str, Any], system: str, realization: int, outp
                               f"ρ = {format_rho(state.rho)}, but the workflow named its snapshot {Path(output).name}: "
                               "the source changed after snakemake read it; run snakemake again")
         overlap, contact = largest_relative_overlap(state)
-        if overlap > OVERLAP_WARNING and log is not None:
+        if overlap > P1_OVERLAP_BOUND and log is not None:
             log.warning("%s: timestep %s has overlaps up to %.1f %% of the sum of the radii (particles %d and %d), "
                         "past the %.0f %% P1 states: check the source's units and radii", state.files[0],
                         state.timestep, 100 * overlap, state.contact_i[contact], state.contact_j[contact],
-                        100 * OVERLAP_WARNING)
+                        100 * P1_OVERLAP_BOUND)
         attrs = provenance_attrs(system=system, realization=realization, seed=-1, config=config,
                                  title=f"forcenet snapshot imported from {entry['source']['format']}, {system}")
         attrs.update({SOURCE_FORMAT_ATTR: entry["source"]["format"],

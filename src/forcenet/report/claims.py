@@ -26,6 +26,8 @@ from typing import Any, Callable, Mapping, Sequence
 import numpy as np
 import pandas as pd
 
+from forcenet.boxes import P1_OVERLAP_BOUND
+
 __all__ = ["HOLDS", "FAILS", "NOT_EVALUATED", "IMPORTED_NOT_EVALUATED", "MARGINAL", "VACUOUS", "MARGINAL_FRACTION",
            "MEASURED", "HYPOTHESIS", "BELOW_BEFORE_JUMP", "BELOW_TOLERANCE", "ClaimTolerances", "NotEvaluated",
            "Judgement", "relative_margin", "contrast_margin", "smallest_margin", "ratio_margin", "Claim",
@@ -121,7 +123,7 @@ class ClaimTolerances:
     contrast_factor: float = 2.0
     approx_fraction: float = 0.15
     same_verdicts: float = 0.8
-    overlap_bound: float = 0.10
+    overlap_bound: float = P1_OVERLAP_BOUND
     rho_j_shift: float | None = None
     below_cut: str = BELOW_BEFORE_JUMP
     # --- P2 ---

@@ -36,7 +36,7 @@ from typing import Mapping
 import numpy as np
 import xarray as xr
 
-from forcenet.boxes import branch_vectors
+from forcenet.boxes import relative_overlaps as relative_overlaps_of
 from forcenet.datasets.snapshot import periodic_vectors
 from forcenet.report.realizations import mean_and_spread, realization_mean
 from forcenet.systems import KINETIC_ENERGY_FLUCTUATION
@@ -154,15 +154,12 @@ def relative_overlaps(snapshot: xr.Dataset) -> tuple[np.ndarray, np.ndarray]:
     x_j|) / (r_i + r_j), x_j the image of j nearest to i in a periodic box (shape (n_contacts,), dimensionless),
     and whether either particle also touches a wall
     (bool, same shape; from ``wall_contact_particle``, all False in a snapshot without walls)."""
-    i = np.asarray(snapshot["contact_i"].values, dtype=int)
-    j = np.asarray(snapshot["contact_j"].values, dtype=int)
-    position = np.asarray(snapshot["position"].values, dtype=float)
-    radius = np.asarray(snapshot["radius"].values, dtype=float)
-    reach = radius[i] + radius[j]
-    # shape (0,) without contacts; across a periodic face (an imported box) to the nearest image
-    gap = np.linalg.norm(branch_vectors(position, i, j, periodic_vectors(snapshot)), axis=1)
+    i, j = snapshot["contact_i"].values, snapshot["contact_j"].values
+    # across a periodic face (an imported box) to the nearest image
+    overlaps = relative_overlaps_of(snapshot["position"].values, snapshot["radius"].values, i, j,
+                                    periodic_vectors(snapshot))
     touching = snapshot["wall_contact_particle"].values if "wall_contact_particle" in snapshot else np.empty(0, int)
-    return (reach - gap) / reach, np.isin(i, touching) | np.isin(j, touching)
+    return overlaps, np.isin(i, touching) | np.isin(j, touching)
 
 
 def largest_relative_overlap(snapshot: xr.Dataset) -> float:
