@@ -23,7 +23,7 @@ BENCHMARKS = ("analysis", "dem_scaling", "dem_vs_lammps", "lammps_same_state", "
 def fixture_record(benchmark: str, variant: str | None, measured: dict, *, settings: dict | None = None,
                    peer: dict | None = None, status: str = "measured", reason: str | None = None) -> dict:
     return {"schema": 1, "benchmark": benchmark, "variant": variant, "status": status, "reason": reason,
-            "date": "2030-01-02T03:04:05Z", "commit": "0123456789abcdef0123456789abcdef01234567", "dirty": False,
+            "date": "2030-01-02T03:04:05Z", "commit": "0123456789" * 4, "dirty": False,
             "dirty_files": [], "command": f"bench/{benchmark}.py --fixture",
             "machine": {"cpu": "Test CPU", "cores": 2, "affinity": [1], "memory_gib": 8.0, "os": "Linux",
                         "python": "3.11", "numpy": "2", "numba": "0.6", "load_before": [1.0, 1.0, 1.0],
