@@ -15,6 +15,7 @@ from forcenet.datasets import DatasetError, open_dataset, read_dataset, read_sna
 from forcenet.datasets.runs import run_expectation
 from forcenet.datasets.schema import SNAPSHOT_DYNAMICS
 from forcenet.datasets.snapshot import snapshot_dataset
+from forcenet.systems import system_from_config
 from test_datasets import attrs, two_triangles_snapshot
 
 CONFIG = load_config("smoke.yaml")
@@ -138,6 +139,29 @@ def test_a_snapshot_of_another_run_is_refused_naming_the_attribute(tmp_path):
         read_snapshot(tmp_path / "dim.nc", expect=expect)
     with pytest.raises(DatasetError, match="global attribute 'dimension' is 2, but system '2d_hertz' has dimension 3"):
         read_snapshot(tmp_path / "ok.nc", expect={**expect, "dimension": 3})
+
+
+def test_a_snapshot_of_another_realization_or_state_copied_in_place_is_refused(tmp_path):
+    """The file's folder names its realization and its name the grid ρ (`state_expectation`): realization 0's
+    state at ρ = 0.80 copied to r01/rho0.800.nc or to r00/rho0.840.nc is refused, in its own place it is read."""
+    from forcenet.datasets.runs import state_expectation
+
+    expect = run_expectation(CONFIG, "2d_hertz")
+    grid = system_from_config("2d_hertz", CONFIG).rho_grid
+    assert expect["rho_tolerance"] == pytest.approx(0.5 * min(b - a for a, b in zip(grid, grid[1:])))
+    (tmp_path / "r00").mkdir()
+    (tmp_path / "r01").mkdir()
+    own = write(tmp_path / "r00" / "rho0.800.nc")
+    read_snapshot(own, expect=state_expectation(expect, own))
+    other_run = write(tmp_path / "r01" / "rho0.800.nc")
+    with pytest.raises(DatasetError, match=f"^{other_run}: not of this run: global attribute 'realization' is 0, but "
+                                           "this file is of realization 1: the snapshot belongs to another run$"):
+        read_snapshot(other_run, expect=state_expectation(expect, other_run))
+    other_state = write(tmp_path / "r00" / "rho0.840.nc")
+    with pytest.raises(DatasetError, match=f"^{other_state}: not of this run: its packing fraction is 0.8000, but "
+                                           "this file is the state at rho = 0.840: the snapshot is another state"):
+        read_snapshot(other_state, expect=state_expectation(expect, other_state))
+    assert state_expectation(expect, tmp_path / "elsewhere.nc") == expect  # a path named otherwise: the run only
 
 
 def test_the_analysis_job_refuses_a_snapshot_of_another_run_and_writes_nothing(tmp_path):

@@ -157,6 +157,7 @@ def record_run(config: Mapping[str, Any], system: str, realization: str, *, resu
     manifest row (returned). Refuses a run that has not finished or whose snapshots are of other settings."""
     from forcenet.datasets import read_snapshot, run_expectation, write_netcdf
     from forcenet.datasets.records import record_dataset, record_differences, record_encoding
+    from forcenet.datasets.runs import state_expectation
 
     records = records or records_folder(config)
     if records is None:
@@ -171,7 +172,7 @@ def record_run(config: Mapping[str, Any], system: str, realization: str, *, resu
         raise CampaignError(f"{system} {realization} has not finished in {results}: {len(missing)} of its files are "
                             f"missing (first: {missing[0]})")
     expect = run_expectation(config, system)
-    snapshots = [read_snapshot(path, expect=expect) for path in outputs]
+    snapshots = [read_snapshot(path, expect=state_expectation(expect, path)) for path in outputs]
     cost = json.loads(cost_path.read_text())
     record = record_dataset(snapshots, spec.rho_labels, simulation_sha256=expect["simulation_sha256"],
                             cpu_seconds=float(cost["cpu_seconds"]),

@@ -318,12 +318,15 @@ def analyze_run(*, snapshots: Sequence[str], outputs: Sequence[str], analysis: M
                 log_path: str | None = None, expect: Mapping[str, Any] | None = None) -> None:
     """Analyse every snapshot of one compression run (one process: imports and JIT paid once). Every snapshot is
     read and checked before the first analysis is written, so a bad one stops the job with nothing written.
-    `expect` (`forcenet.datasets.snapshot.run_expectation` of the run): a snapshot recorded for another system,
-    dimension or simulation settings is refused, naming the file and the attribute."""
+    `expect` (`forcenet.datasets.runs.run_expectation` of the run): a snapshot recorded for another system,
+    dimension, simulation settings, realization or state (its file name's, `state_expectation`) is refused, naming
+    the file and the attribute."""
     from forcenet.datasets import read_snapshot
+    from forcenet.datasets.runs import state_expectation
 
     with job_logger(log_path, "analyze") as log:
-        snaps = [read_snapshot(snapshot, expect=expect) for snapshot in snapshots]
+        snaps = [read_snapshot(snapshot, expect=None if expect is None else state_expectation(expect, snapshot))
+                 for snapshot in snapshots]
         for snapshot, snap, output in zip(snapshots, snaps, outputs, strict=True):
             analyze_snapshot(snapshot, output, analysis, log, snap=snap)
 

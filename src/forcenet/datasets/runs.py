@@ -5,13 +5,21 @@ too: the fingerprint is computed from the `config` attribute every file records.
 from __future__ import annotations
 
 import json
+import os
+import re
+from pathlib import Path
 from typing import TYPE_CHECKING, Any, Mapping
+
+from forcenet.datasets.paths import realization_index
 
 if TYPE_CHECKING:  # annotations only: the workflow imports this module when it is parsed (no xarray there)
     import xarray as xr
 
 #: the attributes `run_expectation` gives and `run_mismatch` compares, in that order
 RUN_ATTRS = ("system", "dimension", "simulation_sha256")
+#: a snapshot's file name and its run's folder (`forcenet.datasets.paths.snapshot`)
+RHO_FILE = re.compile(r"rho(\d+\.\d+)\.nc")
+REALIZATION_DIR = re.compile(r"r\d\d+")
 
 
 def simulation_sha256(config: Mapping[str, Any], system: str) -> str:
@@ -23,20 +31,28 @@ def simulation_sha256(config: Mapping[str, Any], system: str) -> str:
 
 
 def run_expectation(config: Mapping[str, Any], system: str) -> dict[str, Any]:
-    """What a snapshot of `system` under `config` must record: its system, dimension and `simulation_sha256`."""
+    """What a snapshot of `system` under `config` must record: its system, dimension and `simulation_sha256`; and
+    how far a state's measured ρ may lie from the grid ρ in its file name (`rho_tolerance`: half the smallest step
+    of the system's grid, at least the rounding of a file label; `state_expectation`)."""
+    from forcenet.systems import RHO_DECIMALS, system_from_config
+
+    grid = sorted(system_from_config(system, config).rho_grid)
+    steps = [b - a for a, b in zip(grid, grid[1:]) if b > a]
+    rounding = 0.5 * 10.0 ** -RHO_DECIMALS
     return {"system": system, "dimension": int(config["systems"][system]["dimension"]),
-            "simulation_sha256": simulation_sha256(config, system)}
+            "simulation_sha256": simulation_sha256(config, system),
+            "rho_tolerance": max(0.5 * min(steps), rounding) + 1e-12 if steps else 1.0}
 
 
 def run_mismatch(ds: xr.Dataset, expect: Mapping[str, Any]) -> str:
     """Why snapshot `ds` does not belong to the run `expect` describes ("" when it does): its recorded `system`,
     `dimension`, or the fingerprint of the simulation settings in its recorded `config` (`simulation_sha256`,
     computed from the recorded config, so snapshots written before this check existed are checked too)."""
-    recorded_system = str(ds.attrs.get("system"))
+    recorded_system = str(ds.attrs["system"])
     if recorded_system != expect["system"]:
         return f"global attribute 'system' is '{recorded_system}', but this run is '{expect['system']}'"
-    if int(ds.attrs.get("dimension", -1)) != int(expect["dimension"]):
-        return (f"global attribute 'dimension' is {ds.attrs.get('dimension')}, but system '{expect['system']}' "
+    if int(ds.attrs["dimension"]) != int(expect["dimension"]):
+        return (f"global attribute 'dimension' is {ds.attrs['dimension']}, but system '{expect['system']}' "
                 f"has dimension {expect['dimension']}")
     try:
         recorded = simulation_sha256(json.loads(ds.attrs["config"]), recorded_system)
@@ -46,5 +62,23 @@ def run_mismatch(ds: xr.Dataset, expect: Mapping[str, Any]) -> str:
         return (f"global attribute 'config' records other settings for system '{recorded_system}' than this run's "
                 f"config (simulation fingerprint {recorded[:12]}, expected {expect['simulation_sha256'][:12]}): "
                 "the snapshot belongs to another run")
+    if "realization" in expect and int(ds.attrs["realization"]) != int(expect["realization"]):
+        return (f"global attribute 'realization' is {ds.attrs['realization']}, but this file is of realization "
+                f"{expect['realization']}: the snapshot belongs to another run")
+    if "rho_label" in expect and abs(float(ds["rho"]) - float(expect["rho_label"])) > expect["rho_tolerance"]:
+        return (f"its packing fraction is {float(ds['rho']):.4f}, but this file is the state at rho = "
+                f"{expect['rho_label']}: the snapshot is another state of the run")
     return ""
+
+
+def state_expectation(expect: Mapping[str, Any], path: str | os.PathLike) -> dict[str, Any]:
+    """`expect` (`run_expectation`) for the snapshot file at `path` (``…/r{NN}/rho{ρ}.nc``, as
+    `forcenet.datasets.paths.snapshot` names it): also its realization and the ρ its name gives, so that another
+    realization's snapshot or another state of the run copied in its place is refused. A path named otherwise is
+    checked as the run's only."""
+    path = Path(path)
+    match = RHO_FILE.fullmatch(path.name)
+    if match is None or not REALIZATION_DIR.fullmatch(path.parent.name):
+        return dict(expect)
+    return {**expect, "realization": realization_index(path.parent.name), "rho_label": match.group(1)}
 
