@@ -574,3 +574,12 @@ def test_gzipped_dumps_and_tables_read_as_the_plain_files_and_a_broken_one_is_na
     with pytest.raises(SourceError, match="broken.dump.gz: cannot be read"):
         lammps.read_run({"atoms": tmp_path / "broken.dump.gz", "pairs": tmp_path / "pairs.dump.gz"}, 2,
                         {"format": "lammps"})
+
+
+def test_a_stacked_file_of_an_imported_system_records_no_seed_as_its_snapshots():
+    """network_measures.nc and distances.nc of an import say seed −1, as its snapshots do; a simulated system's
+    stacked files give the config's base seed."""
+    config = yaml.safe_load((Path(__file__).resolve().parents[1] / "config" / "smoke.yaml").read_text())
+    imported = ImportedSystem(name="my_table", dimension=2, rho_grid=(0.8,), source={})
+    assert pipeline.stacked_seed(config, imported) == -1
+    assert pipeline.stacked_seed(config, system_from_config("2d_linear", config)) == config["seed"]

@@ -112,6 +112,14 @@ def run_attrs(config: Mapping[str, Any], system: str, realization: int, title: s
             SOURCE_FORMAT_ATTR: ENGINE_SOURCE_FORMAT}
 
 
+def stacked_seed(config: Mapping[str, Any], spec) -> int:
+    """The `seed` of a file stacked over a system's runs: the config's base seed of a simulated system (each run's own
+    is `realization_seed` of it), −1 for an imported one, as its snapshots say (its states have no seed)."""
+    from forcenet.systems import ImportedSystem
+
+    return -1 if isinstance(spec, ImportedSystem) else int(config["seed"])
+
+
 def prepare_stage(stage: Path, config: Mapping[str, Any], system: str) -> Path:
     """Create (or keep) the staging folder of a run. A stage written under other simulation settings is
     discarded (its checkpoint must not be resumed); one whose config differs only in what the run does not depend
@@ -243,7 +251,7 @@ def aggregate(*, analyses: Sequence[str], realizations: Sequence[int], rhos: Seq
     with job_logger(log_path, f"aggregate.{system}") as log:
         expect = run_expectation(config, system)
         datasets = [read_dataset(path, "analysis", expect=expect) for path in analyses]
-        attrs = provenance_attrs(system=system, realization=-1, seed=config["seed"], config=config,
+        attrs = provenance_attrs(system=system, realization=-1, seed=stacked_seed(config, spec), config=config,
                                  title=f"forcenet network measures, {system}, stacked over realization and rho")
         attrs.update(dimension=spec.dimension, force_law=spec.force_law, **force_constants(config, system))
         attrs.update(common_analysis_attrs(datasets))

@@ -8,7 +8,8 @@ from pathlib import Path
 from typing import Any, Mapping, Sequence
 
 from forcenet.datasets.paths import rho_file
-from forcenet.pipeline import chosen_datasets, common_analysis_attrs, job_logger, open_by_system, simulate
+from forcenet.pipeline import (chosen_datasets, common_analysis_attrs, job_logger, open_by_system, simulate,
+                               stacked_seed)
 from forcenet.systems import system_from_config
 
 
@@ -32,7 +33,7 @@ def p2_distances(*, analyses: Sequence[str], realizations: Sequence[int], output
             results.append(consecutive_distances(run, essential_convention))
             log.info("%s realization %d: %d consecutive pairs", system, realization, len(run) - 1)
         spec = system_from_config(system, config)
-        attrs = provenance_attrs(system=system, realization=-1, seed=config["seed"], config=config,
+        attrs = provenance_attrs(system=system, realization=-1, seed=stacked_seed(config, spec), config=config,
                                  title=f"forcenet distances between consecutive persistence diagrams, {system}")
         attrs.update(dimension=spec.dimension, force_law=spec.force_law)
         attrs.update(common_analysis_attrs(datasets))  # the rule and complex that made every compared diagram

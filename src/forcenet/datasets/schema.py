@@ -115,7 +115,7 @@ PERSISTENCE_BINS = ("rough", "weak", "medium", "strong", "essential")  # P1 §5.
 
 ANALYSIS_VARIABLES: dict[str, VariableSpec] = {
     "betti": VariableSpec(("force_kind", "homology_dim", "threshold"), DIMENSIONLESS,
-                          "Betti number B_k of the super-level network F > F_th", dtype="int"),
+                          "Betti number B_k of the super-level network F >= F_th", dtype="int"),
     "cluster_count": VariableSpec(("force_kind", "threshold"), DIMENSIONLESS,
                                   "number of clusters (connected components with at least one edge)", dtype="int"),
     "cluster_mean_size": VariableSpec(("force_kind", "threshold"), "particles",
