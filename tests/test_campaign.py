@@ -255,3 +255,7 @@ def test_run_missing_records_each_run_as_it_lands_and_starts_none_that_cannot_fi
     assert campaign_cli.run_missing(config, configfile="c.yaml", results="results", hours=0.1, margin=1.5,
                                     say=said.append, start=start) == []
     assert said == [f"not started: {SYSTEM} r02 needs about 0.25 h (0.17 × 1.5), 0.10 h left"]
+    # --only: nothing but the named runs is started (another process makes the others)
+    said.clear()
+    assert campaign_cli.run_missing(config, configfile="c.yaml", results="results", only=[f"{SYSTEM}:r07"],
+                                    say=said.append, start=start) == [] and said == []

@@ -4,6 +4,7 @@
     forcenet-campaign record SYSTEM REALIZATION       a finished run's record (--commit: and its git commit)
     forcenet-campaign record --finished               every finished run without a record
     forcenet-campaign run --jobs 2 --hours 2.5        the missing runs, one core each, niced, each recorded as it lands
+                      [--first SYSTEM …] [--only SYSTEM[:rNN] …] [--commit]
     forcenet-campaign verify                          every record against the manifest and the config
     forcenet-campaign sizes                           the records' size per system
     forcenet-campaign drop SYSTEM REALIZATION         remove a record (the run is simulated again)
@@ -63,18 +64,20 @@ def simulation_command(configfile: str, results: str, status: RunStatus) -> list
 
 def run_missing(config: Mapping[str, Any], *, configfile: str, results: str, jobs: int = 2,
                 hours: float | None = None, margin: float = DEFAULT_MARGIN, systems: Sequence[str] = (),
-                commit: bool = False, say: Callable[[str], None] = print,
+                only: Sequence[str] = (), commit: bool = False, say: Callable[[str], None] = print,
                 start: Callable[[list[str], Path], subprocess.Popen] | None = None) -> list[dict[str, str]]:
     """Make the missing (and resume the stopped) runs of `config`, `jobs` at a time, each recorded (and committed
     with `commit`) as soon as it finishes; the records' rows, in the order they landed.
 
-    Order: the runs of `systems` first, in that order, then the config's. A run is started only if its estimate
+    Order: the runs of `systems` first, in that order, then the config's. With `only` (SYSTEM or SYSTEM:rNN
+    items) no other run is recorded or started: another process may be making the others. A run is started only if its estimate
     (`RunStatus.cpu_hours_to_go`) times `margin` fits in the `hours` left of the budget, so no run is begun that
     cannot finish; one that is not started is named with its estimate. A finished run without a record is recorded
     first. A run that fails is named with its log and the others go on."""
     start = start or (lambda command, log: subprocess.Popen(command, stdout=open(log, "a"), stderr=subprocess.STDOUT))
     deadline = None if hours is None else time.time() + 3600.0 * hours
-    statuses = campaign_status(config, results=results)
+    statuses = [s for s in campaign_status(config, results=results)
+                if not only or s.system in only or f"{s.system}:{s.realization}" in only]
     rows = []
 
     def land(system: str, realization: str) -> None:
@@ -148,6 +151,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     run.add_argument("--margin", type=float, default=DEFAULT_MARGIN,
                      help="a run may take this times its estimate (%(default)s)")
     run.add_argument("--first", nargs="*", default=[], metavar="SYSTEM", help="these systems' runs first, in order")
+    run.add_argument("--only", nargs="*", default=[], metavar="SYSTEM[:rNN]",
+                     help="these systems or runs alone (another process makes the others)")
     run.add_argument("--commit", action="store_true", help="git-commit each record as it lands")
     commands.add_parser("verify", help="every record against the manifest and the config")
     commands.add_parser("sizes", help="the records' size per system (the table of the records folder's README)")
@@ -172,7 +177,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             print(f"removed {drop_record(config, args.system, args.realization)}")
         elif args.command == "run":
             run_missing(config, configfile=args.configfile, results=results, jobs=args.jobs, hours=args.hours,
-                        margin=args.margin, systems=args.first, commit=args.commit,
+                        margin=args.margin, systems=args.first, only=args.only, commit=args.commit,
                         say=lambda line: print(f"{time.strftime('%H:%M:%S')} {line}", flush=True))
         else:
             if args.finished == bool(args.run) or (args.run and len(args.run) != 2):
