@@ -1,0 +1,67 @@
+"""The committed campaign records (data/validation/, data/validation/README.md): every record can be restored under
+config/validation.yaml (file present, its sha256 the manifest's, made under the config's settings of its system,
+one state per ρ of the grid), and the workflow analyses recorded runs from their records with no simulation job,
+giving back the recorded states (ρ and Z of every state)."""
+from __future__ import annotations
+
+import os
+
+import numpy as np
+import pytest
+import xarray as xr
+import yaml
+
+from conftest import REPO, load_config, snakemake
+from forcenet import campaign
+from forcenet.datasets import paths, read_dataset
+from forcenet.systems import system_from_config
+
+CONFIG = load_config("validation.yaml")
+RECORDS = REPO / CONFIG["records_dir"]
+ROWS = campaign.read_manifest(RECORDS)
+
+
+def test_the_validation_config_keeps_its_records_in_the_repository():
+    assert CONFIG["records_dir"] == "data/validation" and (RECORDS / "README.md").exists()
+    readme = (RECORDS / "README.md").read_text()
+    assert campaign.SIZE_TABLE_START in readme and campaign.SIZE_TABLE_END in readme
+
+
+def test_every_committed_record_can_be_restored_under_the_validation_config(monkeypatch):
+    monkeypatch.chdir(REPO)  # records_dir is relative to the repository root
+    assert campaign.verify_records(CONFIG) == []
+    for row in ROWS:
+        spec = system_from_config(row["system"], CONFIG)
+        assert int(row["states"]) == len(spec.rho_grid), row["file"]
+        assert row["realization"] in [paths.realization_name(i) for i in range(CONFIG["realizations"][row["system"]])]
+
+
+@pytest.mark.workflow
+def test_recorded_runs_are_analysed_from_their_records_with_no_simulation(tmp_path):
+    if not ROWS:
+        pytest.skip("no campaign record is committed yet (forcenet-campaign status)")
+    chosen = sorted(ROWS, key=lambda row: int(row["bytes"]))[:2]  # the two smallest: about a minute
+    (tmp_path / "data").mkdir()
+    os.symlink(RECORDS, tmp_path / "data" / "validation")
+    config = {**CONFIG, "results_dir": "results"}
+    (tmp_path / "validation.yaml").write_text(yaml.safe_dump(config))
+    targets = []
+    for row in chosen:
+        labels = system_from_config(row["system"], CONFIG).rho_labels
+        targets += [paths.analysis("results", row["system"], row["realization"], label) for label in labels]
+    dry = snakemake(tmp_path, "-n", *targets, config=tmp_path / "validation.yaml")
+    assert dry.returncode == 0, dry.stderr[-3000:]
+    assert "simulate_" not in dry.stdout and all(f"restore_{row['system']}" in dry.stdout for row in chosen)
+    build = snakemake(tmp_path, *targets, config=tmp_path / "validation.yaml")
+    assert build.returncode == 0, build.stderr[-3000:]
+    for row in chosen:
+        with xr.open_dataset(RECORDS / row["file"]) as record:
+            labels = [str(label) for label in record["state"].values]
+            analysed = [read_dataset(tmp_path / paths.analysis("results", row["system"], row["realization"], label),
+                                     "analysis") for label in labels]
+            restored = [read_dataset(tmp_path / paths.snapshot("results", row["system"], row["realization"], label),
+                                     "snapshot") for label in labels]
+            assert np.array_equal([float(a["rho"]) for a in analysed], record["rho"].values), row["file"]
+            assert {int(a["n_particles"]) for a in analysed} == {int(row["particles"])}, row["file"]
+            assert np.array_equal([float(s["Z"]) for s in restored], record["Z"].values), row["file"]
+            assert [s.sizes["contact"] for s in restored] == list(record["contact_count"].values), row["file"]
