@@ -75,8 +75,11 @@ def run_command(name: str, repo: Path = records.REPO) -> dict:
         wall, cpu = time.perf_counter() - wall0, cpu_children() - cpu0
         shutil.rmtree(tmp, ignore_errors=True)
     output = result.stdout + result.stderr
+    # the command's own report (pytest's failures, Snakemake's error) is at the end of its stdout; pip's warnings
+    # fill stderr
     return dict(wall_s=round(wall, 1), cpu_s=round(cpu, 1), returncode=result.returncode,
-                summary=summary_line(output), output_tail=output[-2000:])
+                summary=summary_line(output),
+                output_tail=result.stdout[-6000:] + ("\n--- stderr ---\n" + result.stderr[-1500:] if result.stderr else ""))
 
 
 def main(argv=None) -> int:
