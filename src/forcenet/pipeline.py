@@ -300,14 +300,16 @@ class ReadingBeside:
 
 _TETRAHEDRA_READINGS = {True: "filled tetrahedra", False: "hollow tetrahedra (each 4-clique a void)"}
 _ESSENTIAL_READINGS = {"apart": "never-dying classes matched only with each other",
-                       "minus_one": "never-dying classes at death -1"}
+                       "minus_one": "never-dying classes at death -1",
+                       "drop": "never-dying classes left out of the distances"}
 
 
 def readings_beside(config: Mapping[str, Any]) -> dict[str, ReadingBeside]:
     """The readings a build judges beside its own conventions, each from a second build of the same runs:
     ``tetrahedra``, P1's 3D systems analysed with the other ``analysis.fill_tetrahedra``; ``essential``, P2's
     distances and Tables I–III with never-dying classes matched only with each other (``apart``; at death −1 when
-    the config's convention is ``apart``); ``table_states``, P2's Tables I–III from the literal states around
+    the config's convention is ``apart``); ``essential_drop``, the same with them left out (``drop``, the control of
+    docs/validation/controls.md §3; none when the config's convention is ``drop``); ``table_states``, P2's Tables I–III from the literal states around
     ``table_rho`` when the config's ``studies.p2.table_states`` is ``jammed`` (none when it is ``literal``: a build
     on states that never jam, such as imported ones, has no jammed states a, b, c to set beside)."""
     fill = not bool(config["analysis"]["fill_tetrahedra"])
@@ -316,6 +318,8 @@ def readings_beside(config: Mapping[str, Any]) -> dict[str, ReadingBeside]:
     table_rho = float(p2.get("table_rho", 0.79))
     readings = {"tetrahedra": ReadingBeside("analysis.fill_tetrahedra", fill, _TETRAHEDRA_READINGS[fill]),
                 "essential": ReadingBeside("analysis.essential_convention", convention, _ESSENTIAL_READINGS[convention])}
+    if config["analysis"]["essential_convention"] != "drop":
+        readings["essential_drop"] = ReadingBeside("analysis.essential_convention", "drop", _ESSENTIAL_READINGS["drop"])
     if p2.get("table_states", "jammed") == "jammed":
         readings["table_states"] = ReadingBeside("studies.p2.table_states", "literal",
                                                  f"states a, b, c nearest rho = {table_rho:g} (literal)")

@@ -43,9 +43,11 @@ ESSENTIAL_CONVENTION = config["analysis"]["essential_convention"]
 # P2's products of this build and of its readings beside (common.smk): (rule-name suffix, results folder, the rule
 # of states a, b, c, where that rule's choice is written, the convention for never-dying classes). The essential
 # reading takes the build's states a, b, c and changes the convention; the table-states reading the other way round.
-P2_BUILDS = [("", RESULTS, P2_TABLE_STATE_RULE, P2_TABLE_STATES, ESSENTIAL_CONVENTION),
-             ("_essential_reading", READING_RESULTS["essential"], P2_TABLE_STATE_RULE, P2_TABLE_STATES,
-              READINGS["essential"].value)]
+#: the readings beside that change only the convention for never-dying classes (common.smk)
+ESSENTIAL_READINGS = [key for key in ("essential", "essential_drop") if key in READINGS]
+P2_BUILDS = [("", RESULTS, P2_TABLE_STATE_RULE, P2_TABLE_STATES, ESSENTIAL_CONVENTION)]
+P2_BUILDS += [(f"_{key}_reading", READING_RESULTS[key], P2_TABLE_STATE_RULE, P2_TABLE_STATES, READINGS[key].value)
+              for key in ESSENTIAL_READINGS]
 if "table_states" in READINGS:  # only beside the jammed rule (forcenet.pipeline.readings_beside)
     P2_BUILDS.append(("_table_states_reading", READING_RESULTS["table_states"], READINGS["table_states"].value,
                       paths.p2_table_states(READING_RESULTS["table_states"]), ESSENTIAL_CONVENTION))
@@ -68,22 +70,26 @@ rule p2_distances:
         "../scripts/p2_distances.py"
 
 
-rule p2_distances_essential_reading:
-    """The distances with the never-dying classes under the essential reading beside (common.smk)."""
-    input:
-        system_analyses,
-    output:
-        paths.distances(READING_RESULTS["essential"], "{system}"),
-    log:
-        paths.log(READING_RESULTS["essential"], "distances", "{system}"),
-    params:
-        realizations=realization_numbers,
-        essential_convention=READINGS["essential"].value,
-    resources:
-        runtime=60,
-        mem_mb=4000,
-    script:
-        "../scripts/p2_distances.py"
+for _key in ESSENTIAL_READINGS:
+
+    rule:
+        """The distances with the never-dying classes under an essential reading beside (common.smk)."""
+        name:
+            f"p2_distances_{_key}_reading"
+        input:
+            system_analyses,
+        output:
+            paths.distances(READING_RESULTS[_key], "{system}"),
+        log:
+            paths.log(READING_RESULTS[_key], "distances", "{system}"),
+        params:
+            realizations=realization_numbers,
+            essential_convention=READINGS[_key].value,
+        resources:
+            runtime=60,
+            mem_mb=4000,
+        script:
+            "../scripts/p2_distances.py"
 
 
 for _suffix, _results, _state_rule, _states, _convention in P2_BUILDS:
@@ -148,6 +154,9 @@ rule p2_validation:
         # the readings beside (common.smk), each judged where it changes a claim
         essential_distances=[paths.distances(READING_RESULTS["essential"], s) for s in P2_SYSTEMS],
         essential_tables=p2_reading_tables("essential"),
+        essential_drop_distances=[paths.distances(READING_RESULTS["essential_drop"], s) for s in P2_SYSTEMS]
+                                 if "essential_drop" in READINGS else [],
+        essential_drop_tables=p2_reading_tables("essential_drop"),
         table_states_tables=p2_reading_tables("table_states"),
     output:
         md=report(paths.p2_validation_table(RESULTS, "md"), caption="../report/table.rst", category="P2",
@@ -160,6 +169,7 @@ rule p2_validation:
         frictionless=P2_FRICTIONLESS,
         paper_size=paper_size_table("p2"),
         essential_reading=READINGS["essential"].label,
+        essential_drop_reading=READINGS["essential_drop"].label if "essential_drop" in READINGS else None,
         table_states_reading=READINGS["table_states"].label if "table_states" in READINGS else None,
     script:
         "../scripts/p2_validation.py"

@@ -46,9 +46,9 @@ else:
         localrule: True
         input:
             md=[paths.p2_validation_table(RESULTS, "md")] + [paths.p2_table(RESULTS, i, "md") for i in paths.P2_TABLE_NUMBERS]
-               + p2_reading_tables("table_states", "md"),
+               + p2_reading_tables("table_states", "md") + p2_reading_tables("essential_drop", "md"),
             csv=[paths.p2_validation_table(RESULTS, "csv")] + [paths.p2_table(RESULTS, i, "csv") for i in paths.P2_TABLE_NUMBERS]
-                + p2_reading_tables("table_states", "csv"),
+                + p2_reading_tables("table_states", "csv") + p2_reading_tables("essential_drop", "csv"),
             costs=run_costs(P2_SYSTEMS),
         output:
             md=paths.campaign_table("p2", "md"),
@@ -58,8 +58,8 @@ else:
             systems=P2_SYSTEMS,
             title="P2 validation: our runs beside the paper",
             headings=["P2 validation table", *P2_TABLE_HEADINGS,
-                      *(f"{heading}, {READINGS['table_states'].label}" for heading in P2_TABLE_HEADINGS
-                        if "table_states" in READINGS)],
+                      *(f"{heading}, {READINGS[key].label}" for key in ("table_states", "essential_drop")
+                        if key in READINGS for heading in P2_TABLE_HEADINGS)],
         script:
             "../scripts/validation_report.py"
 

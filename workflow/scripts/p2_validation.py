@@ -8,6 +8,9 @@ p2_validation_table(  # noqa: F821 — `snakemake` is injected by Snakemake
     md=snakemake.output.md, csv=snakemake.output.csv, paper_size=snakemake.params.paper_size,
     beside={snakemake.params.essential_reading: {"distances": list(snakemake.input.essential_distances),
                                                  "tables": list(snakemake.input.essential_tables)},
+            **({snakemake.params.essential_drop_reading: {"distances": list(snakemake.input.essential_drop_distances),
+                                                          "tables": list(snakemake.input.essential_drop_tables)}}
+               if snakemake.params.essential_drop_reading else {}),
             **({snakemake.params.table_states_reading: {"tables": list(snakemake.input.table_states_tables)}}
                if snakemake.params.table_states_reading else {})},
     log_path=snakemake.log[0],

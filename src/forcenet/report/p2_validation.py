@@ -94,7 +94,10 @@ def p2_validation(distances: Mapping[str, xr.Dataset], tables: Mapping[str, pd.D
             """The claim judged on the data of `within` (not on imported states: their protocol is not recorded)."""
             if imported:
                 raise NotEvaluated(f"{', '.join(imported)}: {IMPORTED_NOT_EVALUATED}")
-            return claim.judge(within)
+            try:
+                return claim.judge(within)
+            except ZeroDivisionError:  # a ratio of distances, one of them 0 (no never-dying class under `drop`, …)
+                raise NotEvaluated("a distance its criterion divides by is 0 here, so the ratio is undefined") from None
 
         def explanation(verdict: str, claim=claim) -> Explanation | None:
             """Why the claim does not hold (nothing where it does, or where it is not judged on imported states)."""
