@@ -144,9 +144,10 @@ def expected_smoke_outputs(results: str = "results") -> set[str]:
                 files |= {paths.analysis(folder, system, r, rho) for rho in spec.rho_labels}
             files |= {paths.network_measures(folder, system), paths.diagrams(folder, system),
                       paths.log(folder, "aggregate", system)}
-    for system in p2:  # P2's distances under the other never-dying convention
-        files |= {paths.distances(reading["essential"], system), paths.log(reading["essential"], "distances", system)}
-    for key in ("essential", "table_states"):  # and Tables I-III under it, and from the other states a, b, c
+    for system in p2:  # P2's distances under the other never-dying conventions
+        for key in ("essential", "essential_drop"):  # never-dying classes apart, and left out
+            files |= {paths.distances(reading[key], system), paths.log(reading[key], "distances", system)}
+    for key in ("essential", "essential_drop", "table_states"):  # Tables I-III under each, and from other a, b, c
         files |= {paths.p2_table(reading[key], i, fmt) for i in paths.P2_TABLE_NUMBERS for fmt in ("csv", "md")}
         files.add(paths.log(reading[key], "tables", "p2_tables"))
     files |= {paths.p2_table_states(reading["table_states"]), paths.log(reading["table_states"], "tables",
