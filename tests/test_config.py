@@ -514,12 +514,15 @@ def test_the_readings_beside_take_the_other_value_of_each_convention():
     readings = readings_beside(config)
     assert (readings["tetrahedra"].value, readings["tetrahedra"].folder) == (True, "fill_tetrahedra-true")
     assert (readings["essential"].value, readings["table_states"].value) == ("apart", "literal")
+    assert (readings["essential_drop"].value, readings["essential_drop"].folder) == ("drop", "essential_convention-drop")
     config["analysis"].update(fill_tetrahedra=True, essential_convention="apart")
     config["studies"]["p2"]["table_states"] = "literal"
     readings = readings_beside(config)
     # beside the literal states no jammed ones are set: states that never jam (imported ones) have none
     assert (readings["tetrahedra"].value, readings["essential"].value) == (False, "minus_one")
     assert "table_states" not in readings
+    config["analysis"]["essential_convention"] = "drop"  # a build under drop sets no drop reading beside itself
+    assert "essential_drop" not in readings_beside(config)
 
 
 def test_p1_counterparts_are_defined_systems_beside_the_studys_own_with_its_rattler_rule():

@@ -250,6 +250,7 @@ def test_each_reading_beside_is_built_with_the_other_convention_and_judged(smoke
             assert not Path(paths.network_measures(folder["tetrahedra"], system)).exists()
     for system in config["studies"]["p2"]["systems"]:
         assert open_dataset(paths.distances(folder["essential"], system)).attrs["essential_convention"] == "apart"
+        assert open_dataset(paths.distances(folder["essential_drop"], system)).attrs["essential_convention"] == "drop"
         assert open_dataset(paths.distances(results, system)).attrs["essential_convention"] == "minus_one"
     literal = pd.read_csv(paths.p2_table_states(folder["table_states"]))
     jammed = pd.read_csv(paths.p2_table_states(results))
@@ -257,7 +258,8 @@ def test_each_reading_beside_is_built_with_the_other_convention_and_judged(smoke
     assert jammed["rho_a"].iloc[0] >= config["studies"]["p2"]["table_rho"] - 1e-9
     assert "rho_a = %.4f" % literal["rho_a"].iloc[0] in Path(paths.p2_table(folder["table_states"], 1, "md")).read_text()
     table = pd.read_csv(paths.p2_validation_table(results, "csv"), comment="#", keep_default_na=False)
-    assert {readings["essential"].label, readings["table_states"].label} <= set(table["reading"])
+    assert {readings["essential"].label, readings["table_states"].label, readings["essential_drop"].label} <= set(
+        table["reading"])
     # apart: a pair whose numbers of never-dying classes differ is infinitely far apart, printed so
     assert "inf" in Path(paths.p2_table(folder["essential"], 1, "md")).read_text()
 
