@@ -21,7 +21,8 @@ from pathlib import Path
 from typing import Any, Callable, Mapping, Sequence
 
 from forcenet.campaign import (DEFAULT_CAMPAIGN_CONFIG, RunStatus, campaign_status, drop_record, record_run,
-                               records_folder, size_table, status_table, verify_records, write_size_table)
+                               records_folder, size_table, status_table, unrecorded_reason, verify_records,
+                               write_size_table)
 from forcenet.datasets import paths
 from forcenet.errors import ForcenetError
 
@@ -73,11 +74,13 @@ def run_missing(config: Mapping[str, Any], *, configfile: str, results: str, job
     items) no other run is recorded or started: another process may be making the others. A run is started only if its estimate
     (`RunStatus.cpu_hours_to_go`) times `margin` fits in the `hours` left of the budget, so no run is begun that
     cannot finish; one that is not started is named with its estimate. A finished run without a record is recorded
-    first. A run that fails is named with its log and the others go on."""
+    first. A run that fails is named with its log and the others go on. Runs of a system that gets no record
+    (`forcenet.campaign.unrecorded_reason`: P2's, for now) are left alone."""
     start = start or (lambda command, log: subprocess.Popen(command, stdout=open(log, "a"), stderr=subprocess.STDOUT))
     deadline = None if hours is None else time.time() + 3600.0 * hours
     statuses = [s for s in campaign_status(config, results=results)
-                if not only or s.system in only or f"{s.system}:{s.realization}" in only]
+                if (not only or s.system in only or f"{s.system}:{s.realization}" in only)
+                and not unrecorded_reason(config, s.system)]  # a run that could not be kept is not made
     rows = []
 
     def land(system: str, realization: str) -> None:
