@@ -1,4 +1,4 @@
-"""P2's validation table (``results/tables/p2_validation.{md,csv}``): each claim of `forcenet.report.p2_claims`
+"""P2's validation table (``results/tables/p2_validation.{md,csv}``): each claim of `forcenet.report.p2_claims` and `p2_claims_friction`
 with the measured evidence, the criterion, a computed verdict and, where it does not hold, the explanation of
 `forcenet.report.p2_explanations`; judged and written with the framework of `forcenet.report.claims`. In the
 default build a column beside P2's values gives our value at P2's size from the committed campaign table
@@ -17,12 +17,15 @@ from forcenet.report.claims import (HOLDS, IMPORTED_NOT_EVALUATED, NotEvaluated,
 from forcenet.report.claims_table import (VERDICT_COLUMNS, TableLayout, TableSection, claims_frame,
                                           validation_markdown, with_paper_size, write_validation_table)
 from forcenet.report.p1 import system_dimension
+from forcenet.report import p2_claims, p2_claims_friction
 from forcenet.report.p2 import FRICTIONAL, FRICTIONLESS, format_number
-from forcenet.report.p2_claims import CLAIMS
 from forcenet.report.p2_explanations import explain
 from forcenet.report.p2_judging import Context, Curves
 from forcenet.report.realizations import bootstrap_draws, resample_realizations
 from forcenet.systems import IMPORTED_FORCE_LAW
+
+#: every claim of P2, in the order of the table: §III D, §IV A, §IV B, then §IV C and §V
+CLAIMS = [*p2_claims.CLAIMS, *p2_claims_friction.CLAIMS]
 
 #: the table's columns (CSV names → `JudgedClaim` fields); the Markdown heads claim_id "id" and reference "P2"
 P2_LAYOUT = TableLayout(columns={"claim_id": "id", "section": "section", "system": "system", "claim": "statement",
