@@ -186,8 +186,9 @@ def test_diagram_points_selects_one_kind_dimension_and_snapshot(tmp_path):
     np.testing.assert_array_equal(diagram_points(a, "normal", 1).birth, [1.2])
     assert diagram_points(a, "total", 1).birth.size == 0 and diagram_points(a, "tangential", 0).death.tolist() == [0.1]
     # a stacked file: realization 0 at ρ 0.80 (a) and 0.82 (b), realization 1 at 0.80 (c); read back validated
-    path = write_netcdf(stack_diagrams([a, b, c], [0, 0, 1], [0.80, 0.82, 0.80], attrs()), tmp_path / "diagrams.nc",
-                        kind="diagrams")
+    stacked_attrs = {**attrs(), "dimension": 2, "force_law": "linear", "rattler_rule": "once", "flag_complex": "triangles"}
+    path = write_netcdf(stack_diagrams([a, b, c], [0, 0, 1], [0.80, 0.82, 0.80], stacked_attrs),
+                        tmp_path / "diagrams.nc", kind="diagrams")
     stacked = read_dataset(path, "diagrams")
     np.testing.assert_array_equal(diagram_points(stacked, "normal", realization=0, rho=0.82).birth, [2.5, 1.1])
     np.testing.assert_array_equal(diagram_points(stacked, "normal", 1, realization=0, rho=0.80).birth, [1.2])

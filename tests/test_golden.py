@@ -41,3 +41,17 @@ def test_the_golden_analyses_differ_from_one_another():
     betti = [read_dataset(GOLDEN / f"analysis_{system}_rho{rho}.nc", "analysis")["betti"].values for system, rho in CASES]
     assert betti[0].shape != betti[1].shape  # 3D has B2
     assert not np.array_equal(betti[0], betti[2])
+
+
+def test_a_file_without_its_kinds_global_attribute_is_refused_naming_it(tmp_path):
+    """The contract of each kind names its own global attributes (`schema.KIND_GLOBAL_ATTRS`): an analysis without
+    the flag complex that made its diagrams is refused on reading, the golden one as it is is read."""
+    from forcenet.datasets import DatasetError, open_dataset
+
+    golden = GOLDEN / "analysis_3d_hertz_rho0.680.nc"
+    read_dataset(golden, "analysis")
+    ds = open_dataset(golden)
+    del ds.attrs["flag_complex"]
+    ds.to_netcdf(tmp_path / "analysis.nc")
+    with pytest.raises(DatasetError, match="not a valid analysis file: global attribute 'flag_complex' missing$"):
+        read_dataset(tmp_path / "analysis.nc", "analysis")

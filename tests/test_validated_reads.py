@@ -44,8 +44,9 @@ def good(tmp_path_factory) -> dict[str, list[Path]]:
                        log_path=str(root / "aggregate.log"))
     per_realization = [p2_distances.consecutive_distances(worked_example_analyses(rhos=(0.70, 0.71 + 1e-4 * r, 0.72)))
                        for r in range(2)]
-    stacked = p2_distances.stack_distances(per_realization, [0, 1], provenance_attrs(
-        system="2d_poly_mu05", realization=-1, seed=1, config={}, title="P2 distances"))
+    stacked = p2_distances.stack_distances(per_realization, [0, 1], {**provenance_attrs(
+        system="2d_poly_mu05", realization=-1, seed=1, config={}, title="P2 distances"),
+        "dimension": 2, "force_law": "linear", "rattler_rule": "none", "flag_complex": "triangles"})
     distances = write_netcdf(distances_on_grid(stacked, [0.71, 0.72]), root / "distances.nc", kind="distances")
     return {"snapshot": snaps, "analysis": analyses, "network_measures": [measures], "diagrams": [diagrams],
             "distances": [distances]}

@@ -17,9 +17,9 @@ import xarray as xr
 
 from forcenet.boxes import tilt_problem
 from forcenet.datasets.schema import (ANALYSIS_FINITE_VARIABLES, BOX_TILT_ATTR, DTYPE_KINDS, ENGINE_SOURCE_FORMAT,
-                                      FILE_KINDS, OPTIONAL_VARIABLES, PERIODIC_AXES_ATTR, REQUIRED_GLOBAL_ATTRS,
-                                      SNAPSHOT_FINITE_VARIABLES, SNAPSHOT_GLOBAL_ATTRS, SNAPSHOT_SOURCE_ATTRS,
-                                      SOURCE_FORMAT_ATTR, VariableSpec)
+                                      FILE_KINDS, KIND_GLOBAL_ATTRS, OPTIONAL_VARIABLES, PERIODIC_AXES_ATTR,
+                                      REQUIRED_GLOBAL_ATTRS, SNAPSHOT_FINITE_VARIABLES, SNAPSHOT_GLOBAL_ATTRS,
+                                      SNAPSHOT_SOURCE_ATTRS, SOURCE_FORMAT_ATTR, VariableSpec)
 from forcenet.errors import ForcenetError
 
 CONVENTIONS = "CF-1.10"
@@ -114,6 +114,9 @@ def schema_problems(ds: xr.Dataset, kind: str | None = None) -> list[str]:
     problems += [f"variable '{name}' lacks '{key}'" for name, var in ds.variables.items()
                  for key in ("units", "long_name") if key not in var.attrs]
     problems += [f"global attribute '{key}' missing" for key in REQUIRED_GLOBAL_ATTRS if key not in ds.attrs]
+    if kind is not None:  # the kind's own (the snapshot's dimension is checked with its values)
+        problems += [f"global attribute '{key}' missing" for key in KIND_GLOBAL_ATTRS.get(kind, ())
+                     if key not in ds.attrs and not (kind == "snapshot" and key in SNAPSHOT_GLOBAL_ATTRS)]
     if not problems and kind in VALUE_CHECKS:  # values only once the structure is right
         problems += VALUE_CHECKS[kind](ds)
     return problems

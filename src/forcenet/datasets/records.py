@@ -21,8 +21,7 @@ import numpy as np
 import xarray as xr
 
 from forcenet.datasets.io import DatasetError, dataset_from_specs, read_dataset
-from forcenet.datasets.schema import (RECORD_GLOBAL_ATTRS, RECORD_VARIABLES, REQUIRED_GLOBAL_ATTRS,
-                                      SNAPSHOT_DYNAMICS, SNAPSHOT_VARIABLES)
+from forcenet.datasets.schema import RECORD_VARIABLES, REQUIRED_GLOBAL_ATTRS, SNAPSHOT_DYNAMICS, SNAPSHOT_VARIABLES
 from forcenet.datasets.snapshot import write_snapshot
 
 #: the record layout this module writes and reads (global attribute `record_format`)
@@ -162,11 +161,11 @@ def record_differences(record: xr.Dataset, snapshots: Sequence[xr.Dataset]) -> l
 
 
 def record_global_problems(record: xr.Dataset) -> list[str]:
-    """Global attributes a record lacks or a format it does not have."""
-    problems = [f"global attribute '{key}' missing" for key in RECORD_GLOBAL_ATTRS if key not in record.attrs]
-    if not problems and record.attrs["record_format"] != RECORD_FORMAT:
-        problems.append(f"record_format is '{record.attrs['record_format']}', this forcenet reads '{RECORD_FORMAT}'")
-    return problems
+    """A record format this forcenet does not read (its attributes are checked with its kind, `schema.KIND_GLOBAL_ATTRS`,
+    when it is read)."""
+    if record.attrs["record_format"] != RECORD_FORMAT:
+        return [f"record_format is '{record.attrs['record_format']}', this forcenet reads '{RECORD_FORMAT}'"]
+    return []
 
 
 def record_encoding(record: xr.Dataset) -> dict[str, Mapping[str, Any]]:

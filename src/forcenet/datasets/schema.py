@@ -227,6 +227,23 @@ RECORD_VARIABLES: dict[str, VariableSpec] = {
 RECORD_GLOBAL_ATTRS = ("record_format", "simulation_sha256", "cpu_seconds", "dimension", "snapshot_attrs",
                        "state_attrs", "dropped_variables")
 
+#: global attributes of each file kind beyond REQUIRED_GLOBAL_ATTRS (its provenance), checked on writing and reading,
+#: so that a reader indexes them and never falls back to a default: the spatial dimension; the rattler rule and flag
+#: complex that made an analysis's networks (`forcenet.pipeline.rattler_attrs`, `flag_complex_attrs`); a stacked
+#: file's force law and, for P1's F_max rule, the system's force constants (`forcenet.pipeline.force_constants`); a
+#: distances file's convention for never-dying classes
+ANALYSIS_GLOBAL_ATTRS = ("dimension", "rattler_rule", "flag_complex")
+STACKED_GLOBAL_ATTRS = (*ANALYSIS_GLOBAL_ATTRS, "force_law")
+FORCE_CONSTANT_ATTRS = ("force_unit_dyn", "stiffness_scale_reduced", "normal_stiffness_cgs")
+KIND_GLOBAL_ATTRS: dict[str, tuple[str, ...]] = {
+    "snapshot": SNAPSHOT_GLOBAL_ATTRS,
+    "analysis": ANALYSIS_GLOBAL_ATTRS,
+    "network_measures": (*STACKED_GLOBAL_ATTRS, *FORCE_CONSTANT_ATTRS),
+    "diagrams": STACKED_GLOBAL_ATTRS,
+    "distances": (*STACKED_GLOBAL_ATTRS, "essential_convention"),
+    "run_record": RECORD_GLOBAL_ATTRS,
+}
+
 #: every file kind the pipeline reads: its variables and the coordinates a reader selects on
 FILE_KINDS: dict[str, tuple[dict[str, VariableSpec], tuple[str, ...]]] = {
     "snapshot": (SNAPSHOT_VARIABLES, ("spatial",)),
