@@ -34,8 +34,9 @@ COMMANDS = {
                              command=".venv/bin/snakemake --cores 2"),
     "test_suite": dict(what="the README's test command, every tier, venv and install included", fresh_clone=True,
                        command="bash .ci/run"),
-    "unit_tests": dict(what="the unit tier (plain pytest)", fresh_clone=False,
-                       command=".venv/bin/python -m pytest -q -p no:cacheprovider"),
+    "unit_tests": dict(what="the unit tier (plain pytest) in a fresh clone, numba's cache empty (the clone's sources "
+                            "first on the path, this checkout's venv)", fresh_clone=True,
+                       command="PYTHONPATH=$PWD/src {venv}/bin/python -m pytest -q -p no:cacheprovider"),
     "example_import": dict(what="the shipped imports (config/example_import.yaml)", fresh_clone=True,
                            command="{venv}/bin/snakemake --cores 2 --configfile config/example_import.yaml"),
     "smoke_build": dict(what="smoke config, full build in an empty folder", fresh_clone=False,
