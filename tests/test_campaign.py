@@ -263,6 +263,8 @@ def test_run_missing_records_each_run_as_it_lands_and_starts_none_that_cannot_fi
                                     say=said.append, start=start)
     assert [row["realization"] for row in rows] == ["r00", "r01", "r03"]
     assert [s[0] for s in started] == ["r01", "r02", "r03"]
+    # r02 and r03 were started once r00 (0.1 h) and r01 (0.2 h) had landed: their estimate is the recorded mean
+    assert any(line.startswith(f"started {SYSTEM} r03 (missing; about 0.15 CPU-hours") for line in said)
     assert all(s[1] == ["nice", "-n", "10"] and s[2] and s[3] == f"{s[0]}.log" for s in started)
     assert any(line.startswith(f"failed: {SYSTEM} r02 (exit 1") for line in said)
     assert [row["realization"] for row in campaign.read_manifest("records")] == ["r00", "r01", "r03"]

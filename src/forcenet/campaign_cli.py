@@ -100,6 +100,9 @@ def run_missing(config: Mapping[str, Any], *, configfile: str, results: str, job
                    key=lambda s: rank.get(s.system, len(rank)))
     running: dict[subprocess.Popen, RunStatus] = {}
     while queue or running:
+        if rows:  # the estimates follow the runs recorded meanwhile (the mean of a system's recorded runs)
+            fresh = {(s.system, s.realization): s for s in campaign_status(config, results=results)}
+            queue = [fresh.get((s.system, s.realization), s) for s in queue]
         while queue and len(running) < jobs:
             status = queue.pop(0)
             needed = status.cpu_hours_to_go * margin
