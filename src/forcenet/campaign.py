@@ -18,6 +18,7 @@ it is parsed, a dry run included.
 """
 from __future__ import annotations
 
+import contextlib
 import csv
 import datetime as _dt
 import fcntl
@@ -200,10 +201,23 @@ def record_run(config: Mapping[str, Any], system: str, realization: str, *, resu
            "file": target.relative_to(records).as_posix(), "bytes": str(target.stat().st_size),
            "sha256": file_sha256(target),
            "recorded": _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")}
-    kept = [r for r in read_manifest(records) if (r["system"], r["realization"]) != (system, realization)]
-    write_manifest(records, [*kept, row])
-
+    with _manifest_lock(records):  # two campaign runners may record into one folder at the same moment
+        kept = [r for r in read_manifest(records) if (r["system"], r["realization"]) != (system, realization)]
+        write_manifest(records, [*kept, row])
     return row
+
+
+@contextlib.contextmanager
+def _manifest_lock(records: str | os.PathLike):
+    """Hold an exclusive lock on the records folder's manifest for one read-modify-write."""
+    path = Path(paths.record_manifest(records))
+    path.parent.mkdir(parents=True, exist_ok=True)
+    with open(path.with_name(f".{path.name}.lock"), "w") as handle:
+        fcntl.flock(handle, fcntl.LOCK_EX)
+        try:
+            yield
+        finally:
+            fcntl.flock(handle, fcntl.LOCK_UN)
 
 
 @dataclass(frozen=True)
@@ -341,10 +355,11 @@ def drop_record(config: Mapping[str, Any], system: str, realization: str) -> Pat
     records = records_folder(config)
     if records is None:
         raise CampaignError("the config has no records_dir")
-    row = manifest_row(records, system, realization)
-    (Path(records) / row["file"]).unlink(missing_ok=True)
-    write_manifest(records, [r for r in read_manifest(records) if r is not row and
-                             (r["system"], r["realization"]) != (system, realization)])
+    with _manifest_lock(records):
+        row = manifest_row(records, system, realization)
+        (Path(records) / row["file"]).unlink(missing_ok=True)
+        write_manifest(records, [r for r in read_manifest(records)
+                                 if (r["system"], r["realization"]) != (system, realization)])
     return Path(records) / row["file"]
 
 
