@@ -280,3 +280,28 @@ def test_run_missing_records_each_run_as_it_lands_and_starts_none_that_cannot_fi
     assert campaign_cli.run_missing(config, configfile="c.yaml", results="results", hours=0.1,
                                     only=[f"{SYSTEM}:r02"], say=said.append, start=start) == []
     assert said == [f"not started: {SYSTEM} r02 needs about 0.23 h (0.15 × 1.5), 0.10 h left"]  # mean of 0.1, 0.2
+
+
+def test_run_skips_a_queued_run_that_another_runner_took_meanwhile(config, monkeypatch):
+    from forcenet import campaign_cli
+
+    monkeypatch.setattr(campaign_cli, "POLL_SECONDS", 0.0)
+    config["systems"] = {SYSTEM: config["systems"][SYSTEM]}
+    config["realizations"] = {SYSTEM: 3}
+    started, said, held = [], [], []
+
+    def start(command, log):
+        realization = Path(command[command.index("-m") + 2]).parent.name
+        started.append(realization)
+        if realization == "r00":  # meanwhile another runner starts r01: it holds r01's stage lock
+            run_dir = Path(paths.run_dir("results", SYSTEM, "r01"))
+            (run_dir / paths.STAGING_DIR).mkdir(parents=True)
+            held.append(open(run_dir / paths.STAGE_LOCK, "a+"))
+            fcntl.flock(held[-1], fcntl.LOCK_EX | fcntl.LOCK_NB)
+        fake_run(config, realization, cpu_seconds=360.0)
+        return subprocess.Popen(["true"])
+
+    rows = campaign_cli.run_missing(config, configfile="c.yaml", results="results", jobs=1, systems=[SYSTEM],
+                                    say=said.append, start=start)
+    assert started == ["r00", "r02"] and [row["realization"] for row in rows] == ["r00", "r02"]
+    assert f"skipped: {SYSTEM} r01 is running (another process)" in said

@@ -105,6 +105,11 @@ def run_missing(config: Mapping[str, Any], *, configfile: str, results: str, job
             queue = [fresh.get((s.system, s.realization), s) for s in queue]
         while queue and len(running) < jobs:
             status = queue.pop(0)
+            status = next((s for s in campaign_status(config, results=results)
+                           if (s.system, s.realization) == (status.system, status.realization)), status)
+            if status.state not in ("missing", "stopped"):  # another runner took it meanwhile
+                say(f"skipped: {status.system} {status.realization} is {status.state} (another process)")
+                continue
             needed = status.cpu_hours_to_go * margin
             left = None if deadline is None else (deadline - time.time()) / 3600.0
             if left is not None and needed > left:
