@@ -92,6 +92,30 @@ def test_semantic_errors_name_the_key(default_config):
         validate_config(config)
 
 
+def test_walls_of_their_own_material(default_config):
+    """`wall_material` (P1 §2: plexiglass) gives the wall factor of the two-material modulus and a new simulation
+    fingerprint; it needs flat walls and the material block; a system without it keeps its fingerprint."""
+    from forcenet import units
+    from forcenet.datasets.runs import simulation_sha256
+    from forcenet.systems import material_from_config, system_from_config
+
+    plexiglass = {"young_modulus": 3.0e9, "poisson_ratio": 0.35}
+    config = _mutate(["systems", "2d_hertz", "wall_material"], plexiglass, default_config)
+    assert schema_errors(config) == []
+    validate_config(config)
+    expected = units.wall_stiffness_factor(material_from_config(config), 3.0e9, 0.35)
+    assert system_from_config("2d_hertz", config).wall_stiffness_factor == expected
+    assert system_from_config("2d_hertz", default_config).wall_stiffness_factor == 1.0
+    assert simulation_sha256(config, "2d_hertz") != simulation_sha256(default_config, "2d_hertz")
+    assert simulation_sha256(config, "2d_linear") == simulation_sha256(default_config, "2d_linear")
+    rough = _mutate(["systems", "2d_poly_mu05", "wall_material"], plexiglass, default_config)
+    with pytest.raises(ConfigError, match=r"systems\.2d_poly_mu05\.wall_material.*walls: flat"):
+        validate_config(rough)
+    assert schema_errors(_mutate(["systems", "2d_hertz", "wall_material"], {"young_modulus": 3.0e9}, default_config))
+    assert schema_errors(_mutate(["systems", "2d_hertz", "wall_material"], dict(plexiglass, poisson_ratio=0.5),
+                                 default_config))
+
+
 def test_rattler_rule_is_chosen_per_study(default_config):
     # shipped: P1 removes rattlers (analysis.remove_rattlers), P2 keeps them (studies.p2.remove_rattlers: false)
     assert {s: study_rattler_rule(default_config, s) for s in default_config["studies"]["p1"]["systems"]} == {

@@ -16,8 +16,9 @@ LAWS = {
 }
 
 
-def law_array(law: dict) -> np.ndarray:
-    return ContactLaw(law["k_n"], law["k_t"], law["gamma_n"], law["gamma_t"], law["mu"], law["beta"]).as_array()
+def law_array(law: dict, wall_stiffness_factor: float = 1.0) -> np.ndarray:
+    return ContactLaw(law["k_n"], law["k_t"], law["gamma_n"], law["gamma_t"], law["mu"], law["beta"],
+                      wall_stiffness_factor=wall_stiffness_factor).as_array()
 
 
 def random_configuration(dim: int, n: int, seed: int):
@@ -68,8 +69,11 @@ def test_pair_forces_match_naive_reference(dim, law_name):
 
 @pytest.mark.parametrize("dim", [2, 3])
 @pytest.mark.parametrize("law_name", ["linear", "hertz"])
-def test_flat_walls_match_naive_reference(dim, law_name):
+@pytest.mark.parametrize("wall_factor", [1.0, 1.9999817])  # the particles' material; plexiglass (P1 §2)
+def test_flat_walls_match_naive_reference(dim, law_name, wall_factor):
+    """Walls of their own material: the reference law with k_n and k_t times the wall factor, the pair's damping."""
     law = LAWS[law_name]
+    wall_law = dict(law, k_n=law["k_n"] * wall_factor, k_t=law["k_t"] * wall_factor)
     rng = np.random.default_rng(10 + dim)
     n = 80
     position = rng.uniform(0.3, 3.7, (n, dim))
@@ -87,9 +91,9 @@ def test_flat_walls_match_naive_reference(dim, law_name):
                   release_band=np.inf, escape_margin=0.0, anchor=np.zeros((0, dim)), axis=np.zeros(0, dtype=np.int64),
                   sign=np.zeros(0))
     contacts.flat_wall_forces(Motion(position, velocity, omega.reshape(n, -1), 1.0), Bodies(radius, 1.0 / mass, n),
-                              walls, lo, hi, law_array(law), dt, Loads(force, torque), None)
+                              walls, lo, hi, law_array(law, wall_factor), dt, Loads(force, torque), None)
     ref_force, ref_torque, ref_springs = naive_dem.flat_wall_forces(position, velocity, omega, radius, mass, lo, hi,
-                                                                    speed, springs, law, dt)
+                                                                    speed, springs, wall_law, dt)
     assert len(ref_springs) > 10
     np.testing.assert_allclose(force, ref_force, rtol=1e-10, atol=1e-12)
     np.testing.assert_allclose(torque, ref_torque, rtol=1e-10, atol=1e-12)

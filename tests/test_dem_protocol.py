@@ -542,6 +542,23 @@ def test_the_default_relaxation_criterion_keeps_the_checkpoint_fingerprint():
     assert protocol._fingerprint(continuous, 1) != protocol._fingerprint(continuous, 2)
 
 
+def test_walls_of_their_own_material_change_the_checkpoint_fingerprint_and_old_checkpoints_load():
+    """Plexiglass walls (P1 §2) are other physics: another fingerprint; walls of the particles' material keep it. A
+    checkpoint's law array from before the wall factor (7 values) loads as walls of the particles' material."""
+    from forcenet.dem.engine import ContactLaw, Simulation
+
+    system = tiny("2d_hertz")
+    plexiglass = dataclasses.replace(system, wall_stiffness_factor=1.9999817)
+    assert "wall_stiffness_factor" not in repr(plexiglass)
+    assert protocol._fingerprint(plexiglass, 1) != protocol._fingerprint(system, 1)
+    assert protocol.contact_law_for_system(plexiglass).wall_stiffness_factor == 1.9999817
+    sim, _ = protocol.build_simulation(system, 1)
+    state = sim.state_dict()
+    state["law"] = state["law"][:7]
+    restored = Simulation.from_state_dict(state)
+    assert restored.law.size == 8 and ContactLaw.from_array(restored.law) == ContactLaw.from_array(sim.law)
+
+
 #: the fields that the checkpoint fingerprint hashes through `repr(system)`; a new field in this list would change
 #: the fingerprint of every run in progress (and restart it from scratch): give it `field(repr=False)` and let
 #: `forcenet.dem.protocol._fingerprint` add it when it is not the default, as `initial_state` and the criterion do

@@ -68,3 +68,16 @@ def test_linear_damping_gives_restitution_of_damped_oscillator(restitution):
     omega = math.sqrt(k / m - gamma ** 2 / 4)
     assert math.exp(-gamma * math.pi / (2 * omega)) == pytest.approx(restitution)
     assert np.isfinite(gamma) and gamma > 0
+
+
+def test_wall_stiffness_factor_is_the_ratio_of_effective_moduli():
+    """P1 Eq. 1's k_n ∝ Y/(1 − σ²) = 2 E* for two bodies of one material; against a wall, 1/E* = (1 − σ²)/Y +
+    (1 − σ_w²)/Y_w: a wall of the particles' material gives 1, a rigid one 2, plexiglass (3 GPa, 0.35) 2/(1 + ε)."""
+    material = units.Material()
+    assert units.wall_stiffness_factor(material, material.young_modulus, material.poisson_ratio) == pytest.approx(1.0)
+    assert units.wall_stiffness_factor(material, 1e30, 0.3) == pytest.approx(2.0, rel=1e-12)
+    epsilon = (1 - 0.35 ** 2) / 3.0e9 / ((1 - 0.5 ** 2) / 23450.0)  # by hand: 9.146e-6
+    assert units.wall_stiffness_factor(material, 3.0e9, 0.35) == pytest.approx(2.0 / (1.0 + epsilon), rel=1e-12)
+    assert 1.99998 < units.wall_stiffness_factor(material, 3.0e9, 0.35) < 1.99999
+    # a wall softer than the particles makes the contact softer than a pair's
+    assert units.wall_stiffness_factor(material, 0.5 * material.young_modulus, material.poisson_ratio) < 1.0

@@ -107,7 +107,8 @@ def lightest_mass(system) -> float:
 
 def shortest_collision_time(system) -> tuple[float, float, float]:
     """(duration [τ_c], mass [m̄], relative speed [d_ave/τ_c]) of the undamped head-on collision of two of the lightest
-    particles at twice the fastest imposed speed (P1 Eq. 4 generalised)."""
+    particles at twice the fastest imposed speed (P1 Eq. 4 generalised). A flat wall's collision is never shorter: its
+    reduced mass is m_i, twice the pair's, and even a rigid wall only doubles k_n (`units.wall_stiffness_factor` ≤ 2)."""
     mass = lightest_mass(system)
     speed = 2.0 * max(system.initial_speed, system.wall_speed)
     duration = units.undamped_collision_time(system.normal_stiffness, system.beta, 0.5 * mass, max(speed, 1e-12))

@@ -102,6 +102,9 @@ class SystemSpec:
         (left out of the repr, so the checkpoint fingerprints of runs without it are unchanged; the fingerprint
         adds it when set)
     walls : ``"flat"`` (P1) or ``"rough"`` (P2, monodisperse wall particles)
+    wall_stiffness_factor : k_n and k_t of a particle–flat-wall contact over a pair's [-]: 1 when the walls have the
+        particles' material, else `forcenet.units.wall_stiffness_factor` of the entry's ``wall_material`` (P1 §2:
+        plexiglass walls); left out of the repr as `initial_state` is (the fingerprint adds it when not 1)
     time_step : Δt [τ_c]
     protocol : ``"quasistatic"`` (P1) or ``"continuous"`` (P2)
     wall_speed : inward speed of every wall [d_ave/τ_c]
@@ -134,6 +137,7 @@ class SystemSpec:
     paper: str = field(default="P1")
     normal_damping: float | None = None
     initial_state: InitialState | None = field(default=None, repr=False)
+    wall_stiffness_factor: float = field(default=1.0, repr=False)
 
     @property
     def rho_labels(self) -> list[str]:
@@ -267,6 +271,14 @@ def system_from_config(name: str, config: Mapping[str, Any]) -> SystemSpec | Imp
     if "normal_damping" in entry and entry["damping_model"] != "explicit":
         raise ConfigError(f"{key}.normal_damping", f"is used only with damping_model: explicit (this system's "
                                                    f"damping_model is {entry['damping_model']}): remove one")
+    wall_factor = 1.0
+    if "wall_material" in entry:  # P1 §2: the walls have the material properties of plexiglass
+        if entry["walls"] != "flat" or entry["stiffness"] != "material":
+            raise ConfigError(f"{key}.wall_material", "needs walls: flat and stiffness: material (the particles' "
+                                                      "Young's modulus and Poisson ratio come from the material block)")
+        wall = entry["wall_material"]
+        wall_factor = units.wall_stiffness_factor(material_from_config(config), float(wall["young_modulus"]),
+                                                  float(wall["poisson_ratio"]))
     relaxation = None
     if entry["protocol"] == "quasistatic":
         criterion = entry["relaxation"].get("criterion", KINETIC_ENERGY_FLUCTUATION)
@@ -292,6 +304,7 @@ def system_from_config(name: str, config: Mapping[str, Any]) -> SystemSpec | Imp
         normal_damping=float(entry["normal_damping"]) if "normal_damping" in entry else None,
         initial_state=InitialState(**entry["initial_state"]) if "initial_state" in entry else None,
         walls=entry["walls"],
+        wall_stiffness_factor=wall_factor,
         time_step=float(entry["time_step"]),
         protocol=entry["protocol"],
         wall_speed=float(entry["wall_speed"]),

@@ -47,6 +47,20 @@ def normal_stiffness_cgs(material: Material, beta: float) -> float:
     return 2.0 * young / (3.0 * (1.0 - material.poisson_ratio ** 2)) * material.mean_diameter ** (1.0 - beta)
 
 
+def wall_stiffness_factor(material: Material, wall_young_modulus: float, wall_poisson_ratio: float) -> float:
+    """k_n(wall) / k_n(pair): P1 Eq. 1's stiffness of a particle–wall contact over that of a particle pair [-].
+
+    P1 Eq. 1's k_n = 2Y/(3(1 − σ²)) d_ave^(1−β) is 4/3 E* d_ave^(1−β) with the Hertz effective modulus of two bodies
+    of one material, 1/E* = 2(1 − σ²)/Y. Against a wall of another material (Y_w, σ_w; P1 §2: plexiglass)
+    1/E* = (1 − σ²)/Y + (1 − σ_w²)/Y_w, the same expression otherwise (P1 keeps d_ave in k_n for every contact). A
+    wall of the particles' material gives 1; a rigid wall 2.
+    """
+    pair = 2.0 * (1.0 - material.poisson_ratio ** 2) / material.young_modulus  # 1/E* of two particles
+    wall = (1.0 - material.poisson_ratio ** 2) / material.young_modulus \
+        + (1.0 - wall_poisson_ratio ** 2) / wall_young_modulus
+    return pair / wall
+
+
 def collision_time_seconds(material: Material, beta: float) -> float:
     """τ_c of P1 Eq. 4 in seconds.
 

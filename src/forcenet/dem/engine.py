@@ -23,7 +23,7 @@ import numpy as np
 
 from forcenet.dem._kernels import contacts, neighbours, stepping
 from forcenet.dem._kernels.law import (LAW_BETA, LAW_GAMMA_N, LAW_GAMMA_T, LAW_K_N, LAW_K_T, LAW_MU,
-                                       LAW_RADIUS_SCALED, LAW_SIZE)
+                                       LAW_RADIUS_SCALED, LAW_SIZE, LAW_WALL_STIFFNESS)
 from forcenet.dem.kernel_arguments import (Bodies, Integrator, Loads, Motion, PairRecord, Pairs, RebuildWatch,
                                            WallRecord, Walls)
 from forcenet.dem.packing import WallParticles, packing_fraction
@@ -58,6 +58,7 @@ class ContactLaw:
     normal_stiffness k_n [m̄ d_ave^(−β) τ_c^(−2)], tangential_stiffness k_t [same], normal_damping γ_n and
     tangential_damping γ_t [d_ave^(−β) τ_c^(−1)], friction μ, beta β. radius_scaled: multiply every term by
     √R_eff (R_eff = r_i r_j/(r_i + r_j), r_i at a wall) as LAMMPS gran/hertz does — benchmark only.
+    wall_stiffness_factor: k_n and k_t of a flat-wall contact over the pair's (1: walls of the particles' material).
     """
 
     normal_stiffness: float
@@ -67,6 +68,7 @@ class ContactLaw:
     friction: float
     beta: float
     radius_scaled: bool = False
+    wall_stiffness_factor: float = 1.0
 
     def as_array(self) -> np.ndarray:
         """The LAW_* layout (checkpoints)."""
@@ -78,6 +80,7 @@ class ContactLaw:
         law[LAW_MU] = self.friction
         law[LAW_BETA] = self.beta
         law[LAW_RADIUS_SCALED] = 1.0 if self.radius_scaled else 0.0
+        law[LAW_WALL_STIFFNESS] = self.wall_stiffness_factor
         return law
 
     @classmethod
@@ -85,7 +88,9 @@ class ContactLaw:
         return cls(normal_stiffness=float(law[LAW_K_N]), tangential_stiffness=float(law[LAW_K_T]),
                    normal_damping=float(law[LAW_GAMMA_N]), tangential_damping=float(law[LAW_GAMMA_T]),
                    friction=float(law[LAW_MU]), beta=float(law[LAW_BETA]),
-                   radius_scaled=bool(law[LAW_RADIUS_SCALED]))
+                   radius_scaled=bool(law[LAW_RADIUS_SCALED]),
+                   # a law array of checkpoints older than the wall factor has 7 values: walls of the particles'
+                   wall_stiffness_factor=float(law[LAW_WALL_STIFFNESS]) if law.size > LAW_WALL_STIFFNESS else 1.0)
 
 
 @dataclass(frozen=True)
@@ -521,6 +526,8 @@ class Simulation:
         sim = cls.__new__(cls)
         for name in _STATE_ARRAYS:
             setattr(sim, name, np.array(state[name]))
+        if sim.law.size < LAW_SIZE:  # a checkpoint from before the wall factor: walls of the particles' material
+            sim.law = ContactLaw.from_array(sim.law).as_array()
         sim.n_mobile = int(state["n_mobile"])
         sim.step = int(state["step"])
         sim.time_step = float(state["time_step"])

@@ -59,11 +59,12 @@ _LOG = logging.getLogger(__name__)
 
 def contact_law_for_system(system: SystemSpec) -> ContactLaw:
     """P1 Eq. 1–3 with γ_n from restitution e_n under the system's damping model
-    (`calibration.normal_damping_for_system`), γ_t = γ_n."""
+    (`calibration.normal_damping_for_system`), γ_t = γ_n; flat walls of their own material scale k_n and k_t of
+    their contacts (`SystemSpec.wall_stiffness_factor`), the damping coefficients stay the pair's."""
     gamma_n = calibration.normal_damping_for_system(system)
     return ContactLaw(normal_stiffness=system.normal_stiffness, tangential_stiffness=system.tangential_stiffness,
                       normal_damping=gamma_n, tangential_damping=gamma_n, friction=system.friction,
-                      beta=system.beta)
+                      beta=system.beta, wall_stiffness_factor=system.wall_stiffness_factor)
 
 
 def validate_system(system: SystemSpec) -> None:
@@ -97,6 +98,8 @@ def _fingerprint(system: SystemSpec, seed: int) -> str:
     identity = {"system": repr(system), "seed": int(seed), "format": CHECKPOINT_FORMAT}
     if system.initial_state is not None:  # not in the repr: runs without it keep their fingerprints
         identity["initial_state"] = repr(system.initial_state)
+    if system.wall_stiffness_factor != 1.0:  # walls of their own material; likewise not in the repr
+        identity["wall_stiffness_factor"] = repr(system.wall_stiffness_factor)
     # likewise not in the repr; the continuous protocol (P2) has no relaxation
     if system.relaxation is not None and system.relaxation.criterion != KINETIC_ENERGY_FLUCTUATION:
         identity["relaxation_criterion"] = system.relaxation.criterion

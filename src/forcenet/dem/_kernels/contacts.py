@@ -30,7 +30,8 @@ import numba
 import numpy as np
 
 from forcenet._numba import NJIT_DEM
-from forcenet.dem._kernels.law import LAW_RADIUS_SCALED, contact_2d, contact_3d
+from forcenet.dem._kernels.law import (LAW_K_N, LAW_K_T, LAW_RADIUS_SCALED, LAW_WALL_STIFFNESS, contact_2d,
+                                       contact_3d)
 
 #: blow-up threshold: overlap / diameter (smaller diameter of the pair)
 MAX_OVERLAP_FRACTION = 0.2
@@ -269,7 +270,8 @@ def pair_constants(pair_i, pair_j, radius, inv_mass, radius_scaled):
 
 @numba.njit(**NJIT_DEM)
 def flat_wall_forces(motion, bodies, walls, lo, hi, law, spring_dt, loads, record):
-    """Add the forces of the 2d flat walls (P1 §2: same law, overlap x = d_i/2 − distance to the wall) for the
+    """Add the forces of the 2d flat walls (P1 §2: same law, k_n and k_t × law[LAW_WALL_STIFFNESS] for walls of
+    their own material; overlap x = d_i/2 − distance to the wall) for the
     (particle, wall) entries walls.entry_particle, walls.entry_wall (particle-major); the others are left alone.
 
     Wall w = 2·axis + side (side 0: at lo[axis], normal +e_axis; side 1: at hi[axis], normal −e_axis), moving
@@ -296,6 +298,9 @@ def flat_wall_forces(motion, bodies, walls, lo, hi, law, spring_dt, loads, recor
     torque = loads.torque
     dim = position.shape[1]
     radius_scaled = law[LAW_RADIUS_SCALED] != 0.0
+    wall_law = law.copy()  # walls of their own material: stiffer springs, the pair's damping (P1 §2)
+    wall_law[LAW_K_N] *= law[LAW_WALL_STIFFNESS]
+    wall_law[LAW_K_T] *= law[LAW_WALL_STIFFNESS]
     worst_fraction = 0.0
     worst_particle = -1
     for q in range(entry_particle.shape[0]):
@@ -334,7 +339,7 @@ def flat_wall_forces(motion, bodies, walls, lo, hi, law, spring_dt, loads, recor
             slip_x = vx - v_normal * nx + spin * ny
             slip_y = vy - v_normal * ny - spin * nx
             f_n, f_tx, f_ty, xi_x, xi_y = contact_2d(
-                law, nx, ny, overlap, v_normal, slip_x, slip_y, m_eff, scale,
+                wall_law, nx, ny, overlap, v_normal, slip_x, slip_y, m_eff, scale,
                 wall_spring[i, wall, 0], wall_spring[i, wall, 1], spring_dt)
             wall_spring[i, wall, 0] = xi_x
             wall_spring[i, wall, 1] = xi_y
@@ -361,7 +366,7 @@ def flat_wall_forces(motion, bodies, walls, lo, hi, law, spring_dt, loads, recor
             slip_y = vy - v_normal * ny - (wz * nx - wx * nz)
             slip_z = vz - v_normal * nz - (wx * ny - wy * nx)
             f_n, f_tx, f_ty, f_tz, xi_x, xi_y, xi_z = contact_3d(
-                law, nx, ny, nz, overlap, v_normal, slip_x, slip_y, slip_z, m_eff, scale,
+                wall_law, nx, ny, nz, overlap, v_normal, slip_x, slip_y, slip_z, m_eff, scale,
                 wall_spring[i, wall, 0], wall_spring[i, wall, 1], wall_spring[i, wall, 2], spring_dt)
             wall_spring[i, wall, 0] = xi_x
             wall_spring[i, wall, 1] = xi_y

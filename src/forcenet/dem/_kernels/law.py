@@ -20,7 +20,8 @@ LAW_GAMMA_T = 3    # γ_t       [same]
 LAW_MU = 4         # Coulomb μ [-]
 LAW_BETA = 5       # β: 0 linear, 0.5 Hertz (P1 Eq. 1)
 LAW_RADIUS_SCALED = 6  # 1: every term also × √R_eff (LAMMPS gran/hertz convention, benchmark only)
-LAW_SIZE = 7
+LAW_WALL_STIFFNESS = 7  # k_n, k_t of a flat-wall contact over a pair's: 1, or walls of their own material (P1 §2)
+LAW_SIZE = 8
 
 #: how x^β is computed: β = 0 (linear law, x^β = 1), β = ½ (Hertz, √x) or any other β (pow)
 MODE_LINEAR = 0
