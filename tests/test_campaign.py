@@ -184,22 +184,6 @@ def test_status_tells_recorded_finished_running_stopped_and_missing_runs_apart(c
     assert text.splitlines()[-1].startswith("1 recorded, 1 finished, 1 running, 1 stopped, 1 missing")
 
 
-def test_p2_runs_get_no_record_and_the_runner_leaves_them(config):
-    from forcenet import campaign_cli
-
-    p2 = config["studies"]["p2"]["systems"][0]
-    assert campaign.unrecorded_reason(config, p2).startswith("a P2 system") and not campaign.unrecorded_reason(
-        config, SYSTEM)
-    with pytest.raises(CampaignError, match=f"{p2} gets no record: a P2 system"):
-        campaign.record_run(config, p2, "r00", results="results")
-    status = {s.system: s for s in campaign.campaign_status(config, results="results")}
-    assert status[p2].state == "missing" and "no record form" in status[p2].detail
-    started = []
-    campaign_cli.run_missing(config, configfile="c.yaml", results="results", only=[p2], say=started.append,
-                             start=lambda command, log: started.append(command))
-    assert started == []
-
-
 def test_the_tabled_cpu_hours_are_per_run(tmp_path):
     (tmp_path / "p1.csv").write_text("# study: p1\n# system 2d_linear: N=2025 realizations=5 cpu_hours=0.73\n"
                                      "# system box: N=484 realizations=1 cpu_hours=0.04\nclaim,verdict\n")

@@ -51,7 +51,7 @@ SYMBOLIC = [
     (paths.resolved_config, ()), (paths.snapshot, ("{system}", "{realization}", "{ρ}")),
     (paths.run_cost, ("{system}", "{realization}")), (paths.analysis, ("{system}", "{realization}", "{ρ}")),
     (paths.network_measures, ("{system}",)), (paths.diagrams, ("{system}",)), (paths.distances, ("{system}",)),
-    (paths.figure, ("{figure}", "{pdf,png,csv}")), (paths.p1_validation_table, ("{csv,md}",)),
+    (paths.p2_run, ("{system}", "{realization}")), (paths.figure, ("{figure}", "{pdf,png,csv}")), (paths.p1_validation_table, ("{csv,md}",)),
     (paths.p2_table, ("{1,2,3}", "{csv,md}")), (paths.p2_table_states, ()), (paths.p2_validation_table, ("{csv,md}",)),
     (paths.movie, (paths.movie_name("{kind}", "{system}"),)), (paths.log, ("{step}", "{name}")),
     (paths.reading, ("{reading}",)),
@@ -68,7 +68,8 @@ def test_the_documented_layout_is_what_the_functions_give():
               .removeprefix("results/") + "/")
     assert given == layout
     assert records_layout == {paths.record_manifest("records").removeprefix("records/"),
-                              paths.record_file("records", "{system}", "{realization}").removeprefix("records/")}
+                              paths.record_file("records", "{system}", "{realization}").removeprefix("records/"),
+                              paths.p2_record_file("records", "{system}", "{realization}").removeprefix("records/")}
     assert f"``{paths.campaign_table('{p1,p2}', '{md,csv}')}``" in paths.__doc__
 
 
@@ -121,6 +122,8 @@ def expected_smoke_outputs(results: str = "results") -> set[str]:
                   paths.log(results, "aggregate", system)}
     for system in p2:
         files |= {paths.distances(results, system), paths.log(results, "distances", system)}
+        for r in realizations:  # each run's summary (what P2's products read)
+            files |= {paths.p2_run(results, system, r), paths.run_log(results, "p2_run", system, r)}
     for entry in FIGURES:  # the smoke config has both studies and both P2 systems: every figure
         files |= {paths.figure(results, entry.id, fmt) for fmt in paths.FIGURE_FORMATS}
         files.add(paths.log(results, "figures", entry.id))

@@ -124,7 +124,7 @@ def test_a_broken_input_stops_the_job_with_one_line_and_writes_nothing(good, tmp
     else:
         job = lambda: pipeline_p2.p2_validation_table(distances=inputs, tables=[], frictional="2d_poly_mu05",  # noqa: E731
                                                    frictionless=None, md=str(out / "v.md"), csv=str(out / "v.csv"),
-                                                   measures=[], states=str(tmp_path / "states.csv"),
+                                                   states=str(tmp_path / "states.csv"),
                                                    log_path=str(log))
     line = run_job(job, log)
     assert f"{broken}: " in line and expected in line, line

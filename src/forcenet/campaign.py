@@ -118,21 +118,42 @@ def manifest_row(records: str, system: str, realization: str) -> dict[str, str]:
     return rows[0]
 
 
-def unrecorded_reason(config: Mapping[str, Any], system: str) -> str:
-    """Why runs of `system` get no record ("" when they do): P2's systems, whose 40 runs of 100 states do not fit
-    the records' budget as states (data/validation/README.md, "Size"); their record form is still to be decided."""
-    if system in config.get("studies", {}).get("p2", {}).get("systems", []):
-        return ("a P2 system: its runs do not fit the records' budget as states and their record form is not "
-                "decided yet (data/validation/README.md, 'Size')")
-    return ""
+def p2_system(config: Mapping[str, Any], system: str) -> bool:
+    """Whether `system` is one of the config's P2 systems, whose runs are recorded as P2 run records (their
+    summary and the states Tables I-III read, `forcenet.datasets.records.p2_record_dataset`)."""
+    return system in config.get("studies", {}).get("p2", {}).get("systems", [])
+
+
+def p2_kept_labels(config: Mapping[str, Any], system: str) -> list[str]:
+    """The grid labels of the states a P2 run record of `system` keeps: those P2's Tables I-III and their state
+    choice can read (`forcenet.pipeline_p2.p2_read_state_indices`) for the frictional system (the P2 study's first),
+    none for the frictionless one."""
+    from forcenet.pipeline_p2 import p2_read_state_indices
+
+    p2 = config["studies"]["p2"]
+    if system != p2["systems"][0]:
+        return []
+    spec = system_from_config(system, config)
+    return [spec.rho_labels[i] for i in p2_read_state_indices(spec.rho_grid, p2.get("table_rho", 0.79),
+                                                               p2.get("table_states", "jammed"))]
+
+
+def record_path(config: Mapping[str, Any], records: str | os.PathLike, system: str, realization: str) -> str:
+    """The record file of a run: a P2 run record for a P2 system, a run record otherwise."""
+    if p2_system(config, system):
+        return paths.p2_record_file(records, system, realization)
+    return paths.record_file(records, system, realization)
 
 
 def restore_run(*, config: Mapping[str, Any], system: str, realization: str, outputs: Sequence[str],
-                cost_path: str | None = None) -> None:
+                cost_path: str | None = None, summary_path: str | None = None) -> None:
     """Write a recorded run's snapshots (`outputs`, in grid order) and cost record from its campaign record: the
-    record's sha256 is the manifest's, its fingerprint the config's, every state on its ρ (zero DEM steps)."""
+    record's sha256 is the manifest's, its fingerprint the config's, every state on its ρ (zero DEM steps). A P2
+    run's record writes its summary (`summary_path`) and the states it keeps (`outputs`), and is refused, by name,
+    when it lacks a never-dying convention the config's P2 products read."""
     from forcenet.datasets import read_dataset
-    from forcenet.datasets.records import record_global_problems, restore_snapshots
+    from forcenet.datasets.records import (P2_RECORD_FORMAT, RECORD_FORMAT, record_global_problems, restore_p2_run,
+                                           restore_snapshots)
 
     records = records_folder(config)
     if records is None:
@@ -143,18 +164,33 @@ def restore_run(*, config: Mapping[str, Any], system: str, realization: str, out
     if digest != row["sha256"]:
         raise CampaignError(f"{path}: sha256 {digest[:12]}, the manifest's {row['sha256'][:12]}: the record was "
                             "changed or not fetched (a Git LFS pointer?); restore it from git or make the run again")
-    record = read_dataset(path, "run_record")
-    problems = record_global_problems(record)
+    p2 = p2_system(config, system)
+    if p2 and Path(row["file"]).name != paths.P2_RECORD_FILE:
+        raise CampaignError(f"{path}: {system} is a P2 system, whose runs are recorded as {paths.P2_RECORD_FILE} "
+                            "(make the record again: forcenet-campaign drop, then record)")
+    record = read_dataset(path, "p2_run_record" if p2 else "run_record")
+    problems = record_global_problems(record, P2_RECORD_FORMAT if p2 else RECORD_FORMAT)
     expected = simulation_sha256(config, system)
     if not problems and record.attrs["simulation_sha256"] != expected:
         problems.append(f"its simulation fingerprint is not this config's ({expected[:12]})")
     if problems:
         raise CampaignError(f"{path}: " + "; ".join(problems))
-    restore_snapshots(path, outputs)
-    if cost_path is not None:
+    if p2:
+        from forcenet.pipeline_p2 import p2_conventions
+
+        if summary_path is None:
+            raise CampaignError(f"{path}: a P2 run's record restores its summary, but no summary path was given")
+        try:
+            restore_p2_run(path, summary_path, outputs, p2_conventions(config))
+        except ForcenetError as error:
+            raise CampaignError(str(error)) from None
+    else:
+        restore_snapshots(path, outputs)
+    if cost_path is not None:  # a P2 record keeps some states: the run's particles and states are the manifest's
         cost = {"system": system, "realization": paths.realization_index(realization),
                 "cpu_seconds": round(float(record.attrs["cpu_seconds"]), 1),
-                "particles": int(record.sizes["particle"]), "snapshots": int(record.sizes["state"])}
+                "particles": int(row["particles"]) if p2 else int(record.sizes["particle"]),
+                "snapshots": int(row["states"]) if p2 else int(record.sizes["state"])}
         temporary = Path(f"{cost_path}.tmp{os.getpid()}")
         temporary.write_text(json.dumps(cost, indent=1) + "\n")
         os.replace(temporary, cost_path)
@@ -175,8 +211,6 @@ def record_run(config: Mapping[str, Any], system: str, realization: str, *, resu
     spec = system_from_config(system, config)
     if isinstance(spec, ImportedSystem):
         raise CampaignError(f"{system} is imported, not simulated: its sources are its record")
-    if unrecorded_reason(config, system):
-        raise CampaignError(f"{system} gets no record: {unrecorded_reason(config, system)}")
     outputs = [Path(paths.snapshot(results, system, realization, label)) for label in spec.rho_labels]
     cost_path = Path(paths.run_cost(results, system, realization))
     missing = [str(p) for p in [*outputs, cost_path] if not p.exists()]
@@ -186,18 +220,26 @@ def record_run(config: Mapping[str, Any], system: str, realization: str, *, resu
     expect = run_expectation(config, system)
     snapshots = [read_snapshot(path, expect=state_expectation(expect, path)) for path in outputs]
     cost = json.loads(cost_path.read_text())
-    record = record_dataset(snapshots, spec.rho_labels, simulation_sha256=expect["simulation_sha256"],
-                            cpu_seconds=float(cost["cpu_seconds"]),
-                            title=f"forcenet campaign record, {system} {realization}")
-    differences = record_differences(record, snapshots)
+    title = f"forcenet campaign record, {system} {realization}"
+    if p2_system(config, system):
+        record, kind = _p2_record(config, system, realization, results, snapshots, expect, cost, title)
+        target = Path(paths.p2_record_file(records, system, realization))
+    else:
+        record = record_dataset(snapshots, spec.rho_labels, simulation_sha256=expect["simulation_sha256"],
+                                cpu_seconds=float(cost["cpu_seconds"]), title=title)
+        kind, target = "run_record", Path(paths.record_file(records, system, realization))
+    if kind == "run_record":
+        kept = snapshots
+    else:  # a P2 record gives back the states it keeps
+        kept = [snapshots[spec.rho_labels.index(label)] for label in p2_kept_labels(config, system)]
+    differences = record_differences(record, kept) if kept else []
     if differences:
         raise CampaignError(f"{system} {realization}: the record would not give back the run: {differences[0]}")
-    target = Path(paths.record_file(records, system, realization))
-    write_netcdf(record, target, kind="run_record", encoding=record_encoding(record))
+    write_netcdf(record, target, kind=kind, encoding=record_encoding(record))
     commits = sorted({str(s.attrs["git_commit"]) for s in snapshots})  # a contract attribute of every snapshot
     row = {"system": system, "realization": realization, "simulation_sha256": expect["simulation_sha256"],
            "git_commit": " ".join(commits), "cpu_hours": f"{float(cost['cpu_seconds']) / 3600:.3f}",
-           "particles": str(record.sizes["particle"]), "states": str(record.sizes["state"]),
+           "particles": str(snapshots[0].sizes["particle"]), "states": str(len(snapshots)),
            "file": target.relative_to(records).as_posix(), "bytes": str(target.stat().st_size),
            "sha256": file_sha256(target),
            "recorded": _dt.datetime.now(_dt.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")}
@@ -205,6 +247,34 @@ def record_run(config: Mapping[str, Any], system: str, realization: str, *, resu
         kept = [r for r in read_manifest(records) if (r["system"], r["realization"]) != (system, realization)]
         write_manifest(records, [*kept, row])
     return row
+
+
+def _p2_record(config: Mapping[str, Any], system: str, realization: str, results: str | os.PathLike,
+               snapshots: Sequence[Any], expect: Mapping[str, Any], cost: Mapping[str, Any], title: str):
+    """(the P2 run record, its kind) of a finished P2 run: the run's summary (results/{system}/p2_runs/, made by the
+    workflow from its analyses) and the states `p2_kept_labels` names; refused when the summary is missing, of other
+    settings, or lacks a never-dying convention the config's P2 products read."""
+    from forcenet.datasets import read_dataset
+    from forcenet.datasets.records import p2_record_dataset
+    from forcenet.pipeline_p2 import p2_conventions
+
+    spec = system_from_config(system, config)
+    summary_path = Path(paths.p2_run(results, system, realization))
+    if not summary_path.exists():
+        raise CampaignError(f"{system} {realization}: its summary {summary_path} is missing (make it: snakemake "
+                            f"{summary_path} --configfile CONFIG)")
+    summary = read_dataset(summary_path, "p2_run")
+    if summary.attrs["simulation_sha256"] != expect["simulation_sha256"]:
+        raise CampaignError(f"{summary_path}: made from a run of other settings of '{system}' than the config's")
+    held = [str(c) for c in summary["essential_convention"].values]
+    missing = [c for c in p2_conventions(config) if c not in held]
+    if missing:
+        raise CampaignError(f"{summary_path}: no distances under the never-dying conventions {missing} (it holds "
+                            f"{held}); make it again from the run's analyses")
+    kept = [spec.rho_labels.index(label) for label in p2_kept_labels(config, system)]
+    record = p2_record_dataset(summary, snapshots, spec.rho_labels, kept, simulation_sha256=expect["simulation_sha256"],
+                               cpu_seconds=float(cost["cpu_seconds"]), title=title)
+    return record, "p2_run_record"
 
 
 @contextlib.contextmanager
@@ -310,8 +380,6 @@ def campaign_status(config: Mapping[str, Any], *, results: str | os.PathLike) ->
                                           f"{staged} of {len(spec.rho_grid)} states; {stale}".rstrip("; ")))
             else:
                 detail = stale or f"estimate: {basis}"
-                if unrecorded_reason(config, system):
-                    detail += "; no record form: forcenet-campaign run leaves it"
                 statuses.append(RunStatus(system, name, "missing", 0.0, estimate, detail))
     return statuses
 

@@ -20,8 +20,8 @@ import time
 from pathlib import Path
 from typing import Any, Callable, Mapping, Sequence
 
-from forcenet.campaign import (DEFAULT_CAMPAIGN_CONFIG, RunStatus, campaign_status, drop_record, record_run,
-                               records_folder, size_table, status_table, unrecorded_reason, verify_records,
+from forcenet.campaign import (DEFAULT_CAMPAIGN_CONFIG, RunStatus, campaign_status, drop_record, p2_system, record_run,
+                               records_folder, size_table, status_table, verify_records,
                                write_size_table)
 from forcenet.datasets import paths
 from forcenet.errors import ForcenetError
@@ -55,10 +55,11 @@ def commit_records(records: str, rows: Sequence[Mapping[str, str]]) -> None:
     raise ForcenetError(f"git could not commit the records of {runs}: the index stayed locked")
 
 
-def simulation_command(configfile: str, results: str, status: RunStatus) -> list[str]:
-    """The niced one-core Snakemake call that makes one run (its cost record is the target; --nolock, since the
-    runs of one campaign run side by side in one folder and each holds its own stage lock)."""
-    target = paths.run_cost(results, status.system, status.realization)
+def simulation_command(configfile: str, results: str, status: RunStatus, p2: bool = False) -> list[str]:
+    """The niced one-core Snakemake call that makes one run (its cost record is the target, or with `p2` the run's
+    summary, which its P2 run record holds: the run and its analyses; --nolock, since the runs of one campaign run
+    side by side in one folder and each holds its own stage lock)."""
+    target = (paths.p2_run if p2 else paths.run_cost)(results, status.system, status.realization)
     return ["nice", "-n", "10", sys.executable, "-m", "snakemake", target, "--configfile", configfile, "--cores", "1",
             "--nolock"]
 
@@ -74,13 +75,12 @@ def run_missing(config: Mapping[str, Any], *, configfile: str, results: str, job
     items) no other run is recorded or started: another process may be making the others. A run is started only if its estimate
     (`RunStatus.cpu_hours_to_go`) times `margin` fits in the `hours` left of the budget, so no run is begun that
     cannot finish; one that is not started is named with its estimate. A finished run without a record is recorded
-    first. A run that fails is named with its log and the others go on. Runs of a system that gets no record
-    (`forcenet.campaign.unrecorded_reason`: P2's, for now) are left alone."""
+    first. A run that fails is named with its log and the others go on. A P2 system's run is made with its
+    analyses and summary, what its record holds (`forcenet.campaign.p2_system`)."""
     start = start or (lambda command, log: subprocess.Popen(command, stdout=open(log, "a"), stderr=subprocess.STDOUT))
     deadline = None if hours is None else time.time() + 3600.0 * hours
     statuses = [s for s in campaign_status(config, results=results)
-                if (not only or s.system in only or f"{s.system}:{s.realization}" in only)
-                and not unrecorded_reason(config, s.system)]  # a run that could not be kept is not made
+                if not only or s.system in only or f"{s.system}:{s.realization}" in only]
     rows = []
 
     def land(system: str, realization: str) -> None:
@@ -118,7 +118,8 @@ def run_missing(config: Mapping[str, Any], *, configfile: str, results: str, job
                 continue
             log = Path(paths.run_log(results, "campaign", status.system, status.realization))
             log.parent.mkdir(parents=True, exist_ok=True)
-            running[start(simulation_command(configfile, results, status), log)] = status
+            running[start(simulation_command(configfile, results, status, p2_system(config, status.system)),
+                           log)] = status
             say(f"started {status.system} {status.realization} ({status.state}; about {status.cpu_hours_to_go:.2f} "
                 f"CPU-hours; log {log})")
         if not running:

@@ -8,35 +8,110 @@ from pathlib import Path
 from typing import Any, Mapping, Sequence
 
 from forcenet.datasets.paths import rho_file
-from forcenet.pipeline import (chosen_datasets, common_analysis_attrs, job_logger, open_by_system, simulate,
-                               stacked_seed)
-from forcenet.systems import system_from_config
+from forcenet.pipeline import (chosen_datasets, common_analysis_attrs, job_logger, open_by_system, readings_beside,
+                               run_attrs, simulate, stacked_seed)
+from forcenet.systems import select_table_snapshots, system_from_config
+
+#: how many states of the grid, from the first at or above ``studies.p2.table_rho``, are the candidates for the states
+#: a, b, c of Tables I-III under the "jammed" rule (the first three consecutive ones among them with mean Z >= d + 1):
+#: at the papers' grid (100 states on 0.63-0.90, step 0.0027) nine states reach 0.79 + 0.022, past the jamming point
+#: of every paper-size run (rho_J 0.798-0.807, docs/validation/p2.md) and the two states after it; a campaign record
+#: of a P2 run keeps these states (data/validation/README.md), so a build from records reads the same candidates
+P2_JAMMED_WINDOW = 9
 
 
-def p2_distances(*, analyses: Sequence[str], realizations: Sequence[int], output: str, essential_convention: str,
+def p2_candidate_indices(rho_grid: Sequence[float], table_rho: float, rule: str) -> list[int]:
+    """Indices into the ascending `rho_grid` of the candidate states a, b, c of every realization under `rule`
+    (``studies.p2.table_states``): "jammed", the first `P2_JAMMED_WINDOW` states at or above `table_rho`; "literal",
+    the three around it (`forcenet.systems.select_table_snapshots`)."""
+    if rule == "jammed":
+        return [int(i) for i, rho in enumerate(rho_grid) if rho >= table_rho - 1e-9][:P2_JAMMED_WINDOW]
+    return sorted(select_table_snapshots(rho_grid, table_rho))
+
+
+def p2_read_state_indices(rho_grid: Sequence[float], table_rho: float, rule: str) -> list[int]:
+    """The states of a run of P2's frictional system that Tables I-III and their state choice can read: the
+    candidates of the config's `rule` and, beside the "jammed" rule, those of the literal reading
+    (`forcenet.pipeline.readings_beside`); a P2 run record keeps these and no other."""
+    indices = set(p2_candidate_indices(rho_grid, table_rho, rule))
+    if rule == "jammed":
+        indices |= set(p2_candidate_indices(rho_grid, table_rho, "literal"))
+    return sorted(indices)
+
+
+def p2_conventions(config: Mapping[str, Any]) -> list[str]:
+    """The never-dying conventions a build's P2 distances are made under: the config's ``essential_convention`` and
+    those of the essential readings beside it (`forcenet.pipeline.readings_beside`)."""
+    readings = readings_beside(config)
+    return list(dict.fromkeys([config["analysis"]["essential_convention"],
+                               *(readings[key].value for key in ("essential", "essential_drop") if key in readings)]))
+
+
+def p2_run_summary(*, analyses: Sequence[str], output: str, config: Mapping[str, Any], system: str,
+                   realization: str, conventions: Sequence[str], log_path: str | None = None) -> None:
+    """What P2's products read from one run, its diagrams apart (`forcenet.report.p2_distances.run_summary`, kind
+    "p2_run"): the run's analyses, in grid order, summed up under every never-dying convention of `conventions`."""
+    from forcenet.datasets import read_dataset, run_expectation, write_netcdf
+    from forcenet.datasets.paths import realization_index
+    from forcenet.report.p2_distances import run_summary
+
+    with job_logger(log_path, f"p2_run.{system}.{realization}") as log:
+        expect = run_expectation(config, system)
+        datasets = [read_dataset(path, "analysis", expect=expect) for path in analyses]
+        spec = system_from_config(system, config)
+        attrs = run_attrs(config, system, realization_index(realization),
+                          title=f"forcenet P2 run summary, {system} {realization}")
+        attrs.update(dimension=spec.dimension, simulation_sha256=expect["simulation_sha256"],
+                     **common_analysis_attrs(datasets))
+        write_netcdf(run_summary(datasets, conventions, spec.rho_grid, attrs), output, kind="p2_run")
+        log.info("%s %s: %d states, distances under %s", system, realization, len(datasets), ", ".join(conventions))
+
+
+def read_run_summaries(paths: Sequence[str], config: Mapping[str, Any] | None = None) -> dict[str, dict[int, Any]]:
+    """{system: {realization: P2 run summary}} of the files `paths` (kind "p2_run"); with `config`, a summary of
+    other simulation settings than its system's in `config` is refused, naming the file."""
+    from forcenet.datasets import DatasetError, read_dataset
+    from forcenet.datasets.runs import simulation_sha256
+
+    runs: dict[str, dict[int, Any]] = {}
+    for path in paths:
+        ds = read_dataset(path, "p2_run")
+        system = str(ds.attrs["system"])
+        if config is not None and ds.attrs["simulation_sha256"] != simulation_sha256(config, system):
+            raise DatasetError(path, f"made from a run of other settings of system '{system}' than this config's")
+        runs.setdefault(system, {})[int(ds.attrs["realization"])] = ds
+    return runs
+
+
+def p2_distances(*, runs: Sequence[str], realizations: Sequence[int], output: str, essential_convention: str,
                  config: Mapping[str, Any], system: str, log_path: str | None = None) -> None:
     """P2 §III D: d_B, d_W1, d_W2 between consecutive snapshots of every realization → distances.nc, with the
-    config's ρ grid as the `rho` coordinate (`forcenet.datasets.aggregate.distances_on_grid`)."""
-    from forcenet.datasets import provenance_attrs, read_dataset, run_expectation, write_netcdf
+    config's ρ grid as the `rho` coordinate (`forcenet.datasets.aggregate.distances_on_grid`), from each run's
+    summary (`runs`, kind "p2_run", in the order of `realizations`: made from its analyses or restored from its
+    campaign record)."""
+    from forcenet.datasets import DatasetError, provenance_attrs, write_netcdf
     from forcenet.datasets.aggregate import distances_on_grid
-    from forcenet.report.p2_distances import consecutive_distances, stack_distances
+    from forcenet.report.p2_distances import stack_distances, summary_distances
 
     with job_logger(log_path, f"p2_distances.{system}") as log:
-        per_realization_count, left = divmod(len(analyses), len(realizations))
-        if left or not per_realization_count:
-            raise ValueError(f"{len(analyses)} analyses cannot be split evenly over realizations {list(realizations)}")
-        expect = run_expectation(config, system)  # every file checked, and of this run, before any work
-        datasets = [read_dataset(path, "analysis", expect=expect) for path in analyses]
+        if len(runs) != len(realizations):
+            raise ValueError(f"{len(runs)} run summaries for realizations {list(realizations)}")
+        by_system = read_run_summaries(runs, config)  # every file checked, and of this system's settings
+        summaries = by_system.get(system, {})
+        if sorted(summaries) != sorted(int(r) for r in realizations) or set(by_system) != {system}:
+            raise ValueError(f"run summaries {list(runs)} are not realizations {list(realizations)} of {system}")
         results = []
-        for index, realization in enumerate(realizations):
-            run = datasets[index * per_realization_count:(index + 1) * per_realization_count]
-            results.append(consecutive_distances(run, essential_convention))
-            log.info("%s realization %d: %d consecutive pairs", system, realization, len(run) - 1)
+        for path, realization in zip(runs, realizations):
+            try:
+                results.append(summary_distances(summaries[int(realization)], essential_convention))
+            except KeyError as error:
+                raise DatasetError(path, error.args[0]) from None
+            log.info("%s realization %d: %d consecutive pairs", system, realization, results[-1].sizes["rho"])
         spec = system_from_config(system, config)
         attrs = provenance_attrs(system=system, realization=-1, seed=stacked_seed(config, spec), config=config,
                                  title=f"forcenet distances between consecutive persistence diagrams, {system}")
         attrs.update(dimension=spec.dimension, force_law=spec.force_law)
-        attrs.update(common_analysis_attrs(datasets))  # the rule and complex that made every compared diagram
+        attrs.update(common_analysis_attrs(list(summaries.values())))  # the rule and complex of every diagram
         stacked = distances_on_grid(stack_distances(results, realizations, attrs), spec.rho_grid[1:])
         write_netcdf(stacked, output, kind="distances")
 
@@ -77,13 +152,15 @@ def p2_tables(*, snapshots: Sequence[str], states: str, csv: Sequence[str], md: 
                  ", ".join(f"{float(s.rho):.4f}" for s in chosen))
 
 
-def p2_validation_table(*, distances: Sequence[str], tables: Sequence[str], measures: Sequence[str], states: str,
-                        frictional: str, frictionless: str | None, md: str, csv: str, paper_size: str | None = None,
-                        diagrams: Sequence[str] = (), beside: Mapping[str, Mapping[str, Sequence[str]]] | None = None,
+def p2_validation_table(*, distances: Sequence[str], tables: Sequence[str], states: str, frictional: str,
+                        frictionless: str | None, md: str, csv: str, runs: Sequence[str] = (),
+                        paper_size: str | None = None,
+                        beside: Mapping[str, Mapping[str, Sequence[str]]] | None = None,
                         log_path: str | None = None) -> None:
     """Each claim of P2 §IV with its measured evidence, verdict and, where it does not hold, the explanation
-    (results/tables/p2_validation.md); `measures` (network_measures.nc) and `states` (the p2_table_states CSV)
-    feed the explanations' diagnostics; `diagrams` (diagrams.nc) the PD point counts; `paper_size` (the campaign's
+    (results/tables/p2_validation.md); `runs` (every run's summary, kind "p2_run": never-dying class counts and
+    PD point counts) and `states` (the p2_table_states CSV) feed the explanations' diagnostics and the PD1 point
+    counts of IV.C-8; `paper_size` (the campaign's
     ``docs/validation/p2.csv``, or None in a paper-size config) adds our paper-size values beside P2's; `beside`
     ({reading label: {"distances": […], "tables": […]}}, `readings_beside`; either key may be left out) the
     readings judged beside P2's conventions."""
@@ -92,9 +169,11 @@ def p2_validation_table(*, distances: Sequence[str], tables: Sequence[str], meas
     from forcenet.report.claims import verdict_counts
     from forcenet.report.p2_tables import read_table
     from forcenet.report.realizations import ROBUSTNESS_RESAMPLES
+    from forcenet.report.p2_distances import summary_essential_counts, summary_point_counts
     from forcenet.report.p2_validation import p2_validation, write_p2_validation
 
     with job_logger(log_path, "p2_validation") as log:
+        summaries = read_run_summaries(runs)
         def read_tables(paths: Sequence[str]) -> dict[str, pd.DataFrame]:
             return {f"table{i + 1}": read_table(path) for i, path in enumerate(sorted(paths))}
 
@@ -104,8 +183,10 @@ def p2_validation_table(*, distances: Sequence[str], tables: Sequence[str], meas
                     for label, files in (beside or {}).items()}
         table = p2_validation(open_by_system(distances, "distances"), read_tables(tables),
                               frictional=frictional, frictionless=frictionless or "",
-                              measures=open_by_system(measures, "network_measures"), states=pd.read_csv(states),
-                              diagrams=open_by_system(diagrams, "diagrams"), resamples=ROBUSTNESS_RESAMPLES,
+                              measures={name: summary_essential_counts(r) for name, r in summaries.items()},
+                              states=pd.read_csv(states),
+                              point_counts={name: summary_point_counts(r) for name, r in summaries.items()},
+                              resamples=ROBUSTNESS_RESAMPLES,
                               beside=readings)
         write_p2_validation(table, csv, md, paper_size=paper_size)
         log.info("P2 validation: claim verdicts %s", verdict_counts(table))

@@ -1,8 +1,11 @@
 # Analyses: one file per snapshot, computed by one job per (system, realization) that loops over that run's
 # snapshots. A per-snapshot job would spend ~20x its kernel time starting Python and importing numba, xarray and
 # dionysus (bench/workflow_overhead.py); a run's snapshots are produced together by one simulate job anyway, so
-# they change together. Any single analysis file is still a target: it builds its realization's batch.
+# they change together. Any single analysis file is still a target: it builds its realization's batch. A recorded
+# run of a P2 system has only the states its record keeps (simulate.smk): rule analyze_{system}_recorded analyses
+# those.
 for _name, _spec in SYSTEMS.items():
+    _kept = p2_kept_labels(config, _name) if p2_system(config, _name) else None
 
     rule:
         name:
@@ -11,6 +14,8 @@ for _name, _spec in SYSTEMS.items():
             [snapshot_path(_name, "{realization}", rho) for rho in _spec.rho_labels],
         output:
             [analysis_path(_name, "{realization}", rho) for rho in _spec.rho_labels],
+        wildcard_constraints:
+            realization=realizations_except(recorded_runs(_name) if _kept is not None else []),
         log:
             paths.run_log(RESULTS, "analyze", _name, "{realization}"),
         params:
@@ -25,6 +30,31 @@ for _name, _spec in SYSTEMS.items():
             mem_mb=2000,
         script:
             "../scripts/analyze.py"
+
+    if _kept and recorded_runs(_name):
+
+        rule:
+            name:
+                f"analyze_{_name}_recorded"
+            input:
+                [snapshot_path(_name, "{realization}", rho) for rho in _kept],
+            output:
+                [analysis_path(_name, "{realization}", rho) for rho in _kept],
+            wildcard_constraints:
+                realization="|".join(recorded_runs(_name)),
+            log:
+                paths.run_log(RESULTS, "analyze", _name, "{realization}"),
+            params:
+                analysis=snapshot_analysis_params(config, _name),
+                system=_name,
+            group:
+                "analysis"
+            threads: 1
+            resources:
+                runtime=lambda wildcards, attempt, spec=_spec: analysis_runtime_minutes(spec) * attempt,
+                mem_mb=2000,
+            script:
+                "../scripts/analyze.py"
 
 
 # The tetrahedra reading beside (common.smk): P1's 3D systems analysed again with the other fill_tetrahedra, a few

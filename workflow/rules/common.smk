@@ -151,8 +151,10 @@ REPORT_FIGURES, REPORT_PDFS, REPORT_TABLES = "Figures", "Figures as PDF (vector,
 def all_targets():
     """Everything `snakemake` builds by default: figures and tables of the studies in the config."""
     targets = [paths.resolved_config(RESULTS)]
-    # every system's stacked measures, also of a system in no study (analysed, not drawn)
-    targets += [paths.network_measures(RESULTS, s) for s in dict.fromkeys(P1_SYSTEMS + P2_SYSTEMS + list(SYSTEMS))]
+    # every system's stacked measures, also of a system in no study (analysed, not drawn); not of a P2 system with a
+    # campaign record (simulate.smk: the record keeps the run's summary, not the analyses of every state)
+    targets += [paths.network_measures(RESULTS, s) for s in dict.fromkeys(P1_SYSTEMS + P2_SYSTEMS + list(SYSTEMS))
+                if not (s in P2_SYSTEMS and recorded_runs(s))]
     targets += [paths.figure(RESULTS, name, "pdf") for name in BUILT_FIGURES]  # figures.smk, from the registry
     if P1_SYSTEMS:
         targets += [paths.p1_validation_table(RESULTS, "md")]

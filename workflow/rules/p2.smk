@@ -1,10 +1,10 @@
 # P2: distances between persistence diagrams of consecutive states, Tables I–III and the validation of P2's claims
-# (P2's figures are made in figures.smk, from forcenet.plotting.registry). P2_SYSTEMS[0] is the frictional system
-# (μ = 0.5), P2_SYSTEMS[1] the frictionless one.
+# (P2's figures are made in figures.smk, from forcenet.plotting.registry). Which system is the frictional one
+# (μ = 0.5) and which the frictionless one is their catalog role (config/systems.yaml; forcenet.catalog.p2_roles).
+from forcenet.catalog import p2_roles
 from forcenet.systems import study_rattler_rule
 
-P2_FRICTIONAL = P2_SYSTEMS[0] if P2_SYSTEMS else None
-P2_FRICTIONLESS = P2_SYSTEMS[1] if len(P2_SYSTEMS) > 1 else None
+P2_FRICTIONAL, P2_FRICTIONLESS = p2_roles(config, P2_SYSTEMS)
 
 
 def p2_table_labels():
@@ -23,14 +23,17 @@ P2_TABLE_STATE_RULE = config["studies"].get("p2", {}).get("table_states", "jamme
 def p2_table_candidates(path=snapshot_path, states="abc", rule=P2_TABLE_STATE_RULE):
     """Files of the candidate states of every realization, realization-major, among which p2_table_states picks
     a, b, c and one realization (forcenet.report.p2_tables.TABLE_STATE_CRITERION): under the "literal" `rule` the
-    states a, b, c (or those named by `states`), under "jammed" every state at or above table_rho (which three
-    are a, b, c is known only from their Z); none when the config has no P2 study."""
+    states a, b, c (or those named by `states`), under "jammed" the first P2_JAMMED_WINDOW states at or above
+    table_rho (forcenet.pipeline_p2.p2_candidate_indices; which three are a, b, c is known only from their Z, and a
+    P2 run record keeps these states); none when the config has no P2 study."""
     if not P2_FRICTIONAL:
         return []
     if rule == "jammed":
+        from forcenet.pipeline_p2 import p2_candidate_indices
+
         spec = SYSTEMS[P2_FRICTIONAL]
-        table_rho = config["studies"]["p2"].get("table_rho", 0.79)
-        labels = [label for rho, label in zip(spec.rho_grid, spec.rho_labels) if rho >= table_rho - 1e-9]
+        indices = p2_candidate_indices(spec.rho_grid, config["studies"]["p2"].get("table_rho", 0.79), rule)
+        labels = [spec.rho_labels[i] for i in indices]
     else:
         labels = [label for letter, label in zip("abc", p2_table_labels()) if letter in states]
     return [path(P2_FRICTIONAL, r, rho) for r in realizations(P2_FRICTIONAL) for rho in labels]
@@ -52,10 +55,47 @@ if "table_states" in READINGS:  # only beside the jammed rule (forcenet.pipeline
     P2_BUILDS.append(("_table_states_reading", READING_RESULTS["table_states"], READINGS["table_states"].value,
                       paths.p2_table_states(READING_RESULTS["table_states"]), ESSENTIAL_CONVENTION))
 
+def p2_runs(wildcards):
+    """The summary of every run of one P2 system (kind "p2_run"), in realization order."""
+    return [paths.p2_run(RESULTS, wildcards.system, r) for r in realizations(wildcards.system)]
+
+
+def p2_run_files(systems):
+    return [paths.p2_run(RESULTS, s, r) for s in systems for r in realizations(s)]
+
+
+# What P2's products read from each run (results/{system}/p2_runs/{realization}.nc, forcenet.pipeline_p2.p2_run_summary):
+# its distances under every never-dying convention of the build and its readings, Z, never-dying class and diagram
+# point counts, made from the run's analyses; a recorded run's comes from its campaign record (simulate.smk).
+from forcenet.pipeline_p2 import p2_conventions
+
+for _name in P2_SYSTEMS:
+
+    rule:
+        name:
+            f"p2_run_{_name}"
+        input:
+            [analysis_path(_name, "{realization}", rho) for rho in SYSTEMS[_name].rho_labels],
+        output:
+            paths.p2_run(RESULTS, _name, "{realization}"),
+        wildcard_constraints:
+            realization=realizations_except(recorded_runs(_name)),
+        log:
+            paths.run_log(RESULTS, "p2_run", _name, "{realization}"),
+        params:
+            system=_name,
+            conventions=p2_conventions(config),
+        resources:
+            runtime=60,
+            mem_mb=4000,
+        script:
+            "../scripts/p2_run.py"
+
+
 rule p2_distances:
     """d_B, d_W1, d_W2 between consecutive snapshots, normal and tangential networks, β0 and β1."""
     input:
-        system_analyses,
+        p2_runs,
     output:
         paths.distances(RESULTS, "{system}"),
     log:
@@ -77,7 +117,7 @@ for _key in ESSENTIAL_READINGS:
         name:
             f"p2_distances_{_key}_reading"
         input:
-            system_analyses,
+            p2_runs,
         output:
             paths.distances(READING_RESULTS[_key], "{system}"),
         log:
@@ -147,8 +187,7 @@ rule p2_validation:
     input:
         distances=[paths.distances(RESULTS, s) for s in P2_SYSTEMS],
         tables=rules.p2_tables.output.csv,
-        measures=[paths.network_measures(RESULTS, s) for s in P2_SYSTEMS],
-        diagrams=[paths.diagrams(RESULTS, s) for s in P2_SYSTEMS],  # PD1 point counts (IV.C-8)
+        runs=p2_run_files(P2_SYSTEMS),  # never-dying class counts, PD1 point counts (IV.C-8)
         states=P2_TABLE_STATES,
         paper_size=paper_size_input("p2"),
         # the readings beside (common.smk), each judged where it changes a claim

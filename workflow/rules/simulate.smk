@@ -1,6 +1,7 @@
 # One compression run per (system, realization) → one snapshot per ρ of the system's grid.
 # A run with a campaign record (config key records_dir, forcenet.campaign) is restored from it by rule
-# restore_{system} instead: its snapshots and cost record come back with zero DEM steps. The realization wildcard of
+# restore_{system} instead: its snapshots and cost record come back with zero DEM steps (a P2 system's record: the
+# run's summary, results/{system}/p2_runs/, and only the states P2's Tables I-III read, p2_kept_labels). The realization wildcard of
 # each system is split between the two rules, so a recorded run is never simulated and an unrecorded one never
 # restored; a record made under other settings of its system stops the workflow here, by name.
 # One rule per system because each system has its own ρ grid (hence its own list of outputs).
@@ -8,7 +9,7 @@
 # run completes, so a run killed half-way resumes from its checkpoint and never leaves outputs that look complete.
 # A system with `source:` (states from another code or an experiment) is imported instead: rule import_{system}
 # writes the same snapshots (forcenet.importers), and everything downstream treats them alike.
-from forcenet.campaign import realizations_except, recorded_realizations, records_folder
+from forcenet.campaign import p2_kept_labels, p2_system, realizations_except, recorded_realizations, records_folder
 from forcenet.importers import run_files
 from forcenet.systems import ImportedSystem
 
@@ -45,6 +46,7 @@ for _name, _spec in SYSTEMS.items():
         continue
 
     _recorded = recorded_runs(_name)
+    _p2 = p2_system(config, _name)
     if _recorded:
 
         rule:
@@ -53,10 +55,13 @@ for _name, _spec in SYSTEMS.items():
             localrule: True
             input:
                 # ancient: a record committed (or checked out) after the run was simulated here does not redo it
-                ancient(paths.record_file(records_folder(config), _name, "{realization}")),
+                ancient((paths.p2_record_file if _p2 else paths.record_file)(records_folder(config), _name,
+                                                                             "{realization}")),
             output:
-                snapshots=[snapshot_path(_name, "{realization}", rho) for rho in _spec.rho_labels],
+                snapshots=[snapshot_path(_name, "{realization}", rho)
+                           for rho in (p2_kept_labels(config, _name) if _p2 else _spec.rho_labels)],
                 cost=paths.run_cost(RESULTS, _name, "{realization}"),
+                **({"summary": paths.p2_run(RESULTS, _name, "{realization}")} if _p2 else {}),
             wildcard_constraints:
                 realization="|".join(_recorded),
             log:

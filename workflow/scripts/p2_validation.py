@@ -3,7 +3,7 @@ from forcenet.pipeline_p2 import p2_validation_table
 
 p2_validation_table(  # noqa: F821 — `snakemake` is injected by Snakemake
     distances=list(snakemake.input.distances), tables=list(snakemake.input.tables),
-    measures=list(snakemake.input.measures), states=snakemake.input.states, diagrams=list(snakemake.input.diagrams),
+    runs=list(snakemake.input.runs), states=snakemake.input.states,
     frictional=snakemake.params.frictional, frictionless=snakemake.params.frictionless,
     md=snakemake.output.md, csv=snakemake.output.csv, paper_size=snakemake.params.paper_size,
     beside={snakemake.params.essential_reading: {"distances": list(snakemake.input.essential_distances),

@@ -16,6 +16,7 @@ scripts, tests and tutorial use to find a file. Imported when the workflow is pa
     {system}/network_measures.nc             the analyses stacked over (realization, ρ), kind "network_measures"
     {system}/diagrams.nc                     every persistence point of the system, kind "diagrams"
     {system}/distances.nc                    P2's d_B, d_W1, d_W2 between consecutive states, kind "distances"
+    {system}/p2_runs/{realization}.nc        what P2's products read from one run, its diagrams apart, kind "p2_run"
     figures/{figure}.{pdf,png,csv}           one figure of `forcenet.plotting.registry` and the values it draws
     tables/p1_validation.{csv,md}            P1's numbers and claims beside ours
     tables/p2_table{1,2,3}.{csv,md}          P2 Tables I–III
@@ -31,6 +32,7 @@ campaign's finished runs there, in the repository (`forcenet.campaign`)::
 
     manifest.csv                             one row per recorded run: fingerprint, commit, CPU-hours, sha256
     {system}/{realization}/states.nc         the run's snapshots, kind "run_record" (`forcenet.datasets.records`)
+    {system}/{realization}/p2_run.nc         a P2 run's summary and the states Tables I-III read, kind "p2_run_record"
 
 A realization is named ``r{NN}`` (`realization_name`, `realization_index`); a ρ label has
 `forcenet.systems.RHO_DECIMALS` decimals (`forcenet.systems.format_rho`).
@@ -54,6 +56,8 @@ CHECKPOINT = "checkpoint.npz"
 STAGE_LOCK = STAGING_DIR + ".lock"
 #: a campaign record's file name (one per run) and the manifest of all (below a config's ``records_dir``)
 RECORD_FILE = "states.nc"
+#: a P2 run's campaign record (`forcenet.datasets.records.p2_record_dataset`)
+P2_RECORD_FILE = "p2_run.nc"
 RECORD_MANIFEST = "manifest.csv"
 #: the validation campaign's committed tables (in the repository): validation_report writes them, every other
 #: config reads them (config key ``paper_size_tables``)
@@ -96,6 +100,11 @@ def record_file(records: Folder, system: str, realization: str) -> str:
     return f"{records}/{system}/{realization}/{RECORD_FILE}"
 
 
+def p2_record_file(records: Folder, system: str, realization: str) -> str:
+    """The campaign record of one P2 compression run (kind "p2_run_record"), below a config's ``records_dir``."""
+    return f"{records}/{system}/{realization}/{P2_RECORD_FILE}"
+
+
 def record_manifest(records: Folder) -> str:
     """The manifest of a campaign's records: one CSV row per recorded run (`forcenet.campaign.MANIFEST_COLUMNS`)."""
     return f"{records}/{RECORD_MANIFEST}"
@@ -130,6 +139,11 @@ def diagrams(results: Folder, system: str) -> str:
 def distances(results: Folder, system: str) -> str:
     """P2's distances between the diagrams of consecutive states of one system (kind "distances")."""
     return f"{results}/{system}/distances.nc"
+
+
+def p2_run(results: Folder, system: str, realization: str) -> str:
+    """What P2's products read from one run of a P2 system, its diagrams apart (kind "p2_run")."""
+    return f"{results}/{system}/p2_runs/{realization}.nc"
 
 
 def reading(results: Folder, name: str) -> str:

@@ -10,6 +10,11 @@ pressure, time, step, relaxation steps), in float64 as simulated, so a restored 
 every value it holds. It drops the per-particle velocities and angular velocities (`DROPPED_VARIABLES`): optional in
 the contract, read by no analysis, and a third of a 2D snapshot's bytes. Radii are stored once (a run's radii do not
 change; `record_dataset` checks it), contacts as CF contiguous ragged arrays.
+
+A P2 run (kind "p2_run_record", `p2_record_dataset`) does not fit as states: its record holds the run's summary
+(`forcenet.report.p2_distances.run_summary`: distances under each never-dying convention, Z, never-dying class and
+diagram point counts of every state) and only the states Tables I-III can read, stored as above; `restore_p2_run`
+writes the summary and those snapshots back.
 """
 from __future__ import annotations
 
@@ -21,11 +26,16 @@ import numpy as np
 import xarray as xr
 
 from forcenet.datasets.io import DatasetError, dataset_from_specs, read_dataset
-from forcenet.datasets.schema import RECORD_VARIABLES, REQUIRED_GLOBAL_ATTRS, SNAPSHOT_DYNAMICS, SNAPSHOT_VARIABLES
+from forcenet.datasets.schema import (P2_RUN_VARIABLES, RECORD_VARIABLES, REQUIRED_GLOBAL_ATTRS, SNAPSHOT_DYNAMICS,
+                                      SNAPSHOT_VARIABLES)
 from forcenet.datasets.snapshot import write_snapshot
 
 #: the record layout this module writes and reads (global attribute `record_format`)
 RECORD_FORMAT = "forcenet-run-record-1"
+#: the layout of a P2 run's record (kind "p2_run_record")
+P2_RECORD_FORMAT = "forcenet-p2-run-record-1"
+#: global attributes of a P2 run summary that its record keeps (the networks its diagrams were made of)
+P2_SUMMARY_ATTRS = ("rattler_rule", "rattler_rule_description", "flag_complex", "flag_complex_description")
 #: snapshot variables a record does not keep (restored snapshots lack them; the contract makes them optional)
 DROPPED_VARIABLES = ("velocity", "angular_velocity")
 #: global attributes every snapshot of one run shares; the others may differ from state to state (kept per state in
@@ -160,12 +170,80 @@ def record_differences(record: xr.Dataset, snapshots: Sequence[xr.Dataset]) -> l
     return problems
 
 
-def record_global_problems(record: xr.Dataset) -> list[str]:
+def record_global_problems(record: xr.Dataset, expected: str = RECORD_FORMAT) -> list[str]:
     """A record format this forcenet does not read (its attributes are checked with its kind, `schema.KIND_GLOBAL_ATTRS`,
-    when it is read)."""
-    if record.attrs["record_format"] != RECORD_FORMAT:
-        return [f"record_format is '{record.attrs['record_format']}', this forcenet reads '{RECORD_FORMAT}'"]
+    when it is read); `expected` is `P2_RECORD_FORMAT` for a P2 run's record."""
+    if record.attrs["record_format"] != expected:
+        return [f"record_format is '{record.attrs['record_format']}', this forcenet reads '{expected}'"]
     return []
+
+
+def p2_record_dataset(summary: xr.Dataset, snapshots: Sequence[xr.Dataset], labels: Sequence[str],
+                      kept: Sequence[int], *, simulation_sha256: str, cpu_seconds: float, title: str) -> xr.Dataset:
+    """The record of one P2 run: its `summary` (kind "p2_run") and the states `kept` (indices into the run's
+    `snapshots`, labelled by `labels`, in grid order) as `record_dataset` stores them; none kept leaves out every
+    state variable. Raises `RecordError` when the summary is of another run or another grid."""
+    if len(snapshots) != len(labels) or summary.sizes["grid_state"] != len(labels):
+        raise RecordError("record", f"{len(snapshots)} snapshots, {len(labels)} labels and a summary of "
+                                    f"{summary.sizes['grid_state']} states: not one run")
+    if summary.attrs["simulation_sha256"] != simulation_sha256 or any(
+            str(summary.attrs[key]) != str(snapshots[0].attrs[key]) for key in ("system", "realization")):
+        raise RecordError("record", "the summary is of another run than the snapshots")
+    if kept:
+        base = record_dataset([snapshots[i] for i in kept], [labels[i] for i in kept],
+                              simulation_sha256=simulation_sha256, cpu_seconds=cpu_seconds, title=title)
+    else:
+        first = snapshots[0]
+        base = xr.Dataset(attrs={**{key: first.attrs[key] for key in REQUIRED_GLOBAL_ATTRS}, "title": title,
+                                 "simulation_sha256": simulation_sha256, "cpu_seconds": float(cpu_seconds),
+                                 "dimension": int(first.attrs["dimension"]), "snapshot_attrs": "{}",
+                                 "state_attrs": "[]", "dropped_variables": " ".join(DROPPED_VARIABLES)})
+    record = xr.merge([summary[list(P2_RUN_VARIABLES)], base], combine_attrs="override")
+    record.attrs = {**base.attrs, "record_format": P2_RECORD_FORMAT, "grid_labels": " ".join(labels),
+                    **{key: summary.attrs[key] for key in P2_SUMMARY_ATTRS}}
+    return record
+
+
+def p2_record_summary(record: xr.Dataset) -> xr.Dataset:
+    """The run summary (kind "p2_run") a P2 run record holds, as the run's analyses gave it."""
+    summary = record[list(P2_RUN_VARIABLES)].drop_dims(["state", "particle", "contact", "wall_contact", "spatial"],
+                                                       errors="ignore")
+    summary.attrs = {**{key: record.attrs[key] for key in REQUIRED_GLOBAL_ATTRS},
+                     "dimension": int(record.attrs["dimension"]),
+                     "simulation_sha256": record.attrs["simulation_sha256"],
+                     **{key: record.attrs[key] for key in P2_SUMMARY_ATTRS}}
+    return summary
+
+
+def p2_record_labels(record: xr.Dataset) -> list[str]:
+    """The grid labels of the states a P2 run record keeps (none for the frictionless system's)."""
+    return [str(label) for label in record["state"].values] if "state" in record.coords else []
+
+
+def restore_p2_run(record_path: str | Path, summary_output: str | Path, outputs: Sequence[str | Path],
+                   conventions: Sequence[str]) -> list[Path]:
+    """Write a P2 run's summary (`summary_output`, kind "p2_run") and the snapshots `outputs` from its record: each
+    output named by a state the record keeps (`rho{label}.nc`). Raises `RecordError` naming the record when it
+    lacks a never-dying convention of `conventions` or a state of `outputs`."""
+    from forcenet.datasets.io import write_netcdf
+
+    record = read_dataset(record_path, "p2_run_record")
+    held = [str(c) for c in record["essential_convention"].values]
+    missing = [c for c in conventions if c not in held]
+    if missing:
+        raise RecordError(record_path, f"holds distances under the never-dying conventions {held}, not under "
+                                       f"{missing}: the run must be analysed again (its states are not kept)")
+    labels = p2_record_labels(record)
+    written = []
+    for output in outputs:
+        label = Path(output).name.removeprefix("rho").removesuffix(".nc")
+        if label not in labels:
+            raise RecordError(record_path, f"keeps the states {labels}, not {Path(output).name}")
+        attrs, arrays = state_snapshot(record, labels.index(label))
+        written.append(write_snapshot(output, attrs=attrs, **arrays))
+    summary = p2_record_summary(record)
+    write_netcdf(summary, summary_output, kind="p2_run")
+    return [*written, Path(summary_output)]
 
 
 def record_encoding(record: xr.Dataset) -> dict[str, Mapping[str, Any]]:

@@ -195,6 +195,34 @@ DISTANCES_VARIABLES: dict[str, VariableSpec] = {
 #: `essential` is 1 (a class that never dies)
 ANALYSIS_FINITE_VARIABLES = ("mean_force", "total_persistence", "rho", "Z", "birth")
 
+# --- one P2 run in brief: what P2's products read from it, its diagrams apart --------------------------------------
+#
+# results/{system}/p2_runs/{realization}.nc (kind "p2_run", `forcenet.report.p2_distances.run_summary`): per state of
+# the run's grid (`grid_state`, the grid ρ) its measured ρ, Z, never-dying class counts and diagram point counts, and
+# the distances between consecutive states (`pair`: the later state of each) under each convention for never-dying
+# classes the build reads (`essential_convention`). P2's distances, validation table and never-dying class counts are
+# made from these files; a campaign record of a P2 run (kind "p2_run_record") holds the same and the states a, b, c
+# of Tables I-III can be taken from (`forcenet.datasets.records`).
+P2_RUN_VARIABLES: dict[str, VariableSpec] = {
+    "state_rho": VariableSpec(("grid_state",), DIMENSIONLESS, "measured packing fraction of the state"),
+    "state_Z": VariableSpec(("grid_state",), DIMENSIONLESS,
+                            "mean number of particle-particle contacts per particle of the state (all particles)"),
+    "essential_count": VariableSpec(("grid_state", "force_kind", "homology_dim"), DIMENSIONLESS,
+                                    "never-dying classes of the state's diagram PD_k", dtype="int"),
+    "point_count": VariableSpec(("grid_state", "force_kind", "homology_dim"), DIMENSIONLESS,
+                                "points of the state's persistence diagram PD_k", dtype="int"),
+    "point_total": VariableSpec(("grid_state",), DIMENSIONLESS,
+                                "points of every persistence diagram of the state (all force kinds and k)",
+                                dtype="int"),
+    "distance": VariableSpec(("essential_convention", "pair", "force_kind", "homology_dim", "metric"),
+                             NETWORK_FORCE_UNITS,
+                             "distance between the persistence diagrams of consecutive states (the pair's later "
+                             "state and the one before it)"),
+}
+#: global attributes of a P2 run summary beyond REQUIRED_GLOBAL_ATTRS: those of an analysis (the networks its
+#: diagrams were made of) and the run's simulation fingerprint
+P2_RUN_GLOBAL_ATTRS = ("dimension", "rattler_rule", "flag_complex", "simulation_sha256")
+
 # --- a campaign record: one finished compression run in one file, data/validation/{system}/{realization}/states.nc ---
 #
 # The snapshots of a run stacked over `state` (one per ρ of the grid, labelled by the grid ρ as in the file names),
@@ -227,6 +255,17 @@ RECORD_VARIABLES: dict[str, VariableSpec] = {
 RECORD_GLOBAL_ATTRS = ("record_format", "simulation_sha256", "cpu_seconds", "dimension", "snapshot_attrs",
                        "state_attrs", "dropped_variables")
 
+# --- a campaign record of a P2 run: data/validation/{system}/{realization}/p2_run.nc ---------------------------------
+#
+# A P2 run's 100 states do not fit the records' budget (data/validation/README.md, "Size"): its record holds the run's
+# summary (P2_RUN_VARIABLES: every distance, count and Z that P2's products read) and, of the frictional system, the
+# states among which Tables I-III and Figs 1, 3 take a, b, c (`forcenet.pipeline_p2.p2_read_state_indices`), stored as a
+# run record stores them (RECORD_VARIABLES over `state`, labelled by the grid ρ); the frictionless system's record
+# keeps no state (none of the RECORD_VARIABLES).
+P2_RUN_RECORD_VARIABLES: dict[str, VariableSpec] = {**P2_RUN_VARIABLES, **RECORD_VARIABLES}
+#: global attributes of a P2 run record: a run record's, the analysis attributes of the summary and the grid labels
+P2_RUN_RECORD_GLOBAL_ATTRS = (*RECORD_GLOBAL_ATTRS, "rattler_rule", "flag_complex", "grid_labels")
+
 #: global attributes of each file kind beyond REQUIRED_GLOBAL_ATTRS (its provenance), checked on writing and reading,
 #: so that a reader indexes them and never falls back to a default: the spatial dimension; the rattler rule and flag
 #: complex that made an analysis's networks (`forcenet.pipeline.rattler_attrs`, `flag_complex_attrs`); a stacked
@@ -242,6 +281,8 @@ KIND_GLOBAL_ATTRS: dict[str, tuple[str, ...]] = {
     "diagrams": STACKED_GLOBAL_ATTRS,
     "distances": (*STACKED_GLOBAL_ATTRS, "essential_convention"),
     "run_record": RECORD_GLOBAL_ATTRS,
+    "p2_run": P2_RUN_GLOBAL_ATTRS,
+    "p2_run_record": P2_RUN_RECORD_GLOBAL_ATTRS,
 }
 
 #: every file kind the pipeline reads: its variables and the coordinates a reader selects on
@@ -253,7 +294,11 @@ FILE_KINDS: dict[str, tuple[dict[str, VariableSpec], tuple[str, ...]]] = {
     "diagrams": (DIAGRAMS_VARIABLES, ("force_kind",)),
     "distances": (DISTANCES_VARIABLES, ("realization", "rho", "force_kind", "homology_dim", "metric")),
     "run_record": (RECORD_VARIABLES, ("state", "spatial")),
+    "p2_run": (P2_RUN_VARIABLES, ("grid_state", "essential_convention", "force_kind", "homology_dim", "metric")),
+    "p2_run_record": (P2_RUN_RECORD_VARIABLES, ("grid_state", "essential_convention", "force_kind", "homology_dim",
+                                                "metric")),
 }
 
 #: variables of a file kind that may be absent (when present they must match their spec)
-OPTIONAL_VARIABLES: dict[str, tuple[str, ...]] = {"snapshot": SNAPSHOT_DYNAMICS}
+OPTIONAL_VARIABLES: dict[str, tuple[str, ...]] = {"snapshot": SNAPSHOT_DYNAMICS,
+                                                  "p2_run_record": tuple(RECORD_VARIABLES)}  # no state kept

@@ -199,9 +199,12 @@ def _c_more_loops_without_friction(ctx: Context) -> Judgement:
     medians = {}
     for name in (ctx.frictional, ctx.frictionless):
         ctx.system(name)
-        if name not in ctx.diagrams:
+        if name in ctx.point_counts:
+            counts = realization_mean(ctx.point_counts[name])
+        elif name in ctx.diagrams:
+            counts = realization_mean(diagram_point_counts(ctx.diagrams[name], NORMAL, 1))
+        else:
             raise NotEvaluated(f"{name}: no persistence diagrams (diagrams.nc) to count PD1 points in")
-        counts = realization_mean(diagram_point_counts(ctx.diagrams[name], NORMAL, 1))
         medians[name] = float(np.median(counts.values))
     without, with_ = medians[ctx.frictionless], medians[ctx.frictional]
     return Judgement(without / with_ if with_ > 0 else math.inf,

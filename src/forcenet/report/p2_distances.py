@@ -162,7 +162,14 @@ def consecutive_distances(analyses: Sequence[xr.Dataset], essential_convention: 
             diagrams = [analysis_diagram(ds, kind, dim) for ds in analyses]
             values[:, a, b] = _consecutive_distances(diagrams, dim, essential_convention)
     z = np.array([float(ds["Z"]) if "Z" in ds else math.nan for ds in analyses[1:]])
-    out = xr.Dataset(
+    return _pair_dataset(values, rho, z, force_kinds, homology_dims, essential_convention)
+
+
+def _pair_dataset(values: np.ndarray, rho: np.ndarray, z: np.ndarray, force_kinds: Sequence[str],
+                  homology_dims: Sequence[int], essential_convention: str) -> xr.Dataset:
+    """The `consecutive_distances` dataset of one run: `values` (pair, force_kind, homology_dim, metric), the
+    measured ρ of every state and the Z of each pair's later state."""
+    return xr.Dataset(
         {
             "distance": (("rho", "force_kind", "homology_dim", "metric"), values, _distance_attrs()),
             "Z": (("rho",), z, {"units": DIMENSIONLESS,
@@ -173,7 +180,6 @@ def consecutive_distances(analyses: Sequence[xr.Dataset], essential_convention: 
         coords=_distance_coords(rho[1:], force_kinds, homology_dims),
         attrs=_convention_attrs(essential_convention),
     )
-    return out
 
 
 def stack_distances(per_realization: Sequence[xr.Dataset], realizations: Sequence[int],
@@ -215,6 +221,81 @@ def stack_distances(per_realization: Sequence[xr.Dataset], realizations: Sequenc
             stacked[name].attrs = dict(first[name].attrs)
     stacked.attrs = {**first.attrs, **dict(attrs)}
     return stacked
+
+
+def run_summary(analyses: Sequence[xr.Dataset], conventions: Sequence[str], grid_rhos: Sequence[float],
+                attrs: Mapping[str, Any]) -> xr.Dataset:
+    """What P2's products read from ONE run, its diagrams apart (kind "p2_run", `schema.P2_RUN_VARIABLES`): per
+    state of its grid (`grid_rhos`, the analyses in the same order) the measured ρ, Z, the never-dying class and point
+    counts of each P2 diagram and the total point count, and the `consecutive_distances` of the run under every
+    never-dying `conventions`; `attrs` are the file's global attributes."""
+    from forcenet.datasets.io import dataset_from_specs
+    from forcenet.datasets.schema import P2_RUN_VARIABLES
+
+    if len(analyses) != len(grid_rhos):
+        raise ValueError(f"{len(analyses)} analyses for {len(grid_rhos)} grid states")
+    conventions = list(dict.fromkeys(conventions))
+    distances = [consecutive_distances(analyses, convention) for convention in conventions]
+    essential = np.zeros((len(analyses), len(P2_FORCE_KINDS), len(P2_HOMOLOGY_DIMS)), dtype=np.int64)
+    points = np.zeros_like(essential)
+    for s, ds in enumerate(analyses):
+        kinds = [str(k) for k in ds["force_kind"].values]
+        for a, kind in enumerate(P2_FORCE_KINDS):
+            essential[s, a] = ds["essential_count"].sel(force_kind=kind, homology_dim=list(P2_HOMOLOGY_DIMS)).values
+            for b, dim in enumerate(P2_HOMOLOGY_DIMS):  # as forcenet.report.p2.diagram_point_counts counts them
+                points[s, a, b] = int(np.count_nonzero((ds["diagram_force_kind"].values == kinds.index(kind))
+                                                       & (ds["diagram_homology_dim"].values == dim)))
+    values = {
+        "state_rho": np.array([float(ds["rho"]) for ds in analyses]),
+        "state_Z": np.array([float(ds["Z"]) for ds in analyses]),
+        "essential_count": essential, "point_count": points,
+        "point_total": np.array([ds.sizes.get("point", 0) for ds in analyses], dtype=np.int64),
+        "distance": np.stack([d["distance"].values for d in distances]),
+    }
+    coords = _distance_coords(np.zeros(0), P2_FORCE_KINDS, P2_HOMOLOGY_DIMS)
+    del coords["rho"]
+    coords["grid_state"] = xr.Variable(("grid_state",), np.asarray(grid_rhos, dtype=float), attrs={
+        "units": DIMENSIONLESS, "long_name": "packing fraction of the state on the config's grid (systems.<name>.rho)"})
+    coords["essential_convention"] = xr.Variable(("essential_convention",), conventions, attrs={
+        "units": DIMENSIONLESS, "long_name": "how never-dying classes enter the distances (forcenet.topology)"})
+    return dataset_from_specs(P2_RUN_VARIABLES, values, attrs, coords=coords)
+
+
+def summary_distances(summary: xr.Dataset, convention: str) -> xr.Dataset:
+    """The `consecutive_distances` of the run a `run_summary` (or a P2 run record) holds, under `convention`: the
+    same dataset, value for value, as computed from the run's analyses. KeyError naming the conventions it holds
+    when it lacks `convention`."""
+    held = [str(c) for c in summary["essential_convention"].values]
+    if convention not in held:
+        raise KeyError(f"no distances under the never-dying convention '{convention}' (it holds {', '.join(held)})")
+    return _pair_dataset(summary["distance"].values[held.index(convention)], summary["state_rho"].values,
+                         summary["state_Z"].values[1:], [str(k) for k in summary["force_kind"].values],
+                         [int(k) for k in summary["homology_dim"].values], convention)
+
+
+def summary_point_counts(summaries: Mapping[int, xr.Dataset], kind: str = "normal",
+                         homology_dim: int = 1) -> xr.DataArray:
+    """The number of points of each PD_k (force kind `kind`) of every state of the runs `summaries`
+    ({realization: `run_summary`}), dims (realization, rho): the same array `forcenet.report.p2.diagram_point_counts`
+    gives from the runs' stacked diagrams.nc (only realizations and grid ρ at which some diagram has a point)."""
+    realizations = sorted(int(r) for r in summaries)
+    rhos = summaries[realizations[0]]["grid_state"].values
+    total = np.stack([summaries[r]["point_total"].values for r in realizations])
+    counts = np.stack([summaries[r]["point_count"].sel(force_kind=kind, homology_dim=homology_dim).values
+                       for r in realizations]).astype(float)
+    rows, columns = total.sum(axis=1) > 0, total.sum(axis=0) > 0
+    return xr.DataArray(counts[rows][:, columns], dims=("realization", "rho"),
+                        coords={"realization": np.array(realizations)[rows], "rho": rhos[columns]})
+
+
+def summary_essential_counts(summaries: Mapping[int, xr.Dataset]) -> xr.Dataset:
+    """The never-dying class counts of the runs `summaries` ({realization: `run_summary`}) as network_measures.nc
+    holds them: ``essential_count(realization, rho, force_kind, homology_dim)``, ρ the grid's."""
+    realizations = sorted(int(r) for r in summaries)
+    first = summaries[realizations[0]]
+    stacked = xr.concat([summaries[r]["essential_count"] for r in realizations], dim="realization")
+    return xr.Dataset({"essential_count": stacked.rename(grid_state="rho")}).assign_coords(
+        realization=np.array(realizations, dtype=np.int32), rho=first["grid_state"].values)
 
 
 def _distance_attrs() -> dict:

@@ -184,7 +184,7 @@ class Context:
     """Everything P2's claims are judged on: the curves of each system present, Tables I–III (frictional system),
     the tolerances, the names of the frictional and frictionless systems, for the explanations the network
     measures (never-dying class counts) and the candidate states a, b, c, and each system's persistence diagrams
-    (``diagrams.nc``: how many PD points a state has)."""
+    (``diagrams.nc``) or their PD1 point counts (how many PD points a state has)."""
 
     curves: dict[str, Curves]
     tables: Mapping[str, pd.DataFrame] | None
@@ -194,6 +194,9 @@ class Context:
     measures: Mapping[str, xr.Dataset] = field(default_factory=dict)
     states: pd.DataFrame | None = None
     diagrams: Mapping[str, xr.Dataset] = field(default_factory=dict)
+    #: {system: normal-force PD1 point counts (realization, rho)}, as `forcenet.report.p2.diagram_point_counts`
+    #: gives them from `diagrams` (`forcenet.report.p2_distances.summary_point_counts`); read before `diagrams`
+    point_counts: Mapping[str, xr.DataArray] = field(default_factory=dict)
 
     def system(self, name: str) -> Curves:
         """The curves of system `name`; not evaluated when it is not in the results."""

@@ -41,6 +41,7 @@ def p2_validation(distances: Mapping[str, xr.Dataset], tables: Mapping[str, pd.D
                   tolerances: ClaimTolerances | None = None, measures: Mapping[str, xr.Dataset] | None = None,
                   states: pd.DataFrame | None = None, resamples: int = 0, seed: int = 0,
                   diagrams: Mapping[str, xr.Dataset] | None = None,
+                  point_counts: Mapping[str, xr.DataArray] | None = None,
                   beside: Mapping[str, Mapping[str, Any]] | None = None) -> pd.DataFrame:
     """Judge each claim of P2 §III D–§IV (and §V's summary of them) on the measured data.
 
@@ -54,7 +55,9 @@ def p2_validation(distances: Mapping[str, xr.Dataset], tables: Mapping[str, pd.D
     tolerances : how "≈", "roughly constant", "dramatically" … are tested (`ClaimTolerances`).
     measures : ``{system: network_measures.nc dataset}`` (never-dying class counts) and `states` (the
         `table_state_candidates` of Tables I–III): what the explanations of failed claims measure (optional).
-    diagrams : ``{system: diagrams.nc dataset}``: the number of PD points per state (IV.C-8; optional).
+    diagrams : ``{system: diagrams.nc dataset}``: the number of PD points per state (IV.C-8; optional);
+        `point_counts` (``{system: counts (realization, rho)}`` of normal-force PD1 points, as
+        `forcenet.report.p2.diagram_point_counts` gives them) in their place.
     beside : other readings judged beside P2's conventions, ``{name: {"distances": …, "tables": …}}`` (either
         key may be left out: the primary's is used), e.g. the distances with never-dying classes matched only
         with each other (``essential_convention: apart``) or Tables I–III of the literal states at ρ = 0.79; a
@@ -77,7 +80,7 @@ def p2_validation(distances: Mapping[str, xr.Dataset], tables: Mapping[str, pd.D
         curves = {name: Curves(name, ds, _dimension(ds), tol) for name, ds in distances.items()
                   if name in (frictional, frictionless)}
         return Context(curves, tables, tol, frictional, frictionless, dict(measures or {}), states,
-                       dict(diagrams or {}))
+                       dict(diagrams or {}), dict(point_counts or {}))
 
     judged_systems = {name: ds for name, ds in distances.items() if name in (frictional, frictionless)}
     ctx = context(distances, tables)
