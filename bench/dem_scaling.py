@@ -46,9 +46,9 @@ def main(argv=None) -> int:
     args = ap.parse_args(argv)
     if args.cpu is not None:
         os.sched_setaffinity(0, {args.cpu})
-    import yaml
+    from forcenet.catalog import load_run_config
     from pathlib import Path
-    config = yaml.safe_load((Path(__file__).resolve().parents[1] / "config" / "config.yaml").read_text())
+    config = load_run_config(Path(__file__).resolve().parents[1] / "config" / "config.yaml")
     rho = args.rho or (0.75 if args.dim == 2 else 0.50)
     run = records.Run("dem_scaling", variant=f"{args.dim}d", enabled=records.wanted(args, argv),
                       settings=dict(dim=args.dim, sizes=args.sizes, steps=args.steps, rho=rho, cpu=args.cpu,

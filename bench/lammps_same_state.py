@@ -60,8 +60,8 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
-import yaml
 
+from forcenet.catalog import load_run_config
 from forcenet.dem.engine import ContactLaw, Simulation
 from forcenet.dem.protocol import build_simulation, contact_law_for_system, wall_shift_for
 from forcenet.systems import system_from_config
@@ -103,7 +103,7 @@ def make_state(case: str, seed: int = 7) -> dict:
     random velocities of `PROBE_SPEED` added; with the contact law of `case` (the source system's entry with the
     case's force law)."""
     source, law, box, rho = CASES[case]
-    config = yaml.safe_load((REPO / "config" / "smoke.yaml").read_text())
+    config = load_run_config(REPO / "config" / "smoke.yaml")
     entry = dict(config["systems"][source], box_length=box, rho=[rho])
     spec = system_from_config(source, dict(config, systems={source: entry}))
     sim, _ = build_simulation(spec, seed)

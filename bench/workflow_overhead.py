@@ -37,6 +37,7 @@ import yaml
 
 REPO = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(REPO / "src"))
+from forcenet.catalog import load_run_config  # noqa: E402
 import records  # noqa: E402  (bench/records.py)
 
 PYTHON = sys.executable
@@ -65,7 +66,7 @@ def dry_run(workdir: Path, *profile: str) -> tuple[float, int]:
 
 def bench_config(path: Path) -> Path:
     """config/paper.yaml's 2d_linear (paper N) compressed 100× faster, seven snapshots, one realization."""
-    config = yaml.safe_load((REPO / "config/paper.yaml").read_text())
+    config = load_run_config(REPO / "config/paper.yaml")
     config["realizations"] = 1
     config["studies"] = {"p1": {"systems": [SYSTEM]}}
     entry = config["systems"][SYSTEM]
@@ -164,7 +165,7 @@ def main(argv=None) -> None:
     local = root / "local"
     local.mkdir(exist_ok=True)
     config_path = bench_config(root / "bench.yaml")
-    config = yaml.safe_load(config_path.read_text())
+    config = load_run_config(config_path)
     labels = validate_config(config)[SYSTEM].rho_labels
     snapshots = [paths.snapshot("results", SYSTEM, "r00", label) for label in labels]
     analyses = [paths.analysis("results", SYSTEM, "r00", label) for label in labels]
@@ -178,7 +179,7 @@ def main(argv=None) -> None:
 
     times = kernel_and_io_times([local / p for p in snapshots], config["analysis"], root)
     kernels = times["kernels_s"]
-    paper = validate_config(yaml.safe_load((REPO / "config/paper.yaml").read_text()))[SYSTEM]
+    paper = validate_config(load_run_config(REPO / "config/paper.yaml"))[SYSTEM]
     paper_kernel_per_snapshot = simulation_cost(paper).core_hours * 3600 / len(paper.rho_grid)
     # a simulation job's overhead: start, imports, Snakemake (job wall minus its time inside simulate()), and the
     # snapshot writes (inside simulate(), but I/O)
@@ -203,7 +204,7 @@ def main(argv=None) -> None:
     # lowers the 3D ratio)
     def per_snapshot_ratio(job_wall: float) -> dict:
         ratios = {}
-        for name, spec in validate_config(yaml.safe_load((REPO / "config/paper.yaml").read_text())).items():
+        for name, spec in validate_config(load_run_config(REPO / "config/paper.yaml")).items():
             n = len(spec.rho_grid)
             overhead = (sim_wall - sim_inside) / n + times["snapshot_write_s"] + (job_wall - kernels)
             ratios[name] = round(overhead / (simulation_cost(spec).core_hours * 3600 / n + kernels), 4)

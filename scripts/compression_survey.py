@@ -17,10 +17,9 @@ import logging
 import sys
 from pathlib import Path
 
-import yaml
-
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "src"))
 
+from forcenet.catalog import load_run_config  # noqa: E402
 from forcenet.research.survey import BULK_MARGIN, apply_overrides, run_survey  # noqa: E402
 
 
@@ -37,7 +36,7 @@ def main() -> None:
     args = parser.parse_args()
 
     logging.basicConfig(level=logging.INFO if args.verbose else logging.WARNING, format="%(message)s")
-    config = apply_overrides(yaml.safe_load(Path(args.config).read_text()), args.system, args.overrides)
+    config = apply_overrides(load_run_config(args.config), args.system, args.overrides)
     label = " ".join(args.overrides) or "as configured"
     for realization in args.realizations:
         run = run_survey(config, args.system, realization, bulk_margin=args.bulk_margin)

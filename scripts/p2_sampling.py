@@ -13,10 +13,8 @@ prints the Markdown table (and writes it to ``{out}/p2_sampling.md``).
 from __future__ import annotations
 
 import argparse
-from pathlib import Path
 
-import yaml
-
+from forcenet.catalog import load_run_config
 from forcenet.pipeline_p2 import p2_sampling_study
 
 
@@ -31,7 +29,7 @@ def main() -> None:
     parser.add_argument("--out", default="results/p2_sampling")
     parser.add_argument("--simulate-only", action="store_true", help="stop after the compression runs")
     args = parser.parse_args()
-    config = yaml.safe_load(Path(args.config).read_text())
+    config = load_run_config(args.config)
     table = p2_sampling_study(config=config, system=args.system, wall_speeds=args.speeds, count=args.count,
                               lags=args.lags, rattler_rule=args.rattlers, out=args.out,
                               simulate_only=args.simulate_only)

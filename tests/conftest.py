@@ -57,7 +57,10 @@ SCONTROL_STUB_DIR = _without_slurm_controller_query()
 
 
 def load_config(name: str = "config.yaml") -> dict:
-    return yaml.safe_load((CONFIG_DIR / name).read_text())
+    """A shipped run config expanded with the system catalog (`forcenet.catalog`), as the workflow reads it."""
+    from forcenet.catalog import load_run_config
+
+    return load_run_config(CONFIG_DIR / name)
 
 
 @pytest.fixture

@@ -534,7 +534,7 @@ def test_what_snakemake_reports_before_the_workflow(tmp_path: Path):
 def test_the_readings_beside_take_the_other_value_of_each_convention():
     from forcenet.pipeline import readings_beside
 
-    config = yaml.safe_load((REPO / "config/config.yaml").read_text())
+    config = load_config("config.yaml")
     readings = readings_beside(config)
     assert (readings["tetrahedra"].value, readings["tetrahedra"].folder) == (True, "fill_tetrahedra-true")
     assert (readings["essential"].value, readings["table_states"].value) == ("apart", "literal")
@@ -550,7 +550,7 @@ def test_the_readings_beside_take_the_other_value_of_each_convention():
 
 
 def test_p1_counterparts_are_defined_systems_beside_the_studys_own_with_its_rattler_rule():
-    config = yaml.safe_load((REPO / "config/validation.yaml").read_text())
+    config = load_config("validation.yaml")
     counterparts = config["studies"]["p1"]["counterparts"]
     assert counterparts and not set(counterparts) & set(config["studies"]["p1"]["systems"])
     validate_config(config)

@@ -8,7 +8,7 @@ import re
 import pytest
 import yaml
 
-from conftest import REPO, snakemake
+from conftest import REPO, snakemake, load_config
 from forcenet.pipeline import FIGURE_INPUT_READERS
 from forcenet.plotting import registry
 
@@ -60,7 +60,7 @@ def test_the_default_build_makes_every_registered_figure(tmp_path):
         r"^(?:local)?rule (\S+):\n    input: (.*)\n(?:    output: (.*)$)?", result.stdout, flags=re.M)}
     scheduled = {name for name in jobs if name.startswith("figure_")}
     assert scheduled == {f"figure_{entry.id}" for entry in registry.FIGURES}
-    studies = yaml.safe_load((REPO / "config/config.yaml").read_text())["studies"]
+    studies = load_config("config.yaml")["studies"]
     # where each input kind lies (INPUT_KINDS): an aggregate per system, or a run's snapshots or analyses
     kind_paths = {"measures": "results/{system}/network_measures.nc", "diagrams": "results/{system}/diagrams.nc",
                   "distances": "results/{system}/distances.nc", "example_snapshots": "results/sim/{system}/r00/",

@@ -21,10 +21,11 @@ from forcenet.network import snapshot_network
 from forcenet.topology import betti_curves, persistence_diagrams
 from forcenet.plotting.networks import prepare_p1_fig01_networks
 from forcenet.systems import ConfigError, ImportedSystem, system_from_config
+from conftest import load_config
 from naive_topology import components, pd0_elder_rule
 
 REPO = Path(__file__).resolve().parents[1]
-EXAMPLE = yaml.safe_load((REPO / "config" / "example_import.yaml").read_text())
+EXAMPLE = load_config("example_import.yaml")
 LAMMPS_DIR = REPO / "data" / "examples" / "lammps_2d"
 TABLE_DIR = REPO / "data" / "examples" / "table_2d"
 #: the dumps print 10 significant digits (bench/lammps/make_import_example.py): forces agree to that precision
@@ -579,7 +580,7 @@ def test_gzipped_dumps_and_tables_read_as_the_plain_files_and_a_broken_one_is_na
 def test_a_stacked_file_of_an_imported_system_records_no_seed_as_its_snapshots():
     """network_measures.nc and distances.nc of an import say seed −1, as its snapshots do; a simulated system's
     stacked files give the config's base seed."""
-    config = yaml.safe_load((Path(__file__).resolve().parents[1] / "config" / "smoke.yaml").read_text())
+    config = load_config("smoke.yaml")
     imported = ImportedSystem(name="my_table", dimension=2, rho_grid=(0.8,), source={})
     assert pipeline.stacked_seed(config, imported) == -1
     assert pipeline.stacked_seed(config, system_from_config("2d_linear", config)) == config["seed"]

@@ -9,7 +9,9 @@ import pytest
 from matplotlib.animation import FFMpegWriter
 from matplotlib.collections import LineCollection
 
+from conftest import load_config
 from forcenet.plotting import movies
+from forcenet.plotting.style import use_system_styles
 from test_plotting_p1 import make_snapshot
 from test_report_p1 import make_p1_measures
 
@@ -71,6 +73,7 @@ def test_network_movie_frame_of_an_unjammed_snapshot_without_loaded_contacts(dim
 
 
 def test_b0_surface_movie_turns_around_the_surface(tmp_path, frames_seen):
+    use_system_styles(load_config("smoke.yaml")["system_info"])  # the catalog's labels, as the movie job takes them
     output = tmp_path / "surface.mp4"
     assert movies.b0_surface_movie(make_p1_measures(), "3d_hertz", output, frames=8) == 8
     assert frame_count(output) == 8

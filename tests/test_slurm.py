@@ -23,7 +23,7 @@ import pytest
 import xarray as xr
 import yaml
 
-from conftest import REAL_PATH, REPO, SCONTROL_STUB_PREFIX
+from conftest import REAL_PATH, REPO, SCONTROL_STUB_PREFIX, load_config
 from forcenet.datasets import open_dataset, paths
 from forcenet.systems import validate_config
 
@@ -93,7 +93,7 @@ def slurm_cluster():
 
 
 def _targets() -> list[str]:
-    config = yaml.safe_load(SMOKE.read_text())
+    config = load_config("smoke.yaml")
     return [path("results", system) for system in config["systems"] for path in (paths.network_measures, paths.diagrams)]
 
 
@@ -137,7 +137,7 @@ def test_same_files(runs):
     local_dir, slurm_dir, _ = runs
     local_files, slurm_files = _netcdf_files(local_dir), _netcdf_files(slurm_dir)
     assert slurm_files == local_files
-    smoke = yaml.safe_load(SMOKE.read_text())
+    smoke = load_config("smoke.yaml")
     expected = smoke["realizations"] * sum(len(spec.rho_grid) for spec in validate_config(smoke).values())
     assert sum(1 for p in local_files if p.parts[1] == "sim") == expected
     assert sum(1 for p in local_files if p.parts[1] == "analysis") == expected

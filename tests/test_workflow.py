@@ -20,7 +20,7 @@ import pytest
 import xarray as xr
 import yaml
 
-from conftest import REPO, snakemake
+from conftest import REPO, snakemake, load_config
 from forcenet.datasets import open_dataset, paths, validate_dataset, write_netcdf
 
 pytestmark = pytest.mark.workflow
@@ -28,7 +28,7 @@ pytestmark = pytest.mark.workflow
 
 def test_every_netcdf_output_validates(smoke_run):
     files = sorted((smoke_run / "results").rglob("*.nc"))
-    config = yaml.safe_load((REPO / "config/smoke.yaml").read_text())
+    config = load_config("smoke.yaml")
     n_snapshots = len(glob.glob(paths.snapshot(smoke_run / "results", "*", "*", "*")))
     assert n_snapshots >= len(config["systems"]) * config["realizations"] * 3
     assert len(files) >= 2 * n_snapshots
@@ -122,7 +122,7 @@ def test_the_readme_resume_instructions_work_after_sigkill(tmp_path):
     commands = readme_resume_commands()
     assert [command[:2] for command in commands] == [[".venv/bin/snakemake", "--unlock"],
                                                      [".venv/bin/snakemake", "--cores"]]
-    config = yaml.safe_load((REPO / "config/config.yaml").read_text())
+    config = load_config("config.yaml")
     config["systems"] = {"2d_linear": config["systems"]["2d_linear"]}
     config["studies"] = {"p1": {"systems": ["2d_linear"]}}
     config["realizations"] = 1
@@ -172,7 +172,7 @@ def test_the_readme_resume_instructions_work_after_sigkill(tmp_path):
 
 def test_each_study_uses_its_rattler_rule_and_p2_products_show_p2(smoke_run):
     results = smoke_run / "results"
-    config = yaml.safe_load((REPO / "config/smoke.yaml").read_text())
+    config = load_config("smoke.yaml")
     rules = {s: "once" for s in config["studies"]["p1"]["systems"]} | {
         s: "none" for s in config["studies"]["p2"]["systems"]}  # smoke: P1 removes rattlers, P2 keeps them
     for system, rule in rules.items():
@@ -239,7 +239,7 @@ def test_each_reading_beside_is_built_with_the_other_convention_and_judged(smoke
     from forcenet.pipeline import readings_beside
 
     results = smoke_run / "results"
-    config = yaml.safe_load((REPO / "config/smoke.yaml").read_text())
+    config = load_config("smoke.yaml")
     readings = readings_beside(config)
     folder = {key: paths.reading(results, reading.folder) for key, reading in readings.items()}
     for system, spec in config["systems"].items():

@@ -67,7 +67,7 @@ def test_recorded_runs_are_restored_not_simulated_and_analyse_to_the_same_values
 
 def test_a_record_of_other_settings_stops_the_dry_run_naming_it(recorded):
     config = yaml.safe_load((recorded / "smoke.yaml").read_text())
-    config["systems"]["2d_linear"]["friction"] = 0.3
+    config["systems"]["2d_linear"]["wall_speed"] = 0.004  # a scale key the run depends on: another fingerprint
     (recorded / "changed.yaml").write_text(yaml.safe_dump(config))
     dry = snakemake(recorded, "-n", config=recorded / "changed.yaml")
     assert dry.returncode != 0

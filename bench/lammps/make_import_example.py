@@ -50,12 +50,12 @@ TIMESTEP_STRIDE = 1000
 
 def make_states(system: str, box: float, rhos, seed: int = SEED) -> list[dict]:
     """Our engine's states at each ρ of `rhos` (module docstring)."""
-    import yaml
+    from forcenet.catalog import load_run_config
 
     from forcenet.dem.protocol import build_simulation, contact_law_for_system, wall_shift_for
     from forcenet.systems import system_from_config
 
-    config = yaml.safe_load((REPO / "config" / "smoke.yaml").read_text())
+    config = load_run_config(REPO / "config" / "smoke.yaml")
     entry = dict(config["systems"][system], box_length=box, rho=list(rhos))
     spec = system_from_config(system, dict(config, systems={system: entry}))
     sim, _ = build_simulation(spec, seed)

@@ -20,7 +20,7 @@ from typing import Any, Iterator, Mapping, Sequence
 
 from forcenet.datasets.paths import CHECKPOINT, STAGE_LOCK, realization_index, staging_dir
 from forcenet.errors import ForcenetError
-from forcenet.systems import material_from_config, realization_seed, system_from_config
+from forcenet.systems import material_from_config, run_seed, system_from_config
 
 
 #: an error while the outputs' filesystem has fewer free bytes than this is reported as a full disk [bytes] (a failed
@@ -107,7 +107,7 @@ def run_attrs(config: Mapping[str, Any], system: str, realization: int, title: s
 
     from forcenet.datasets.schema import ENGINE_SOURCE_FORMAT, SOURCE_FORMAT_ATTR
 
-    seed = realization_seed(config["seed"], system, realization)
+    seed = run_seed(config, system, realization)
     return {**provenance_attrs(system=system, realization=realization, seed=seed, config=config, title=title),
             SOURCE_FORMAT_ATTR: ENGINE_SOURCE_FORMAT}
 
@@ -444,7 +444,7 @@ def open_by_system(paths: Sequence[str], kind: str) -> dict[str, Any]:
 
 def figure(*, name: str, systems: Sequence[str], inputs: Mapping[str, Sequence[str]], pdf: str, png: str, csv: str,
            force_unit: str | None = None, rattler_rule: bool | str | None = None,
-           log_path: str | None = None) -> None:
+           system_info: Mapping[str, Mapping[str, str]] | None = None, log_path: str | None = None) -> None:
     """Draw the figure `name` (an id of `forcenet.plotting.registry.FIGURES`) from its input files, and write the
     values it draws to `csv` (one preparation feeds both).
 
@@ -452,13 +452,15 @@ def figure(*, name: str, systems: Sequence[str], inputs: Mapping[str, Sequence[s
     for the state kinds); `systems` are the figure's systems (one for a figure that reads one, given to its
     preparation as `system`);
     `force_unit` (``analysis.p1_force_unit``) is the unit of P1's F_max rule whose ρ_max the ρ-axis figures mark;
-    `rattler_rule` is the study's (figures that build networks from snapshots)."""
+    `rattler_rule` is the study's (figures that build networks from snapshots); `system_info` the catalog's label
+    and colour of each system (the config's ``system_info``)."""
     from forcenet.plotting.figure_data import write_csv
     from forcenet.plotting.registry import draw_figure, figure_data, figure_entry
-    from forcenet.plotting.style import apply_style, save_figure
+    from forcenet.plotting.style import apply_style, save_figure, use_system_styles
 
     with job_logger(log_path, f"figure.{name}") as log:
         apply_style()
+        use_system_styles(system_info or {})
         entry = figure_entry(name)
         opened = [FIGURE_INPUT_READERS[kind](inputs[kind], inputs) for kind in entry.inputs]
         one_system = systems[0] if entry.systems != "all" else None  # a P1 preparation's `system` is a choice
@@ -504,14 +506,17 @@ FIGURE_INPUT_READERS = {
 
 
 def movie(*, kind: str, system: str, inputs: Sequence[str], output: str, rattler_rule: bool | str,
-          log_path: str | None = None, force_unit: str | None = None) -> None:
+          log_path: str | None = None, force_unit: str | None = None,
+          system_info: Mapping[str, Mapping[str, str]] | None = None) -> None:
     """One compression movie of `system` (`forcenet.plotting.movies`): kind "network" from the snapshots of one
     run in ρ order (`inputs`), networks made by the study's `rattler_rule`; kind "b0_surface" from the
     network_measures.nc of every P1 system, its ρ_max from ⟨F⟩ in `force_unit` (``analysis.p1_force_unit``)."""
     from forcenet.datasets import read_snapshot
     from forcenet.plotting import movies
+    from forcenet.plotting.style import use_system_styles
 
     with job_logger(log_path, f"movie.{kind}.{system}") as log:
+        use_system_styles(system_info or {})
         if kind == "network":
             frames = movies.network_movie([read_snapshot(p) for p in inputs], output, rattler_rule=rattler_rule)
         elif kind == "b0_surface":

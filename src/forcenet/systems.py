@@ -462,6 +462,13 @@ def realization_seed(base_seed: int, system_name: str, realization: int) -> int:
     return (int(base_seed) * 1_000_003 + zlib.crc32(system_name.encode()) * 101 + int(realization)) % (2 ** 32)
 
 
+def run_seed(config: Mapping[str, Any], system: str, realization: int) -> int:
+    """The seed of realization `realization` of `system`: `realization_seed` of its own name, or of the system its
+    entry names under ``seeds_of`` (a control or a series point that starts from the same initial states as the
+    system it is compared with: paired runs)."""
+    return realization_seed(config["seed"], config["systems"][system].get("seeds_of", system), realization)
+
+
 def select_table_snapshots(rhos, table_rho: float) -> tuple[int, int, int]:
     """Indices (a, b, c) of three consecutive grid points around `table_rho` (P2 Fig. 1: three values of ρ close
     to 0.79): b is the grid point nearest `table_rho`, a and c its neighbours below and above (shifted inwards at

@@ -10,6 +10,7 @@ from typing import Any, Mapping
 
 import yaml
 
+from forcenet.catalog import ConfigFileError, expanded, read_config_file  # noqa: F401 (the readers' home)
 from forcenet.errors import ForcenetError
 from forcenet.systems import ConfigError, config_sha256, non_finite_number, read_all_sources, validate_config
 
@@ -45,56 +46,6 @@ CONFIG_SCHEMA = "workflow/schemas/config.schema.yaml"
 
 #: where outputs go when a config sets no results_dir (relative to the working directory)
 DEFAULT_RESULTS_DIR = "results"
-
-
-class ConfigFileError(ForcenetError):
-    """A config file that cannot be read as YAML: the message names the file and the line."""
-
-
-def duplicate_keys(node: yaml.Node, key: str = "") -> list[tuple[str, int, int]]:
-    """(key, line, line of its first occurrence) of every key given twice in one mapping of a composed YAML
-    document, keys written ``systems.2d_hertz.friction`` and lines counted from 1 (YAML itself keeps the last value
-    silently)."""
-    found = []
-    if isinstance(node, yaml.MappingNode):
-        first_lines: dict[str, int] = {}
-        for key_node, value_node in node.value:
-            name = str(key_node.value)
-            path = f"{key}.{name}" if key else name
-            line = key_node.start_mark.line + 1
-            if name in first_lines:
-                found.append((path, line, first_lines[name]))
-            first_lines.setdefault(name, line)
-            found += duplicate_keys(value_node, path)
-    elif isinstance(node, yaml.SequenceNode):
-        for index, item in enumerate(node.value):
-            found += duplicate_keys(item, f"{key}[{index}]")
-    return found
-
-
-def read_config_file(path: str | Path) -> dict:
-    """The mapping in a YAML config file; `ConfigFileError` naming the file (and line) when it is missing, not YAML,
-    not a mapping, or gives one key twice in a mapping."""
-    path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except OSError as error:
-        raise ConfigFileError(f"config file {path}: cannot be read ({error.strerror or error})") from None
-    try:
-        config = yaml.safe_load(text)
-    except yaml.YAMLError as error:
-        mark = getattr(error, "problem_mark", None)
-        where = f", line {mark.line + 1}, column {mark.column + 1}" if mark is not None else ""
-        problem = getattr(error, "problem", None) or str(error).splitlines()[0]
-        raise ConfigFileError(f"config file {path}{where}: not valid YAML ({problem})") from None
-    if not isinstance(config, dict):
-        raise ConfigFileError(f"config file {path}: must be a mapping of keys (seed, systems, …) at the top level")
-    repeated = duplicate_keys(yaml.compose(text, Loader=yaml.SafeLoader))
-    if repeated:
-        key, line, first = repeated[0]
-        raise ConfigFileError(f"config file {path}, line {line}: key '{key}' is given twice (first at line {first}); "
-                              "YAML would keep the last value silently: remove one")
-    return config
 
 
 def resolve_results_dir(value: str | None, working_dir: str | Path) -> tuple[str, Path]:
@@ -169,9 +120,10 @@ def schema_problem(config: Mapping[str, Any], schema_path: str | Path) -> Config
 
 
 def checked_config(config: Mapping[str, Any], schema_path: str | Path) -> dict:
-    """Validate a workflow config (JSON schema, then `forcenet.systems.validate_config` with the physical checks of
-    `forcenet.checks`) and return its systems by name; raises the first `ConfigError`, whose one-line message names
-    the key. A NaN or infinity is named before the schema runs (the schema's bounds cannot see NaN)."""
+    """Expand a run config with its catalog in place (`forcenet.catalog.expanded`), validate it (JSON schema, then
+    `forcenet.systems.validate_config` with the physical checks of `forcenet.checks`) and return its systems by
+    name; raises the first `ConfigError` (or `CatalogError`), whose one-line message names the key. A NaN or infinity is named before the schema runs (the schema's bounds cannot see NaN)."""
+    expanded(config)  # a run config names catalog systems (forcenet.catalog): in place, as the rules read it
     problem = non_finite_number(config) or schema_problem(config, schema_path)
     if problem is not None:
         raise problem

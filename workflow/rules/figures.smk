@@ -64,6 +64,7 @@ for _figure, (_entry, _systems) in BUILT_FIGURES.items():
             systems=_systems,
             force_unit=FORCE_UNIT,
             rattler_rule=study_rattler_rule(config, _systems[0]),  # the networks the analysis measured
+            system_info={name: config["system_info"][name] for name in _systems if name in config["system_info"]},
         script:
             "../scripts/figure.py"
 
@@ -125,6 +126,7 @@ for _movie, (_kind, _system) in P1_MOVIES.items():
             system=_system,
             rattler_rule=study_rattler_rule(config, _system),
             force_unit=FORCE_UNIT,  # the b0_surface movie's ρ_max, as the figures
+            system_info={name: info for name, info in config["system_info"].items() if name in P1_SYSTEMS + [_system]},
         script:
             "../scripts/movie.py"
 

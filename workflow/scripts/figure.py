@@ -5,5 +5,6 @@ figure(  # noqa: F821 — `snakemake` is injected by Snakemake
     name=snakemake.params.figure, systems=snakemake.params.systems, inputs=dict(snakemake.input.items()),
     pdf=snakemake.output.pdf, png=snakemake.output.png, csv=snakemake.output.csv,
     force_unit=snakemake.params.force_unit, rattler_rule=snakemake.params.rattler_rule,
+    system_info=snakemake.params.system_info,
     log_path=snakemake.log[0],
 )

@@ -4,5 +4,5 @@ from forcenet.pipeline import movie
 movie(  # noqa: F821 — `snakemake` is injected by Snakemake
     kind=snakemake.params.kind, system=snakemake.params.system, inputs=list(snakemake.input),
     output=snakemake.output[0], rattler_rule=snakemake.params.rattler_rule, log_path=snakemake.log[0],
-    force_unit=snakemake.params.force_unit,
+    force_unit=snakemake.params.force_unit, system_info=snakemake.params.system_info,
 )

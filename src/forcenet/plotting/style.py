@@ -2,7 +2,7 @@
 from __future__ import annotations
 
 import zlib
-from typing import Sequence
+from typing import Mapping, Sequence
 
 import matplotlib
 
@@ -11,20 +11,9 @@ matplotlib.use("Agg")  # figures are files; no display on compute nodes
 import matplotlib.pyplot as plt  # noqa: E402
 import seaborn as sns  # noqa: E402
 
-SYSTEM_COLORS = {
-    "2d_hertz": "#1b9e77",
-    "2d_linear": "#d95f02",
-    "3d_hertz": "#7570b3",
-    "2d_poly_mu05": "#e7298a",
-    "2d_poly_mu0": "#66a61e",
-}
-SYSTEM_LABELS = {
-    "2d_hertz": "2D Hertzian",
-    "2d_linear": "2D linear",
-    "3d_hertz": "3D Hertzian",
-    "2d_poly_mu05": "2D polydisperse, μ = 0.5",
-    "2d_poly_mu0": "2D polydisperse, μ = 0",
-}
+#: label and colour of each system a figure draws ({name: {"label": …, "colour": …}}), from the system catalog
+#: (`config/systems.yaml`, the config's ``system_info``): `use_system_styles` fills it before a figure is drawn
+SYSTEM_STYLES: dict[str, dict[str, str]] = {}
 FALLBACK_COLORS = sns.color_palette("colorblind", 10)
 
 LABELS = {
@@ -40,14 +29,21 @@ LABELS = {
 FORCE_KIND_WORDS = {"total": "total forces", "normal": "normal forces", "tangential": "tangential forces"}
 
 
+def use_system_styles(system_info: Mapping[str, Mapping[str, str]]) -> None:
+    """Take the label and colour of each system from the config's ``system_info`` (the catalog's entries); a system
+    without one (an imported system) is drawn under its name in a colour of its own."""
+    SYSTEM_STYLES.update({name: {"label": info["label"], "colour": info["colour"]}
+                          for name, info in system_info.items() if "label" in info and "colour" in info})
+
+
 def system_color(name: str):
-    if name in SYSTEM_COLORS:
-        return SYSTEM_COLORS[name]
+    if name in SYSTEM_STYLES:
+        return SYSTEM_STYLES[name]["colour"]
     return FALLBACK_COLORS[zlib.crc32(name.encode()) % len(FALLBACK_COLORS)]  # stable across runs
 
 
 def system_label(name: str) -> str:
-    return SYSTEM_LABELS.get(name, name)
+    return SYSTEM_STYLES[name]["label"] if name in SYSTEM_STYLES else name
 
 
 def panel_figure(n_panels: int, ncols: int = 3, size=(4.2, 3.3), projections: Sequence[str | None] | None = None):

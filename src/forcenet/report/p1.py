@@ -42,12 +42,15 @@ from forcenet.report.realizations import mean_and_spread, realization_mean
 from forcenet.systems import KINETIC_ENERGY_FLUCTUATION
 
 # --- P1's reference values (the only results typed in) --------------------------------------------------------
-P1_SYSTEMS = ("2d_hertz", "2d_linear", "3d_hertz")  # P1's panel order a, b, c
 HERTZ_2D, LINEAR_2D, HERTZ_3D = (2, "hertz"), (2, "linear"), (3, "hertz")  # roles: (dimension, force law)
-P1_ROLES = {"2d_hertz": HERTZ_2D, "2d_linear": LINEAR_2D, "3d_hertz": HERTZ_3D}
-PAPER_RHO_J = {"2d_hertz": 0.842, "2d_linear": 0.834, "3d_hertz": 0.57}  # P1 §4 (inflection of Z)
-PAPER_RHO_MAX = {"2d_hertz": 0.906, "2d_linear": 0.890, "3d_hertz": 0.710}  # P1 §3 (F_max rule)
-PAPER_RHO_MAX_BY_ROLE = {P1_ROLES[name]: rho for name, rho in PAPER_RHO_MAX.items()}
+P1_ROLE_ORDER = (HERTZ_2D, LINEAR_2D, HERTZ_3D)  # P1's panel order a, b, c
+#: the catalog's P1 roles (config/systems.yaml, forcenet.catalog.ROLES) as (dimension, force law)
+CATALOG_ROLES = {"p1_hertz_2d": HERTZ_2D, "p1_linear_2d": LINEAR_2D, "p1_hertz_3d": HERTZ_3D}
+#: the shipped systems that play P1's roles: the names of the rows of a role no system of the results plays
+P1_SYSTEMS = ("2d_hertz", "2d_linear", "3d_hertz")
+P1_ROLES = dict(zip(P1_SYSTEMS, P1_ROLE_ORDER))
+PAPER_RHO_J_BY_ROLE = {HERTZ_2D: 0.842, LINEAR_2D: 0.834, HERTZ_3D: 0.57}  # P1 §4 (inflection of Z)
+PAPER_RHO_MAX_BY_ROLE = {HERTZ_2D: 0.906, LINEAR_2D: 0.890, HERTZ_3D: 0.710}  # P1 §3 (F_max rule)
 PAPER_Z_AT_JAMMING = {2: 3.0, 3: 6.0}  # P1 §4.3: ⟨k⟩ ≈ 3 (2D) and ≈ 6 (3D) close to jamming
 PAPER_PHI_C = {2: 0.5, 3: 0.2}  # P1 §4.3, Eq. 6 with ⟨k²⟩ ≈ ⟨k⟩²: φ_c ≃ 0.5 (2D), 0.2 (3D) at ρ_J
 PAPER_CLUSTER_SIZE_PEAK = {LINEAR_2D: 1.25, HERTZ_2D: 1.5, HERTZ_3D: 2.0}  # P1 §4.2: F_th of the ⟨S⟩/N maximum
@@ -90,10 +93,28 @@ def per_particle(ds: xr.Dataset, name: str) -> xr.DataArray:
     return ds[name] / ds["n_particles"]
 
 
-def system_order(names) -> list[str]:
-    """P1's panel order (2D Hertzian, 2D linear, 3D) first, any other system after, alphabetically."""
-    names = list(names)
-    return [n for n in P1_SYSTEMS if n in names] + sorted(n for n in names if n not in P1_SYSTEMS)
+def system_order(systems) -> list[str]:
+    """P1's panel order (2D Hertzian, 2D linear, 3D Hertzian) first, any other system after, alphabetically.
+
+    `systems`: {name: its file (a dataset recording its dimension and force law), its `SystemData` (which has a
+    role), or None}; or names alone. A system whose role none of these tells takes that of its shipped name
+    (`P1_ROLES`). Two systems of one role keep their alphabetical order."""
+    files = systems if isinstance(systems, Mapping) else dict.fromkeys(systems)
+
+    def role_of(name, value):
+        role = getattr(value, "role", None) or (file_role(value) if isinstance(value, xr.Dataset) else None)
+        return role or P1_ROLES.get(name)
+
+    roles = {name: role_of(name, value) for name, value in files.items()}
+    rank = {role: index for index, role in enumerate(P1_ROLE_ORDER)}
+    return sorted(files, key=lambda name: (rank.get(roles[name], len(rank)), name))
+
+
+def file_role(ds: xr.Dataset) -> tuple[int, str] | None:
+    """(dimension, force law) a system's stacked file records (None when it records neither)."""
+    if "dimension" not in ds.attrs or "force_law" not in ds.attrs:
+        return None
+    return (int(ds.attrs["dimension"]), str(ds.attrs["force_law"]).lower())
 
 
 def system_dimension(ds: xr.Dataset, name: str = "") -> int:

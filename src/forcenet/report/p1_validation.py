@@ -23,8 +23,8 @@ from forcenet.report.claims import (BELOW_TOLERANCE, FAILS, IMPORTED_NOT_EVALUAT
                                     rows_beside, verdict_summary)
 from forcenet.report.claims_table import (VERDICT_COLUMNS, TableLayout, TableSection, claims_frame,
                                           validation_markdown, with_paper_size, write_validation_table)
-from forcenet.report.p1 import (DEFAULT_P1_FORCE_UNIT, P1_FORCE_UNITS, P1_RHO_STEP, P1_ROLES, P1_SYSTEMS, PAPER_PHI_C,
-                                PAPER_RHO_J, PAPER_RHO_MAX, PAPER_Z_AT_JAMMING, FMaxCut, cut_at_rho_max, f_max_cut,
+from forcenet.report.p1 import (DEFAULT_P1_FORCE_UNIT, P1_FORCE_UNITS, P1_RHO_STEP, P1_ROLES, PAPER_PHI_C,
+                                PAPER_RHO_J_BY_ROLE, PAPER_RHO_MAX_BY_ROLE, PAPER_Z_AT_JAMMING, file_role, FMaxCut, cut_at_rho_max, f_max_cut,
                                 isostatic_crossing, jamming_point, rho_values, select_total, never_dying_at_minus_one,
                                 system_dimension, system_force_law, system_order, value_at)
 from forcenet.report.p1_diagnostics import SHAPE_READINGS, with_shape_reading
@@ -126,7 +126,10 @@ def p1_validation(measures: Mapping[str, xr.Dataset], *, force_unit: str = DEFAU
                   for name, sets in beside.items()}
         beside = {NEVER_DYING_LEFT_OUT: present, **beside}
         present = at_minus_one(present, diagrams)
-    names = (set(P1_SYSTEMS) | set(present)) - set(counterparts)
+    # every P1 role gets rows: a role that no system of the results plays is listed under its shipped name
+    played = {file_role(ds) for name, ds in present.items() if name not in counterparts}
+    missing = {name: None for name, role in P1_ROLES.items() if role not in played and name not in present}
+    names = {name: ds for name, ds in {**missing, **present}.items() if name not in counterparts}
     cuts = _cuts(present, counterparts)
     context = _context(present, tolerances_, force_unit, judge_up_to_rho_max, cuts, overlaps, counterparts)
     draws = bootstrap_draws(present, resamples, seed)
@@ -205,8 +208,8 @@ def system_data(name: str, ds: xr.Dataset, cut: FMaxCut | None = None, tolerance
                       below_cut=tolerances.below_cut)
 
 
-def _claim_rows(claim_: Claim, context: ClaimContext, names: set[str], resampled: Sequence[ClaimContext] = (),
-                reading: str = "") -> list[JudgedClaim]:
+def _claim_rows(claim_: Claim, context: ClaimContext, names: Mapping[str, xr.Dataset | None],
+                resampled: Sequence[ClaimContext] = (), reading: str = "") -> list[JudgedClaim]:
     """The rows of one claim: one across systems (``per_system=False``), else one per system of its scope among
     `names` (a system of P1 missing from the results is "not evaluated"); its robustness from the same claim
     judged in each of the `resampled` contexts; `reading` names the reading of `context`."""
@@ -272,19 +275,21 @@ def _value_rows(name: str, system: SystemData | None, cuts: Mapping[str, FMaxCut
                 force_unit: str) -> list[JudgedClaim]:
     """P1's numbers of one system beside ours: ρ_J, ρ_max under each force unit, Z at ρ_J (with and without
     rattlers), φ_c of P1 Eq. 6 and ρ at Z = d + 1; every one "not evaluated" when the system is not in the results."""
-    dimension = system.dimension if system else P1_ROLES.get(name, (2, ""))[0]
+    role = system.role if system else P1_ROLES.get(name)
+    dimension = role[0] if role else 2
+    paper_rho_j, paper_rho_max = PAPER_RHO_J_BY_ROLE.get(role, math.nan), PAPER_RHO_MAX_BY_ROLE.get(role, math.nan)
     paper_z, paper_phi = PAPER_Z_AT_JAMMING.get(dimension, math.nan), PAPER_PHI_C.get(dimension, math.nan)
     rho_max_items = [(unit, f"rho_max (F_max rule, <F> in {unit})" + (" [figures]" if unit == force_unit else ""))
                      for unit in P1_FORCE_UNITS]
     if system is None:
-        items = [("rho_J", "rho_J (inflection of Z)", PAPER_RHO_J.get(name, math.nan), "4")]
-        items += [(f"rho_max.{unit}", item, PAPER_RHO_MAX.get(name, math.nan), "3") for unit, item in rho_max_items]
+        items = [("rho_J", "rho_J (inflection of Z)", paper_rho_j, "4")]
+        items += [(f"rho_max.{unit}", item, paper_rho_max, "3") for unit, item in rho_max_items]
         items += [("Z_at_rho_J", "Z at rho_J", paper_z, "4.3"), ("phi_c", "phi_c = 1/(Z(rho_J) - 1)", paper_phi, "4.3")]
         return [_value(id_, section, item, name, math.nan, paper, "system not in the results", NOT_EVALUATED)
                 for id_, item, paper, section in items]
     ds, rho_j = system.full, system.rho_j
     realizations = ds.sizes.get("realization", 1)
-    rows = [_value("rho_J", "4", "rho_J (inflection of Z)", name, rho_j, PAPER_RHO_J.get(name, math.nan),
+    rows = [_value("rho_J", "4", "rho_J (inflection of Z)", name, rho_j, paper_rho_j,
                    f"inflection of the mean Z(rho) over {realizations} realizations")]
     for unit, item in rho_max_items:
         cut = cuts[unit]
@@ -292,9 +297,9 @@ def _value_rows(name: str, system: SystemData | None, cuts: Mapping[str, FMaxCut
             evidence = (f"every rho has mean <F> > F_max: rho_max lies below the grid (<F> in {cut.force_units})"
                         if cut.below_grid(name) else f"largest rho with mean <F> <= F_max, <F> in {cut.force_units}")
             rows.append(_value(f"rho_max.{unit}", "3", item, name, cut.rho_max.get(name, math.nan),
-                               PAPER_RHO_MAX.get(name, math.nan), evidence))
+                               paper_rho_max, evidence))
         else:
-            rows.append(_value(f"rho_max.{unit}", "3", item, name, math.nan, PAPER_RHO_MAX.get(name, math.nan), cut,
+            rows.append(_value(f"rho_max.{unit}", "3", item, name, math.nan, paper_rho_max, cut,
                                NOT_EVALUATED))
     z_j = value_at(ds, "Z", rho_j)
     rows.append(_value("Z_at_rho_J", "4.3", "Z at rho_J", name, z_j, paper_z, "mean Z (all particles) at rho_J"))

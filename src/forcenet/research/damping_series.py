@@ -1,8 +1,8 @@
 """The Hertz damping series (docs/validation/damping.md): one paper-protocol run per normal damping γ_n, and what
 each gives for the rule of docs/decisions.md ("The Hertz damping rule") and for P1's Hertz claims.
 
-A series run is a results folder made by `config/validation.yaml` with an overlay of `config/damping/` (one
-system, one realization, `damping_model: explicit`). `series_row` reads its snapshots (`sim/`), its stacked
+A series run is realization 0 of a system of `config/damping/systems.yaml` (2d_hertz or 3d_hertz with another
+`normal_damping`), made by a run config of `config/damping/`. `series_row` reads its snapshots (`sim/`), its stacked
 analysis (`network_measures.nc`, or the run's own analyses while that is not written: `run_network_measures`) and
 its run cost, and returns one row:
 

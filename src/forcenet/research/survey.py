@@ -33,7 +33,7 @@ from typing import Any, Mapping, Sequence
 import numpy as np
 import yaml
 
-from forcenet.systems import realization_seed, system_from_config
+from forcenet.systems import run_seed, system_from_config
 
 #: distance from the walls [d_ave] beyond which a snapshot's packing counts as bulk (`snapshot_row`'s rho_bulk)
 BULK_MARGIN = 1.0
@@ -139,7 +139,7 @@ def run_survey(config: Mapping[str, Any], system: str, realization: int = 0, log
     from forcenet.pipeline import run_attrs
 
     spec = system_from_config(system, config)
-    seed = realization_seed(config["seed"], system, realization)
+    seed = run_seed(config, system, realization)
     log = log or logging.getLogger(f"forcenet.research.survey.{system}")
     failure = None
     with tempfile.TemporaryDirectory(prefix="forcenet-survey-") as folder:
