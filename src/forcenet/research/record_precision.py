@@ -28,10 +28,10 @@ def numeric_parts(measures, prefix: str = "") -> dict[str, np.ndarray]:
     return parts
 
 
-def float32_differences(record_path: str | Path, system: str,
-                        dtype: type = np.float32) -> dict[tuple[str, str], float]:
+def float32_differences(record_path: str | Path, system: str, dtype: type = np.float32,
+                        rounded_arrays: tuple[str, ...] = ROUNDED) -> dict[tuple[str, str], float]:
     """{(force kind, measure): the largest relative difference over the record's states} between the analysis of each
-    state as recorded and of the same state with `ROUNDED` arrays rounded to `dtype` (0: identical; a count that
+    state as recorded and of the same state with `rounded_arrays` (default `ROUNDED`) rounded to `dtype` (0: identical; a count that
     moves by one of ten gives 0.1; inf: a diagram with another number of points). The analysis settings are those of the config the record's snapshots record."""
     from forcenet import pipeline
     from forcenet.datasets.records import state_snapshot
@@ -44,7 +44,7 @@ def float32_differences(record_path: str | Path, system: str,
     largest: dict[tuple[str, str], float] = {}
     for index in range(record.sizes["state"]):
         attrs, arrays = state_snapshot(record, index)
-        rounded = {name: np.asarray(value, dtype=dtype).astype(float) if name in ROUNDED else value
+        rounded = {name: np.asarray(value, dtype=dtype).astype(float) if name in rounded_arrays else value
                    for name, value in arrays.items()}
         exact = pipeline.snapshot_measures(snapshot_dataset(attrs=attrs, **arrays), params)
         approximate = pipeline.snapshot_measures(snapshot_dataset(attrs=attrs, **rounded), params)
