@@ -173,6 +173,25 @@ def dem_scaling_table(recs: dict) -> str:
     return lines_with_provenance(body, used)
 
 
+def dem_profile_table(recs: dict) -> str:
+    body, used = [], []
+    for case in ("2d", "3d"):
+        record = recs.get(f"dem_profile-{case}")
+        if body:
+            body.append("")
+        if not measured(record):
+            body += table([f"part of a {case.upper()} step"],
+                          [[not_measured(record, f"bench/dem_profile.py --only {case}")]])
+            continue
+        used.append((f"dem_profile-{case}", record))
+        m = record["measured"]
+        rows = [[part, f"{1e6 * value:.1f}", percent(m["shares"][part])] for part, value in m["parts_cpu_s"].items()]
+        rows.append(["whole step", f"{1e6 * m['whole_step_cpu_s']:.1f}", "100 %"])
+        body += table([f"part of a {case.upper()} step (N = {m['N']}, {m['pairs']} listed pairs, {m['rebuilds']} "
+                       f"rebuilds in {m['steps']} steps)", "µs per step (CPU)", "share"], rows)
+    return lines_with_provenance(body, used)
+
+
 def analysis_table(recs: dict) -> str:
     record = recs.get("analysis")
     if not measured(record):
@@ -273,7 +292,8 @@ def commands_table(recs: dict) -> str:
 
 
 TABLES = {"lammps_same_state": same_state_table, "dem_vs_lammps": dem_vs_lammps_table,
-          "dem_scaling": dem_scaling_table, "analysis": analysis_table, "p1_table": p1_table_table,
+          "dem_scaling": dem_scaling_table, "dem_profile": dem_profile_table,
+          "analysis": analysis_table, "p1_table": p1_table_table,
           "workflow_overhead": workflow_table, "commands": commands_table}
 
 

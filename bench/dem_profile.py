@@ -1,0 +1,170 @@
+#!/usr/bin/env python
+"""Where a DEM time step spends its time (benchmark, not a test): the kernels of one step timed apart on a frozen
+state, beside the whole step.
+
+usage: python bench/dem_profile.py [--only 2d|3d] [--steps 2000] [--repeat 3] [--cpu C] [--no-record]
+
+On the states of bench/dem_vs_lammps.py (bench/out/{2d,3d}_state.npz: N = 2000 disks, 4000 spheres, Hertz, near
+jamming; made by that benchmark's harness) it times, per step and in CPU seconds (median of --repeat runs):
+
+* the whole step: `Simulation.advance` over --steps steps, the neighbour-list rebuilds it triggers included;
+* the pair forces (`contacts.pair_forces_{2d,3d}`: the contact law, the tangential springs, the force sums);
+* the flat walls (`contacts.flat_wall_forces`, the candidate entries the step visits);
+* the fused Gear corrector–predictor of positions and rotations (`gear.gear_correct_predict`, twice a step);
+* the displacement and escape check (`stepping.check_positions`);
+* a neighbour-list rebuild (`Simulation.rebuild`), and how many the whole-step run made;
+
+each kernel called --steps times, from one compiled loop, on copies of the state's arrays. "other" is the whole step less the parts: the
+wall motion, the step status, the calls into numba. The record (bench/records.py) lands in
+bench/results/dem_profile-<case>.json and the table in docs/performance.md (bench/report.py).
+"""
+from __future__ import annotations
+
+import argparse
+import os
+import statistics
+import sys
+import time
+from pathlib import Path
+
+import numba
+import numpy as np
+
+import records  # bench/records.py
+from dem_vs_lammps import CASES, OUT, build_engine
+from forcenet.dem._kernels import contacts, gear, stepping
+from forcenet.dem.kernel_arguments import Loads, Motion
+
+HERE = Path(__file__).resolve().parent
+
+
+@numba.njit
+def _pairs_2d(n, motion, bodies, pairs, law, dt, loads):
+    for _ in range(n):
+        contacts.pair_forces_2d(motion, bodies, pairs, law, dt, loads, None)
+
+
+@numba.njit
+def _pairs_3d(n, motion, bodies, pairs, law, dt, loads):
+    for _ in range(n):
+        contacts.pair_forces_3d(motion, bodies, pairs, law, dt, loads, None)
+
+
+@numba.njit
+def _walls(n, motion, bodies, walls, lo, hi, law, dt, loads):
+    for _ in range(n):
+        contacts.flat_wall_forces(motion, bodies, walls, lo, hi, law, dt, loads, None)
+
+
+@numba.njit
+def _gear(n, position, rotation, force, torque, accel_position, accel_rotation, half_mass, half_inertia, n_mobile,
+          velocity, spin):
+    for _ in range(n):
+        gear.gear_correct_predict(position, force, accel_position, half_mass, n_mobile, velocity)
+        gear.gear_correct_predict(rotation, torque, accel_rotation, half_inertia, n_mobile, spin)
+
+
+@numba.njit
+def _check(n, position, reference, n_mobile, lo, hi, margin):
+    total = 0.0  # used, so that the compiler keeps the loop
+    for _ in range(n):
+        max_sq, bad = stepping.check_positions(position, reference, n_mobile, lo, hi, margin)
+        total += max_sq + bad
+        reference[0, 0] += 1e-300 * total  # a value the next call reads: no call can be hoisted out of the loop
+    return total
+
+
+def timed(call, n: int, warm: bool = True) -> float:
+    """CPU seconds per call of `call` over n calls (after one call that compiles it, unless `warm` is False)."""
+    if warm:
+        call()
+    start = time.process_time()
+    for _ in range(n):
+        call()
+    return (time.process_time() - start) / n
+
+
+def profile(state: dict, steps: int) -> dict:
+    """{part: CPU seconds per step} and the rebuild count of `steps` whole steps from the state."""
+    sim = build_engine(state)
+    sim.advance(20)  # JIT compilation (cached on disk after the first run) and a first rebuild
+    rebuilds = [0]
+    original = sim.rebuild
+
+    def counted() -> None:
+        rebuilds[0] += 1
+        original()
+
+    sim.rebuild = counted
+    whole = timed(lambda: sim.advance(steps), 1, warm=False) / steps
+    sim.rebuild = original
+    dim, dt = sim.dimension, sim.time_step
+    position, rotation = sim.gear_position.copy(), sim.gear_rotation.copy()
+    motion = Motion(position[0], position[1].copy(), rotation[1].copy(), 1.0 / dt)
+    loads = Loads(np.zeros_like(sim.force), np.zeros_like(sim.torque))
+    pairs = sim._pairs(sim.spring.copy())
+    walls = sim._walls(sim.wall_spring.copy())
+    bodies = sim._bodies()
+    law_values = tuple(float(v) for v in sim.law[:7])
+    lo = sim.box_lo + sim.wall_state[0]
+    hi = sim.box_hi - sim.wall_state[0]
+    pair_loop = _pairs_2d if dim == 2 else _pairs_3d
+    # each kernel called `steps` times from one compiled loop: no Python call in between (the step's own calls
+    # come from compiled code too)
+    parts = {
+        "pair forces": timed(lambda: pair_loop(steps, motion, bodies, pairs, law_values, dt, loads), 1) / steps,
+        "flat walls": timed(lambda: _walls(steps, motion, bodies, walls, lo, hi, sim.law, dt, loads), 1) / steps,
+    }
+    loads.force[:] = 0.0
+    loads.torque[:] = 0.0
+    parts["Gear corrector-predictor"] = timed(lambda: _gear(
+        steps, position, rotation, loads.force, loads.torque, sim.accel_position, sim.accel_rotation, sim.half_mass,
+        sim.half_inertia, sim.n_mobile, motion.velocity, motion.spin), 1) / steps
+    reference = position[0].copy()
+    parts["displacement check"] = timed(lambda: _check(steps, position[0], reference, sim.n_mobile, lo, hi,
+                                                       sim.escape_margin), 1) / steps
+    rebuild = timed(sim.rebuild, max(3, steps // 200), warm=False)
+    parts["neighbour-list rebuilds"] = rebuild * rebuilds[0] / steps
+    parts["other"] = whole - sum(parts.values())
+    return {"whole step": whole, "parts": parts, "rebuilds": rebuilds[0], "rebuild_s": rebuild,
+            "pairs": int(len(sim.pair_i)), "N": int(sim.n_mobile)}
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--only", choices=sorted(CASES))
+    ap.add_argument("--steps", type=int, default=2000)
+    ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--cpu", type=int, help="pin the run to this CPU")
+    records.add_no_record(ap)
+    args = ap.parse_args(argv)
+    if args.cpu is not None:
+        os.sched_setaffinity(0, {args.cpu})
+    for case in [args.only] if args.only else sorted(CASES):
+        path = OUT / f"{case}_state.npz"
+        run = records.Run("dem_profile", variant=case, settings={"steps": args.steps, "repeat": args.repeat,
+                                                                  "cpu": args.cpu},
+                          enabled=records.wanted(args, argv))
+        if not path.exists():
+            run.not_measured(f"{path} is missing: make it with bench/dem_vs_lammps.py")
+            print(f"{case}: {path} missing (bench/dem_vs_lammps.py makes it)")
+            continue
+        with np.load(path, allow_pickle=False) as z:
+            state = {k: z[k] for k in z.files}
+        runs = [profile(state, args.steps) for _ in range(args.repeat)]
+        median = {part: statistics.median(r["parts"][part] for r in runs) for part in runs[0]["parts"]}
+        whole = statistics.median(r["whole step"] for r in runs)
+        measured = {"whole_step_cpu_s": whole, "parts_cpu_s": median,
+                    "shares": {part: value / whole for part, value in median.items()},
+                    "rebuilds": runs[0]["rebuilds"], "rebuild_cpu_s": statistics.median(r["rebuild_s"] for r in runs),
+                    "N": runs[0]["N"], "pairs": runs[0]["pairs"], "steps": args.steps}
+        run.write(measured=measured, peer=None)
+        print(f"{case}: N = {measured['N']}, {measured['pairs']} listed pairs, whole step {whole * 1e3:.3f} ms "
+              f"(CPU), {measured['rebuilds']} rebuilds in {args.steps} steps")
+        for part, value in median.items():
+            print(f"  {part:28s} {value * 1e3:8.3f} ms  {100 * value / whole:5.1f} %")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
