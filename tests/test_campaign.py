@@ -289,3 +289,19 @@ def test_run_skips_a_queued_run_that_another_runner_took_meanwhile(config, monke
                                     say=said.append, start=start)
     assert started == ["r00", "r02"] and [row["realization"] for row in rows] == ["r00", "r02"]
     assert f"skipped: {SYSTEM} r01 is running (another process)" in said
+
+
+def test_a_variant_without_runs_is_estimated_from_its_base_of_the_same_size(config):
+    """A control of the catalog (`like:` its system, one size and grid) costs about what its system's runs cost;
+    one of another size does not borrow their figure."""
+    fake_run(config, "r00", cpu_seconds=720.0)
+    campaign.record_run(config, SYSTEM, "r00", results="results")
+    variant, resized = f"{SYSTEM}_variant", f"{SYSTEM}_resized"
+    config["systems"][variant] = dict(config["systems"][SYSTEM], friction=0.0)
+    config["systems"][resized] = dict(config["systems"][SYSTEM], box_length=config["systems"][SYSTEM]["box_length"] + 2)
+    config["system_info"] = {**config.get("system_info", {}), variant: {"like": SYSTEM}, resized: {"like": SYSTEM}}
+    config["realizations"] = {name: 1 for name in config["systems"]}
+    statuses = {s.system: s for s in campaign.campaign_status(config, results="results")}
+    assert statuses[variant].cpu_hours_to_go == 0.2
+    assert statuses[variant].detail == f"estimate: mean of the recorded runs of {SYSTEM} (same size and grid)"
+    assert statuses[resized].detail.startswith("estimate: cost model")

@@ -67,7 +67,8 @@ def test_a_variant_is_its_base_with_its_own_keys(tmp_path):
     assert config["systems"]["base"]["friction"] == 0.5 and config["systems"]["variant"]["friction"] == 0.0
     assert "initial_state" not in config["systems"]["variant"]  # null removes a key of the base
     assert config["systems"]["twice"]["box_length"] == 25 and config["systems"]["twice"]["friction"] == 0.0
-    assert config["system_info"]["twice"] == {"role": "p1_linear_2d", "label": "twice", "colour": "#000000"}
+    assert config["system_info"]["twice"] == {"role": "p1_linear_2d", "label": "twice", "colour": "#000000",
+                                              "like": "variant"}
     assert not {"role", "label", "colour", "like"} & set(config["systems"]["twice"])  # out of the fingerprint
     assert config["material"]["young_modulus"] == 23450.0 and config["systems_from"] == [catalog]
 

@@ -294,7 +294,9 @@ def _manifest_lock(records: str | os.PathLike):
 class RunStatus:
     """One run of a campaign config: `state` recorded / finished (published, no record yet) / running (a process
     holds its stage) / stopped (a stage to resume, nobody running it) / missing; CPU-hours done (recorded or
-    finished) and to go (an estimate: the mean of the system's recorded runs, else the cost model)."""
+    finished) and to go (an estimate: the mean of the system's recorded runs, else of its runs in the committed
+    tables' provenance, else of the recorded runs of the system it is a variant of when both have one size and
+    grid, else the cost model)."""
 
     system: str
     realization: str
@@ -353,10 +355,14 @@ def campaign_status(config: Mapping[str, Any], *, results: str | os.PathLike) ->
         fingerprint = simulation_sha256(config, system)
         recorded = {row["realization"]: row for row in manifest if row["system"] == system}
         measured = [float(row["cpu_hours"]) for row in recorded.values() if row["simulation_sha256"] == fingerprint]
+        base = _same_size_base(config, system)
+        based = [float(row["cpu_hours"]) for row in manifest if base and row["system"] == base]
         if measured:
             estimate, basis = sum(measured) / len(measured), "mean of recorded runs"
         elif system in tabled:
             estimate, basis = tabled[system], "mean in the committed tables' provenance"
+        elif based:
+            estimate, basis = sum(based) / len(based), f"mean of the recorded runs of {base} (same size and grid)"
         else:
             estimate, basis = simulation_cost(spec).core_hours, "cost model (errs long)"
         for index in realization_indices(config, system):
@@ -382,6 +388,23 @@ def campaign_status(config: Mapping[str, Any], *, results: str | os.PathLike) ->
                 detail = stale or f"estimate: {basis}"
                 statuses.append(RunStatus(system, name, "missing", 0.0, estimate, detail))
     return statuses
+
+
+def _same_size_base(config: Mapping[str, Any], system: str) -> str | None:
+    """The catalog system `system` is a variant of (``system_info.<name>.like``) when the two share their size,
+    start and ρ grid (so a run of one costs about what a run of the other does), else None."""
+    base = config.get("system_info", {}).get(system, {}).get("like")
+    entries = config["systems"]
+    if base is None:
+        return None
+    if base not in entries:  # the base is not run by this config: its entry from the catalog's files
+        from forcenet.catalog import read_catalog, resolve_entry
+
+        base_entry = resolve_entry(base, read_catalog(config.get("systems_from", []))[1])
+    else:
+        base_entry = entries[base]
+    same = all(base_entry.get(key) == entries[system].get(key) for key in ("box_length", "initial_state", "rho"))
+    return base if same else None
 
 
 def status_table(statuses: Sequence[RunStatus]) -> str:

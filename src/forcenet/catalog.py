@@ -9,7 +9,8 @@ system (``source:``) is described in the run config itself, since its source fil
 
 `expand_config` turns a run config into the config every other module reads: ``systems.<name>`` the full entry
 (physics, protocol and scale, exactly the keys a simulation depends on: `forcenet.systems.simulation_params`),
-``system_info.<name>`` its role, label and colour, and ``systems_from`` the catalog files it came from. A config
+``system_info.<name>`` its role, label and colour (and the system it is a variant of, ``like``), and
+``systems_from`` the catalog files it came from. A config
 with ``systems_from`` is full already (the config every output records): it is read as it is, so an output's
 recorded config runs the same systems again.
 """
@@ -199,6 +200,7 @@ def expand_config(run_config: Mapping[str, Any], *, source: str = "the config",
             continue
         resolved = resolve_entry(name, entries, catalog)
         info = {key: resolved.pop(key) for key in INFO_KEYS if key in resolved}
+        base = entries[name].get("like")
         missing = [key for key in INFO_KEYS if key not in info]
         if missing:
             raise CatalogError(f"{catalog}: system '{name}' has no {missing[0]} (every system names its role, label "
@@ -206,7 +208,7 @@ def expand_config(run_config: Mapping[str, Any], *, source: str = "the config",
         if info["role"] not in ROLES:
             raise CatalogError(f"{catalog}: systems.{name}.role is '{info['role']}', not one of {list(ROLES)}")
         config["systems"][name] = _apply_scale(name, resolved, overrides, source)
-        config["system_info"][name] = info
+        config["system_info"][name] = {**info, "like": base} if base else info
     if config["system_info"] and "material" not in config and material:
         config["material"] = copy.deepcopy(material)
     config["systems_from"] = [str(p) for p in paths]
