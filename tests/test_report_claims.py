@@ -388,3 +388,43 @@ def test_the_campaign_report_stacks_each_table_unchanged_under_its_provenance(tm
     assert back.loc[1, "marker"] == "see issue #24"  # a "#" in a cell is kept
     md = (tmp_path / "p1.md").read_text()
     assert "| 1 |" in md and "| 2d_hertz | 2025 | 2 | 1.00 |" in md
+
+
+# --- a judge changed after its verdicts were read (issue 53) -------------------------------------------------------
+def test_a_judge_change_names_its_date_rule_and_the_verdict_before():
+    change = claims.JudgeChange("the rule now", {"a": "does not hold", "": "holds"}, systems=("a", "b"))
+    assert change.text("a") == "2026-12-05: the rule now (before: does not hold)"
+    assert change.text("b") == "2026-12-05: the rule now (before: holds)"  # "" covers every other row
+    assert change.text("a", reading="another reading") == "2026-12-05: the rule now"  # its verdict before is unknown
+    assert change.text("c") == ""  # a system the change leaves alone
+    claim = claims.Claim(id="x-1", section="1", statement="s", criterion="c", judge=lambda: None)
+    row = claims.judge_claim(claim, "a", math.nan, "c", lambda: claims.Judgement(1.0, "e", True), changed=change)
+    assert row.judge_changed_after_reading == change.text("a")
+    assert claims.judge_claim(claim, "a", math.nan, "c", lambda: claims.Judgement(1.0, "e", True)
+                              ).judge_changed_after_reading == ""
+
+
+def test_a_verdict_on_one_run_says_so_instead_of_a_share():
+    claim = claims.Claim(id="x-1", section="1", statement="s", criterion="c", judge=lambda: None)
+    judged = claims.Judgement(1.0, "e", True, one_run=("b_mu0",))
+    row = claims.judge_claim(claim, "all", math.nan, "c", lambda: judged, resampled=[lambda: judged] * 4)
+    assert row.robustness == "one run: b_mu0 (1 over the resamples of the others)"
+    # resting on runs with realizations of their own: the share
+    plain = claims.Judgement(1.0, "e", True)
+    assert claims.judge_claim(claim, "all", math.nan, "c", lambda: plain, resampled=[lambda: plain] * 4).robustness == 1.0
+    # a row whose system has one realization, nothing resampled: one run, no share; not evaluated: nothing
+    assert claims.judge_claim(claim, "a", math.nan, "c", lambda: plain, one_run=("a",)).robustness == "one run: a"
+
+    def missing():
+        raise claims.NotEvaluated("no data")
+    assert math.isnan(claims.judge_claim(claim, "a", math.nan, "c", missing, one_run=("a",)).robustness)
+
+
+def test_a_margin_against_the_papers_own_value_and_an_infinite_ratio():
+    # P2's quotient 2.91 lies log(2.91) from 1: ours at 1.105 covers under a tenth of it, 1.5 more than a third
+    assert claims.reference_margin(1.105, 1.0, 2.91) == pytest.approx(math.log(1.105) / math.log(2.91))
+    assert claims.reference_margin(1.5, 1.0, 2.91) > 0.35
+    assert math.isnan(claims.reference_margin(1.2, 1.0, 1.0)) and math.isnan(claims.reference_margin(-1, 1.0, 2.0))
+    # a ratio of 0 or inf lies infinitely far from its factor on a log scale: a margin, not none
+    assert claims.ratio_margin(math.inf, 2.0) == math.inf and claims.ratio_margin(0.0, 2.0) == math.inf
+    assert math.isnan(claims.ratio_margin(math.nan, 2.0)) and math.isnan(claims.ratio_margin(2.0, 1.0))

@@ -30,9 +30,9 @@ from forcenet.boxes import P1_OVERLAP_BOUND
 
 __all__ = ["HOLDS", "FAILS", "NOT_EVALUATED", "IMPORTED_NOT_EVALUATED", "MARGINAL", "VACUOUS", "MARGINAL_FRACTION",
            "MEASURED", "HYPOTHESIS", "BELOW_BEFORE_JUMP", "BELOW_TOLERANCE", "ClaimTolerances", "NotEvaluated",
-           "Judgement", "relative_margin", "contrast_margin", "smallest_margin", "ratio_margin", "Claim",
-           "claim_register", "Explanation", "JudgedClaim", "holds_share", "judge_claim", "rows_beside",
-           "verdict_counts", "verdict_summary"]
+           "Judgement", "relative_margin", "contrast_margin", "smallest_margin", "ratio_margin", "reference_margin",
+           "Claim", "claim_register", "Explanation", "JUDGE_CHANGE_DATE", "JudgeChange", "JudgedClaim",
+           "holds_share", "one_run_text", "judge_claim", "rows_beside", "verdict_counts", "verdict_summary"]
 
 HOLDS, FAILS, NOT_EVALUATED = "holds", "does not hold", "not evaluated"
 
@@ -50,9 +50,9 @@ MARGINAL_FRACTION = 0.10  # a verdict decided within 10 % of its threshold is ma
 MEASURED, HYPOTHESIS = "measured", "hypothesis"  # the basis of an explanation of a verdict
 
 
-#: the two cuts of "below jamming" (issue 25): the states before the jump, every grid state below the inflection
-#: point ρ_J (the table's cut), and the older cut one tolerance further down (judged beside it)
-BELOW_BEFORE_JUMP, BELOW_TOLERANCE = "rho < rho_J", "rho < rho_J - tol"
+#: the two cuts of "below jamming": the states before the jump of the mean Z, up to the last unjammed state (never
+#: at or above the inflection point ρ_J; the table's cut), and the older cut one tolerance under ρ_J (judged beside)
+BELOW_BEFORE_JUMP, BELOW_TOLERANCE = "rho up to the last state before the jump of Z", "rho < rho_J - tol"
 
 
 @dataclass(frozen=True)
@@ -65,9 +65,9 @@ class ClaimTolerances:
 
     rho_tolerance : "near ρ_J" means |ρ − ρ_J| ≤ this; "beyond ρ_J" means ρ > ρ_J + this.
         None: the larger of P1's Δρ = 0.02 and the system's own ρ step.
-    below_cut : which states are "below jamming": `BELOW_BEFORE_JUMP` (every grid state below ρ_J, the last
-        ones before the jump of Z; the table's cut) or `BELOW_TOLERANCE` (ρ < ρ_J − rho_tolerance; judged
-        beside it).
+    below_cut : which states are "below jamming": `BELOW_BEFORE_JUMP` (the states up to the last one before the
+        largest rise of the mean Z between two consecutive states, never at or above ρ_J; the table's cut) or
+        `BELOW_TOLERANCE` (ρ < ρ_J − rho_tolerance; judged beside it).
     rho_window : width of the ρ window of "a rise close to ρ_J" (ρ_J ± this) and of "a plateau near ρ_max"
         (the last window before ρ_max). None: twice the system's rho_tolerance.
     min_prominence : a peak of a curve versus ρ needs a topographic prominence ≥ this fraction of its scale
@@ -96,7 +96,10 @@ class ClaimTolerances:
     approx_fraction : "⟨k⟩ ≈ 3", "φ_c ≈ 0.5" (P1 §4.3): within this fraction of P1's value.
     same_verdicts : "qualitatively the same" (P1 §3: other sizes, friction): this share of the per-system claims
         judged on both runs has the same verdict.
-    overlap_bound : P1 §3's "overlaps up to 10 % of the sum of the radii" at the largest ρ.
+    overlap_bound : P1 §3's "overlaps up to 10 % of the sum of the radii" at the largest ρ, judged at P1's own
+        depth above jamming (`overlap_depth`) within one grid step.
+    overlap_depth : how far above ρ_J P1's largest ρ lies: None, the smallest of P1's ρ_max − ρ_J (0.890 − 0.834
+        = 0.056, 2D linear), the depth P1 reaches in every system.
     rho_j_shift : P1 §3's stricter relaxation "does not change the measured quantities significantly": ρ_J of the
         run relaxed more strictly within this of the system's. None: half the system's ρ step, the resolution of
         the grid the inflection of Z is fitted on.
@@ -124,6 +127,7 @@ class ClaimTolerances:
     approx_fraction: float = 0.15
     same_verdicts: float = 0.8
     overlap_bound: float = P1_OVERLAP_BOUND
+    overlap_depth: float | None = None
     rho_j_shift: float | None = None
     below_cut: str = BELOW_BEFORE_JUMP
     # --- P2 ---
@@ -163,6 +167,8 @@ class Judgement:
     vacuous : the claim holds only because its quantity is zero everywhere it is judged (nothing to contrast):
         marked `VACUOUS` instead of a plain "holds".
     states : the states (ρ) that carry the verdict, as text ("" where the evidence says it).
+    one_run : the systems with a single run (realization) that the verdict rests on (P1 §3's counterparts): no
+        resample varies them, so the row says so in its robustness (`one_run_text`).
     """
 
     measured: float
@@ -172,6 +178,7 @@ class Judgement:
     grid_step: bool = False
     vacuous: bool = False
     states: str = ""
+    one_run: tuple[str, ...] = ()
 
     @property
     def marker(self) -> str:
@@ -213,11 +220,24 @@ def smallest_margin(*margins: float) -> float:
 
 def ratio_margin(ratio: float, factor: float) -> float:
     """How far a ratio lies from the factor it must reach or stay within, on a log scale relative to the factor's
-    own log: |log ratio − log factor| / |log factor| (NaN unless both are positive and finite, factor ≠ 1)."""
+    own log: |log ratio − log factor| / |log factor| (inf for a ratio of 0 or inf, infinitely far on that scale;
+    NaN for a ratio of NaN or a factor that is not positive and finite, or 1)."""
     ratio, factor = float(ratio), float(factor)
-    if not (np.isfinite(ratio) and ratio > 0 and np.isfinite(factor) and factor > 0 and factor != 1):
+    if not (np.isfinite(factor) and factor > 0 and factor != 1) or math.isnan(ratio) or ratio < 0:
         return math.nan
+    if ratio == 0 or math.isinf(ratio):
+        return math.inf
     return abs(math.log(ratio) - math.log(factor)) / abs(math.log(factor))
+
+
+def reference_margin(value: float, threshold: float, reference: float) -> float:
+    """How far `value` lies from `threshold` relative to how far the paper's own `reference` value lies from it,
+    on a log scale: |log(value / threshold)| / |log(reference / threshold)| (1: as far as the paper's; NaN unless
+    all three are positive and finite and the reference differs from the threshold)."""
+    value, threshold, reference = float(value), float(threshold), float(reference)
+    if not all(np.isfinite(x) and x > 0 for x in (value, threshold, reference)) or reference == threshold:
+        return math.nan
+    return abs(math.log(value / threshold)) / abs(math.log(reference / threshold))
 
 
 @dataclass(frozen=True)
@@ -286,6 +306,32 @@ class Explanation:
         return f"{MEASURED}: {self.command}" if self.command else HYPOTHESIS
 
 
+#: the day the judges of issue 53's referee reading changed, after the campaign's verdicts had been read
+JUDGE_CHANGE_DATE = "2026-12-05"
+
+
+@dataclass(frozen=True)
+class JudgeChange:
+    """A change of a claim's judge made after its verdicts were read (the table's column
+    ``judge_changed_after_reading``): the date, the rule now applied, and the verdict each row had under the old
+    judge (``before``: {system: verdict[, marker]}, read from the committed campaign table of that day; "" every
+    row) and the systems it concerns (`systems`, empty: every one)."""
+
+    rule: str
+    before: Mapping[str, str] = field(default_factory=dict)
+    systems: tuple[str, ...] = ()
+    date: str = JUDGE_CHANGE_DATE
+
+    def text(self, system: str, reading: str = "") -> str:
+        """The column's cell of the row of `system` under `reading`: the date and rule, and on the table's own
+        reading the verdict before ("" key: the same for every system); "" for a system the change leaves alone
+        (`systems`: the systems it concerns, empty for all)."""
+        if self.systems and system not in self.systems:
+            return ""
+        before = self.before.get(system, self.before.get("", "")) if not reading else ""
+        return f"{self.date}: {self.rule}" + (f" (before: {before})" if before else "")
+
+
 @dataclass(frozen=True)
 class JudgedClaim:
     """One row of a validation table, the same record for both papers. kind : ``"claim"``, or ``"value"`` for a
@@ -296,7 +342,9 @@ class JudgedClaim:
     resamples of the realizations under which the claim holds (`judge_claim`; NaN where not computed);
     reading : "" for the table's conventions, else the other reading this row is judged under (set beside the
     primary row of the same claim); explanation, explanation_basis : why it does not hold and on what basis
-    (`Explanation`)."""
+    (`Explanation`); judge_changed_after_reading : where the claim's judge changed after its verdicts were read,
+    the date, the rule and the verdict before (`JudgeChange`). robustness is text ("one run: …") where the
+    verdict rests on a single run that no resample varies (`one_run_text`)."""
 
     id: str
     section: str
@@ -310,10 +358,11 @@ class JudgedClaim:
     kind: str = "claim"
     marker: str = ""
     states: str = ""
-    robustness: float = math.nan
+    robustness: float | str = math.nan
     reading: str = ""
     explanation: str = ""
     explanation_basis: str = ""
+    judge_changed_after_reading: str = ""
 
     @property
     def difference(self) -> float:
@@ -336,27 +385,43 @@ def holds_share(judges: Sequence[Callable[[], Judgement]]) -> float:
     return float(np.mean(outcomes)) if outcomes else math.nan
 
 
+def one_run_text(runs: Sequence[str], share: float = math.nan) -> str:
+    """The robustness cell of a verdict that rests on a single run of each of `runs`: it says so, with the share of
+    resamples of the other systems' realizations under which it holds where there is one."""
+    text = f"one run: {', '.join(runs)}"
+    return text + (f" ({share:.2g} over the resamples of the others)" if np.isfinite(share) else "")
+
+
 def judge_claim(claim: Claim, system: str, paper: float | str, criterion: str, judge: Callable[[], Judgement],
                 explain: Callable[[str], Explanation | None] | None = None,
-                resampled: Sequence[Callable[[], Judgement]] = (), reading: str = "") -> JudgedClaim:
+                resampled: Sequence[Callable[[], Judgement]] = (), reading: str = "",
+                changed: JudgeChange | None = None, one_run: Sequence[str] = ()) -> JudgedClaim:
     """Run `judge` and record its verdict: `HOLDS` / `FAILS` from the `Judgement` with its marker, `NOT_EVALUATED`
     (the reason as evidence) when it raises `NotEvaluated`. `explain(verdict)` gives the explanation of a verdict
     (or None); `resampled` are the same judge on bootstrap resamples of the realizations (`holds_share`: the row's
-    robustness); `reading` names the other reading the row is judged under ("" for the table's own)."""
+    robustness); `reading` names the other reading the row is judged under ("" for the table's own); `changed`
+    marks a judge changed after its verdicts were read (`JudgeChange`). A verdict resting on a single run (the
+    judgement's `one_run`, or `one_run`: the row's system has one realization) says so in its robustness on the
+    table's own reading (`one_run_text`) instead of a share no resample can vary."""
     marker = states = ""
+    runs: tuple[str, ...] = tuple(one_run)
     try:
         judgement = judge()
         measured, evidence, verdict = judgement.measured, judgement.evidence, HOLDS if judgement.holds else FAILS
         marker, states = judgement.marker, judgement.states
+        runs = tuple(dict.fromkeys((*judgement.one_run, *runs)))
     except NotEvaluated as reason:
         measured, evidence, verdict = math.nan, str(reason), NOT_EVALUATED
     explanation = explain(verdict) if explain else None
+    robustness: float | str = holds_share(resampled) if verdict != NOT_EVALUATED else math.nan
+    if runs and verdict != NOT_EVALUATED and not reading:
+        robustness = one_run_text(runs, robustness)
     return JudgedClaim(id=claim.id, section=claim.section, statement=claim.statement, system=system, paper=paper,
                        criterion=criterion, measured=float(measured), evidence=evidence, verdict=verdict,
-                       marker=marker, states=states,
-                       robustness=holds_share(resampled) if verdict != NOT_EVALUATED else math.nan,
+                       marker=marker, states=states, robustness=robustness,
                        reading=reading, explanation=explanation.text if explanation else "",
-                       explanation_basis=explanation.basis if explanation else "")
+                       explanation_basis=explanation.basis if explanation else "",
+                       judge_changed_after_reading=changed.text(system, reading) if changed else "")
 
 
 def rows_beside(primary: Sequence[JudgedClaim], other: Sequence[JudgedClaim]) -> list[JudgedClaim]:

@@ -22,7 +22,8 @@ from forcenet.report.claims import MARGINAL, MARGINAL_FRACTION, VACUOUS, JudgedC
 
 #: the columns both papers' tables end with, the same names and fields (CSV name → `JudgedClaim` field)
 VERDICT_COLUMNS = {"verdict": "verdict", "marker": "marker", "states": "states", "robustness": "robustness",
-                   "reading": "reading", "explanation": "explanation", "explanation_basis": "explanation_basis"}
+                   "reading": "reading", "explanation": "explanation", "explanation_basis": "explanation_basis",
+                   "judge_changed_after_reading": "judge_changed_after_reading"}
 
 
 @dataclass(frozen=True)
@@ -90,9 +91,12 @@ VERDICT_NOTE = (
     f"or turns if one state moves by one grid step; '{VACUOUS}' where the claim holds only because its quantity is "
     "zero everywhere it is judged; both are counted apart from the fair verdicts. robustness: the share of "
     "bootstrap resamples of the realizations (seeded) under which the claim holds, so that a verdict carried by one "
-    "realization shows. states: the states (rho) that carry the verdict. reading: empty for the table's own "
+    "realization shows; 'one run: <systems>' where the verdict rests on a single run that no resample varies. "
+    "states: the states (rho) that carry the verdict. reading: empty for the table's own "
     "conventions, else the other reading the row is judged under, beside the primary row of the same claim. "
-    "explanation_basis: 'measured: <command>' where the cause of a miss was measured, 'hypothesis' where it was not.")
+    "explanation_basis: 'measured: <command>' where the cause of a miss was measured, 'hypothesis' where it was not. "
+    "judge_changed_after_reading: where the claim's judge was changed after its verdicts had been read, the date, "
+    "the rule now applied and the verdict the row had before.")
 
 
 def validation_markdown(frame: pd.DataFrame, layout: TableLayout, head: Sequence[str],

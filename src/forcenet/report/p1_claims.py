@@ -10,6 +10,7 @@ are tolerances of `ClaimTolerances`.
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numpy as np
 import xarray as xr
@@ -17,7 +18,8 @@ import xarray as xr
 from forcenet.report.claims import (Claim, ClaimTolerances, Judgement, NotEvaluated, claim_register,
                                     contrast_margin, relative_margin, smallest_margin)
 from forcenet.report.p1 import (HERTZ_2D, HERTZ_3D, LINEAR_2D, P1_HALF, P1_LARGE_THRESHOLD, P1_PERCOLATION_MAJORITY,
-                                P1_SMALL_THRESHOLD, PAPER_CLUSTER_SIZE_PEAK, PAPER_PHI_C, PAPER_RHO_MAX_BY_ROLE,
+                                P1_SMALL_THRESHOLD, PAPER_CLUSTER_SIZE_PEAK, PAPER_PHI_C, PAPER_RHO_J_BY_ROLE,
+                                PAPER_RHO_MAX_BY_ROLE,
                                 PAPER_Z_AT_JAMMING, value_at, finite_max, force_bins, percolation_fraction,
                                 rho_values, select_total, system_friction, system_particles,
                                 system_relaxation_criterion, system_relaxation_tolerance, up_to_rho_max)
@@ -53,17 +55,45 @@ def clusters_below_jamming(system: SystemData, tolerances: ClaimTolerances) -> J
                      states=system.states(below))
 
 
+#: P1's own depth above jamming: the smallest of P1's ρ_max − ρ_J (0.890 − 0.834 = 0.056, 2D linear; 0.064 2D
+#: Hertz, 0.14 3D), the depth every P1 system reaches; "at the largest ρ" (P1 §3) is judged there
+P1_OVERLAP_DEPTH = round(min(PAPER_RHO_MAX_BY_ROLE[role] - PAPER_RHO_J_BY_ROLE[role]
+                             for role in (LINEAR_2D, HERTZ_2D, HERTZ_3D)), 6)
+
+
 @claim("p1-3-overlap", "3", "at the largest rho the particles overlap by up to 10 % of the sum of the radii",
-       "largest overlap / (r_i + r_j) over the snapshots at the system's largest rho <= {overlap_bound}",
+       lambda t: (f"largest overlap / (r_i + r_j) over the snapshots at the state nearest P1's own depth above "
+                  f"jamming, rho_J + {P1_OVERLAP_DEPTH if t.overlap_depth is None else t.overlap_depth:g} (P1's "
+                  f"smallest rho_max - rho_J), within one grid step of it: <= {t.overlap_bound}"),
        needs_rho_j=False)
 def overlap_up_to_bound(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
-    """Judge of claim p1-3-overlap (per system), on the overlaps measured in the snapshots (`SystemData.overlap`)."""
-    if not np.isfinite(system.overlap):
+    """Judge of claim p1-3-overlap (per system), on the overlaps measured in the snapshots (`SystemData.overlaps`,
+    {ρ: largest relative overlap}): P1's "at the largest ρ" is the state P1's depth above jamming reaches
+    (`P1_OVERLAP_DEPTH` above ρ_J, our grid going further), with the tolerance of one grid step: the measured state
+    nearest ρ_J + depth, at most one step from it. Marginal also when another measured state within one step of
+    it lies on the other side of the bound."""
+    measured = {rho: value for rho, value in system.overlaps.items() if np.isfinite(value)}
+    if not measured:
         raise NotEvaluated("no snapshot overlaps given (the overlaps are in the snapshots, not the network measures)")
-    evidence = (f"largest overlap at rho={system.rho[-1]:.3f}: {100 * system.overlap:.2f} % of the sum of the radii "
-                f"({system.name})")
-    return Judgement(system.overlap, evidence, system.overlap <= tolerances.overlap_bound,
-                     margin=relative_margin(system.overlap, tolerances.overlap_bound))
+    if not np.isfinite(system.rho_j):
+        raise NotEvaluated("rho_J could not be located: P1's depth above jamming has no state")
+    depth = P1_OVERLAP_DEPTH if tolerances.overlap_depth is None else tolerances.overlap_depth
+    target, step = system.rho_j + depth, system.step
+    nearest = min(measured, key=lambda rho: (abs(rho - target), rho))
+    if abs(nearest - target) > step + 1e-9:
+        raise NotEvaluated(f"overlaps measured at rho {fmt_values(sorted(measured))}; P1's depth above jamming puts "
+                           f"the bound at rho {target:.3f} (rho_J + {depth:g}, {system.label()}): no measured state "
+                           f"within one grid step ({step:.3g}) of it")
+    value = measured[nearest]
+    holds = value <= tolerances.overlap_bound
+    turns = [rho for rho, other in measured.items() if rho != nearest and abs(rho - target) <= step + 1e-9
+             and (other <= tolerances.overlap_bound) != holds]
+    evidence = (f"largest overlap at rho={nearest:.3f} (rho_J + {depth:g} = {target:.3f}): {100 * value:.2f} % of the "
+                f"sum of the radii ({system.name})"
+                + "".join(f"; {100 * measured[rho]:.2f} % at rho={rho:.3f}" for rho in sorted(measured)
+                          if rho != nearest))
+    return Judgement(value, evidence, bool(holds), margin=relative_margin(value, tolerances.overlap_bound),
+                     grid_step=bool(turns), states=f"rho {nearest:.3f}")
 
 
 def _same_verdicts(context: ClaimContext, pairs: list[tuple[SystemData, SystemData]], what: str,
@@ -100,8 +130,9 @@ def _same_verdicts(context: ClaimContext, pairs: list[tuple[SystemData, SystemDa
                                          for a, b in pairs)
                 + f"; same verdict for {same} of {compared} per-system claims"
                 + (f"; different: {', '.join(differing)}" if differing else ""))
+    one_run = tuple(dict.fromkeys(other.name for _, other in pairs if other.full.sizes.get("realization", 1) == 1))
     return Judgement(share, evidence, share >= context.tolerances.same_verdicts,
-                     margin=relative_margin(share, context.tolerances.same_verdicts))
+                     margin=relative_margin(share, context.tolerances.same_verdicts), one_run=one_run)
 
 
 def _counterparts(context: ClaimContext, roles, differs) -> list[tuple[SystemData, SystemData]]:
@@ -206,7 +237,7 @@ def stricter_relaxation_changes_nothing(context: ClaimContext) -> Judgement:
         shifts.append(f"{other.name} ({described(other, reference)}) {shift:+.4f}, "
                       f"allowed {allowed:.4f}")
     return Judgement(verdicts.measured, f"{verdicts.evidence}; rho_J shift: {'; '.join(shifts)}",
-                     verdicts.holds and within, margin=smallest_margin(*margins))
+                     verdicts.holds and within, margin=smallest_margin(*margins), one_run=verdicts.one_run)
 
 
 # --- §4 Force distribution, percolation and jamming -------------------------------------------------------------
@@ -227,7 +258,9 @@ def percolation_at_jamming(system: SystemData, tolerances: ClaimTolerances) -> J
     evidence = (f"rho_p={rho_p:.3f}, {system.label()}, tolerance {system.tolerance:.3g}; fraction percolating "
                 f"{fmt_values(fraction, 2)} at rho {fmt_values(system.rho)}"
                 + (f"; no majority at rho {fmt_values(gaps)}" if gaps.size else ""))
-    return Judgement(rho_p, evidence, bool(holds))
+    distance = abs(rho_p - system.rho_j)
+    return Judgement(rho_p, evidence, bool(holds), margin=relative_margin(distance, system.tolerance),
+                     grid_step=bool(abs(distance - system.tolerance) < system.step - 1e-12))
 
 
 def _pdf_order(context: ClaimContext, rho_max_of, what: str) -> Judgement:
@@ -259,20 +292,20 @@ def _pdf_order(context: ClaimContext, rho_max_of, what: str) -> Judgement:
 
 @claim("p1-4.1-pdf-order-at-rho-max", "4.1",
        "at rho ~ rho_max the force PDF is narrowest for 2D linear, wider for 2D Hertz, widest in 3D (Fig. 3)",
-       "std of F/<F> (mean over realizations) at each system's largest rho <= our rho_max: 2D linear < 2D Hertz < 3D",
-       per_system=False)
+       "std of F/<F> (mean over realizations) at each system's largest rho <= P1's rho_max (0.890 2D linear, 0.906 "
+       "2D Hertz, 0.710 3D; within one grid step of it): 2D linear < 2D Hertz < 3D; the same order at our rho_max "
+       "(F_max rule) given beside it in the evidence", per_system=False)
 def pdf_order_at_rho_max(context: ClaimContext) -> Judgement:
-    """Judge of claim p1-4.1-pdf-order-at-rho-max (across systems), at our ρ_max."""
-    return _pdf_order(context, lambda system: system.rho_max, "our rho_max")
-
-
-@claim("p1-4.1-pdf-order-at-paper-rho-max", "4.1",
-       "the same order at P1's printed rho_max (0.890 2D linear, 0.906 2D Hertz, 0.710 3D; §3)",
-       "std of F/<F> at each system's largest rho <= P1's rho_max (within one grid step of it): 2D linear < "
-       "2D Hertz < 3D", per_system=False)
-def pdf_order_at_paper_rho_max(context: ClaimContext) -> Judgement:
-    """Judge of claim p1-4.1-pdf-order-at-paper-rho-max (across systems), at P1's printed ρ_max."""
-    return _pdf_order(context, lambda system: PAPER_RHO_MAX_BY_ROLE.get(system.role, math.nan), "P1's rho_max")
+    """Judge of claim p1-4.1-pdf-order-at-rho-max (across systems): P1's one sentence judged once, at the states P1
+    shows (its printed ρ_max; our ρ_max under the F_max rule depends on the force unit, p1-3's values) with the
+    order at our ρ_max as evidence beside."""
+    paper = _pdf_order(context, lambda system: PAPER_RHO_MAX_BY_ROLE.get(system.role, math.nan), "P1's rho_max")
+    try:
+        ours = _pdf_order(context, lambda system: system.rho_max, "our rho_max")
+        beside = f"{ours.evidence}: {'in' if ours.holds else 'not in'} that order"
+    except NotEvaluated as reason:
+        beside = f"at our rho_max: {reason}"
+    return replace(paper, evidence=f"{paper.evidence}; {beside}")
 
 
 def _jammed_pdf_width(system: SystemData) -> float:
@@ -290,10 +323,10 @@ def pdf_wider_nonlinear(context: ClaimContext) -> Judgement:
     """Judge of claim p1-5.3-pdf-wider-nonlinear (across systems)."""
     linear = _jammed_pdf_width(context.role(LINEAR_2D))
     widths = {system.name: _jammed_pdf_width(system) for system in context.nonlinear()}
-    margin = min(widths.values()) - linear
+    lead = min(widths.values()) - linear
     evidence = (f"mean std of F/<F> beyond rho_J: 2D linear {linear:.3g}; "
                 + ", ".join(f"{name} {w:.3g}" for name, w in widths.items()))
-    return Judgement(margin, evidence, margin > 0)
+    return Judgement(lead, evidence, lead > 0, margin=contrast_margin(min(widths.values()), linear))
 
 
 def _mean_pdf_below(system: SystemData) -> tuple[np.ndarray, np.ndarray]:
@@ -353,7 +386,17 @@ def cluster_size_peak_threshold(system: SystemData, tolerances: ClaimTolerances)
     median, best = _cluster_size_peak_threshold(system)
     evidence = (f"F_th of the largest <S>/N at each rho beyond rho_J: {fmt_values(best)} ({system.label()}); "
                 f"P1 {paper:g}")
-    return Judgement(median, evidence, abs(median - paper) <= tolerances.threshold_tolerance + 1e-12)
+    distance = abs(median - paper)
+    return Judgement(median, evidence, distance <= tolerances.threshold_tolerance + 1e-12,
+                     margin=relative_margin(distance, tolerances.threshold_tolerance),
+                     grid_step=_one_threshold_step(system, distance, tolerances.threshold_tolerance))
+
+
+def _one_threshold_step(system: SystemData, distance: float, limit: float) -> bool:
+    """True when an F_th `distance` lies within one step of the F_th grid of the `limit` it is compared with: the
+    verdict turns if the maximum moves by one threshold (marginal)."""
+    step = float(np.median(np.diff(system.thresholds))) if system.thresholds.size > 1 else 0.0
+    return bool(abs(distance - limit) < step - 1e-12)
 
 
 def _cluster_size_decay(system: SystemData) -> float:
@@ -376,7 +419,7 @@ def cluster_size_decays_faster_linear(context: ClaimContext) -> Judgement:
     """Judge of claim p1-4.2-cluster-size-decays-faster-linear (across systems)."""
     linear, hertz = _cluster_size_decay(context.role(LINEAR_2D)), _cluster_size_decay(context.role(HERTZ_2D))
     evidence = f"<S>/N at F_th >= 2 relative to its maximum: 2D linear {linear:.3g}, 2D Hertz {hertz:.3g}"
-    return Judgement(hertz - linear, evidence, linear < hertz)
+    return Judgement(hertz - linear, evidence, linear < hertz, margin=contrast_margin(linear, hertz))
 
 
 @claim("p1-4.2-cluster-size-3d-larger-forces", "4.2",
@@ -386,7 +429,8 @@ def cluster_size_3d_larger_forces(context: ClaimContext) -> Judgement:
     """Judge of claim p1-4.2-cluster-size-3d-larger-forces (across systems)."""
     three, _ = _cluster_size_peak_threshold(context.role(HERTZ_3D))
     two, _ = _cluster_size_peak_threshold(context.role(HERTZ_2D))
-    return Judgement(three - two, f"F_th of the <S>/N maximum: 3D {three:.3g}, 2D Hertz {two:.3g}", three > two)
+    return Judgement(three - two, f"F_th of the <S>/N maximum: 3D {three:.3g}, 2D Hertz {two:.3g}", three > two,
+                     margin=contrast_margin(three, two))
 
 
 @claim("p1-6-cluster-size-peak-small-threshold", "6",
@@ -426,7 +470,8 @@ def percolating_almost_all(system: SystemData, tolerances: ClaimTolerances) -> J
     values = finite_values(share, "N_per/N beyond rho_J")
     median = float(np.median(values))
     evidence = f"N_per/N at F_th={system.lowest_threshold:.3g} beyond rho_J: {fmt_values(values)} ({system.label()})"
-    return Judgement(median, evidence, median >= tolerances.almost_all)
+    return Judgement(median, evidence, median >= tolerances.almost_all,
+                     margin=relative_margin(median, tolerances.almost_all))
 
 
 @claim("p1-4.3-percolating-significant-2d", "4.3",
@@ -439,7 +484,7 @@ def percolating_significant(system: SystemData, tolerances: ClaimTolerances) -> 
     median = float(np.median(values))
     evidence = (f"N_per/N over {values.size} shown (rho, F_th): min {values.min():.3g}, median {median:.3g}, "
                 f"max {values.max():.3g} ({system.label()})")
-    return Judgement(median, evidence, median >= P1_HALF)
+    return Judgement(median, evidence, median >= P1_HALF, margin=relative_margin(median, P1_HALF))
 
 
 @claim("p1-4.3-percolating-small-3d-near-jamming", "4.3",
@@ -451,7 +496,8 @@ def percolating_small_near_jamming(system: SystemData, tolerances: ClaimToleranc
     if rho > system.rho_j + system.tolerance + 1e-12:
         raise NotEvaluated(f"percolation first shown at rho={rho:.3f}, beyond rho_J + tol ({system.label()})")
     evidence = f"N_per/N={share:.3g} at F_th={system.lowest_threshold:.3g}, rho={rho:.3f} ({system.label()})"
-    return Judgement(share, evidence, share <= tolerances.small_share)
+    return Judgement(share, evidence, share <= tolerances.small_share,
+                     margin=relative_margin(share, tolerances.small_share))
 
 
 @claim("p1-4.3-percolating-small-3d-large-threshold", "4.3",
@@ -463,7 +509,8 @@ def percolating_small_large_threshold(system: SystemData, tolerances: ClaimToler
     values = finite_values(system.percolating_size().values[:, large], "N_per/N at F_th > 2 (no percolation shown)")
     median = float(np.median(values))
     evidence = f"N_per/N at F_th > 2 over {values.size} shown (rho, F_th): median {median:.3g}, max {values.max():.3g}"
-    return Judgement(median, evidence, median <= tolerances.small_share)
+    return Judgement(median, evidence, median <= tolerances.small_share,
+                     margin=relative_margin(median, tolerances.small_share))
 
 
 @claim("p1-4.3-percolating-smaller-in-3d", "4.3",
@@ -475,7 +522,7 @@ def percolating_smaller_in_3d(context: ClaimContext) -> Judgement:
     two = {context.role(role).name: _onset_share(context.role(role))[1] for role in ALL_2D}
     evidence = f"N_per/N at the percolation onset: 3D {three:.3g}; " + ", ".join(f"{n} {v:.3g}" for n, v in two.items())
     return Judgement(three / min(two.values()) if min(two.values()) > 0 else math.inf, evidence,
-                     three < min(two.values()))
+                     three < min(two.values()), margin=contrast_margin(three, min(two.values())))
 
 
 def _z_at_jamming(system: SystemData) -> tuple[float, str]:
@@ -512,8 +559,14 @@ def phi_c_at_jamming(system: SystemData, tolerances: ClaimTolerances) -> Judgeme
         return Judgement(math.inf, f"Z ({which}) at {system.label()}: {z:.3g} <= 1: phi_c unbounded", False)
     phi_c = 1.0 / (z - 1.0)  # P1 Eq. 6 with <k^2> = <k>^2
     deviation = abs(phi_c - paper) / paper
-    return Judgement(phi_c, f"phi_c = 1/(Z - 1) with Z ({which}) {z:.3g} at {system.label()}: {phi_c:.3g}; P1 "
-                            f"{paper:g}", deviation <= tolerances.approx_fraction,
+    # beside it, the first jammed state's: ρ_J interpolates across the one-step jump of Z
+    name = "Z_no_rattlers" if "Z_no_rattlers" in system.full else "Z"
+    first = system.first_jammed
+    z_first = value_at(system.full, name, first) if np.isfinite(first) else math.nan
+    beside = (f"; at the first jammed state (rho={first:.3f}, after the jump of Z) Z {z_first:.3g}, phi_c "
+              f"{1.0 / (z_first - 1.0):.3g}" if np.isfinite(z_first) and z_first > 1 else "")
+    return Judgement(phi_c, f"phi_c = 1/(Z - 1) with Z ({which}) {z:.3g} at {system.label()}: {phi_c:.3g}{beside}; "
+                            f"P1 {paper:g}", deviation <= tolerances.approx_fraction,
                      margin=relative_margin(deviation, tolerances.approx_fraction))
 
 
@@ -533,8 +586,10 @@ def phi_c_lower_bound(system: SystemData, tolerances: ClaimTolerances) -> Judgem
         raise NotEvaluated("no percolation shown")
     with np.errstate(divide="ignore"):
         phi_c = np.where(z[shown] > 1, 1.0 / (z[shown] - 1.0), np.inf)  # P1 Eq. 6 with <k^2> = <k>^2
-    margin = share[shown] - phi_c
+    excess = share[shown] - phi_c
+    tightest = int(np.argmin(excess))
     evidence = (f"at rho {fmt_values(system.rho[shown])}: N_per/N {fmt_values(share[shown])} vs phi_c "
                 f"{fmt_values(phi_c)} "
                 f"({system.name})")
-    return Judgement(float(margin.min()), evidence, bool(margin.min() >= 0))
+    return Judgement(float(excess.min()), evidence, bool(excess.min() >= 0),
+                     margin=relative_margin(share[shown][tightest], phi_c[tightest]))

@@ -14,7 +14,8 @@ import xarray as xr
 from forcenet.report.claims import (Claim, ClaimTolerances, Judgement, NotEvaluated, claim_register,
                                     contrast_margin, ratio_margin, relative_margin, smallest_margin)
 from forcenet.report.p1 import (HERTZ_2D, HERTZ_3D, LINEAR_2D, P1_LARGE_THRESHOLD, P1_OPEN_PATH_MIN, P1_SHAPE_BOUNDS,
-                                P1_SMALL_THRESHOLD, finite_max, finite_min, first_max_index, rho_values)
+                                P1_SMALL_THRESHOLD, PAPER_CLUSTER_SIZE_PEAK, finite_max, finite_min, first_max_index,
+                                rho_values)
 from forcenet.report.p1_judging import (ALL_2D, ClaimContext, Peak, SystemData, betti_curve, bin_curve,
                                         expected_for_law, find_peak, finite_values, fmt_values, grows_beyond, interp_at,
                                         near_by_one_step, peak_near, peak_verdict, persistence_curve, require,
@@ -104,16 +105,31 @@ def _b0_maximum_threshold(system: SystemData) -> tuple[float, np.ndarray]:
     return float(np.median(best)), best
 
 
+def _b0_maximum_criterion(t: ClaimTolerances) -> str:
+    """The criterion of p1-1-b0-maximum-above-mean-force with the tolerances `t` filled in."""
+    return (f"median over rho > rho_J + tol of the F_th maximising mean B0/N: 2D in (1, 1 + 2 x "
+            f"{t.threshold_tolerance}] <F>; 3D within {t.threshold_tolerance} of P1's own 3D F_th ~ "
+            f"{PAPER_CLUSTER_SIZE_PEAK[HERTZ_3D]:g} (§4.2: 3D networks peak at larger forces)")
+
+
 @claim("p1-1-b0-maximum-above-mean-force", "1",
        "beyond jamming the B0 maximum lies at a force threshold slightly larger than the average contact force",
-       "median over rho > rho_J + tol of the F_th maximising mean B0/N in (1, 1 + 2 x {threshold_tolerance}] <F>")
+       _b0_maximum_criterion, paper={HERTZ_3D: PAPER_CLUSTER_SIZE_PEAK[HERTZ_3D]})
 def b0_maximum_above_mean_force(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
     """Judge of claim p1-1-b0-maximum-above-mean-force (per system): P1 §1's "slightly larger" read as above 1 by
-    at most two of P1's threshold steps (0.25)."""
+    at most two of P1's threshold steps (0.25) in 2D; in 3D against P1's own 3D statement (§4.2: "in the 3D system
+    the largest values ... are observed for F_th ≈ 2.0", the 3D networks holding more clusters of large forces),
+    within one threshold step of P1's (0.25)."""
     median, best = _b0_maximum_threshold(system)
-    upper = 1.0 + 2 * tolerances.threshold_tolerance
     evidence = (f"F_th of the largest B0/N at each rho beyond rho_J: {fmt_values(best)}; median {median:.3g} "
                 f"({system.label()})")
+    if system.dimension == 3:
+        paper = PAPER_CLUSTER_SIZE_PEAK[HERTZ_3D]
+        distance = abs(median - paper)
+        return Judgement(median, f"{evidence}; P1 (3D) ~ {paper:g}",
+                         bool(distance <= tolerances.threshold_tolerance + 1e-12),
+                         margin=relative_margin(distance, tolerances.threshold_tolerance))
+    upper = 1.0 + 2 * tolerances.threshold_tolerance
     return Judgement(median, evidence, bool(1.0 < median <= upper + 1e-12),
                      margin=smallest_margin(relative_margin(median, 1.0), relative_margin(median, upper)))
 
@@ -124,10 +140,14 @@ def b0_maximum_above_mean_force(system: SystemData, tolerances: ClaimTolerances)
 def b0_interior_maximum(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
     """Judge of claim p1-5.1-b0-interior-maximum (per system)."""
     median, best = _b0_maximum_threshold(system)
-    holds = system.thresholds.min() < median < system.thresholds.max()
+    lo, hi = system.thresholds.min(), system.thresholds.max()
+    holds = lo < median < hi
     evidence = (f"F_th of the largest B0/N at each rho beyond rho_J: {fmt_values(best)}; grid "
-                f"[{system.thresholds.min():.3g}, {system.thresholds.max():.3g}] ({system.label()})")
-    return Judgement(median, evidence, bool(holds))
+                f"[{lo:.3g}, {hi:.3g}] ({system.label()})")
+    edge = min(abs(median - lo), abs(hi - median))  # how far inside the grid, as a share of its span
+    step = float(np.median(np.diff(system.thresholds))) if system.thresholds.size > 1 else 0.0
+    return Judgement(median, evidence, bool(holds), margin=edge / (hi - lo) if hi > lo else math.nan,
+                     grid_step=bool(holds and edge <= step + 1e-12))
 
 
 @claim("p1-5.1-b1-zero-below", "5.1", "no loops below jamming: B1 = 0 for rho < rho_J (Fig. 7)",
@@ -139,18 +159,20 @@ def b1_zero_below(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
 
 
 @claim("p1-5.1-b1-rises", "5.1", "beyond jamming B1/N starts to rise (Fig. 7)",
-       "max of B1/N (max over F_th) over rho > rho_J + tol minus its value at the last rho <= rho_J > "
-       "{negligible_fraction} x its maximum")
+       "max of B1/N (max over F_th) over rho > rho_J + tol minus its value at the last state below jamming "
+       "({below_cut}) > {negligible_fraction} x its maximum")
 def b1_rises(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
-    """Judge of claim p1-5.1-b1-rises (per system)."""
+    """Judge of claim p1-5.1-b1-rises (per system): the rise from the last state below jamming (`SystemData.below`,
+    the last unjammed state), not from a state the jump of Z has already jammed."""
     curve = np.asarray(betti_curve(system, 1).values, dtype=float)
     beyond = require(system.beyond, "rho beyond rho_J")
-    before = require(system.rho <= system.rho_j + 1e-12, "rho at or below rho_J")
-    start = float(curve[np.flatnonzero(before)[-1]])
+    below = require(system.below, f"states below jamming ({system.below_text})")
+    start = float(curve[np.flatnonzero(below)[-1]])
     rise = finite_max(curve[beyond]) - start
-    holds = rise > tolerances.negligible_fraction * finite_max(curve)
-    evidence = f"B1/N {fmt_values(curve)} at rho {fmt_values(system.rho)} ({system.label()}); rise {rise:.3g}"
-    return Judgement(rise, evidence, bool(holds))
+    limit = tolerances.negligible_fraction * finite_max(curve)
+    evidence = (f"B1/N {fmt_values(curve)} at rho {fmt_values(system.rho)} ({system.label()}); rise {rise:.3g} from "
+                f"rho={system.rho[below][-1]:.3f}")
+    return Judgement(rise, evidence, bool(rise > limit), margin=relative_margin(rise, limit))
 
 
 @claim("p1-5.1-b1-plateau", "5.1", "B1/N plateaus for rho close to rho_max (Fig. 7)",
@@ -172,7 +194,8 @@ def b1_plateau(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
     relative = change / rise
     evidence = (f"B1/N {top:.3g} at rho_max={system.rho_max:.3f}, {top - change:.3g} at {start:.3f}; rise {rise:.3g}"
                 f" ({system.label()})")
-    return Judgement(relative, evidence, abs(relative) <= tolerances.plateau_fraction)
+    return Judgement(relative, evidence, abs(relative) <= tolerances.plateau_fraction,
+                     margin=relative_margin(abs(relative), tolerances.plateau_fraction))
 
 
 @claim("p1-5.1-b1-larger-in-3d", "5.1", "the only visible difference in B1/N: larger magnitude in 3D (Fig. 7)",
@@ -183,7 +206,8 @@ def b1_larger_in_3d(context: ClaimContext) -> Judgement:
     two = {context.role(r).name: finite_max(betti_curve(context.role(r), 1).values) for r in ALL_2D}
     largest = max(two.values())
     evidence = f"max B1/N: 3D {three:.3g}; " + ", ".join(f"{n} {v:.3g}" for n, v in two.items())
-    return Judgement(three / largest if largest > 0 else math.inf, evidence, three > largest)
+    return Judgement(three / largest if largest > 0 else math.inf, evidence, three > largest,
+                     margin=contrast_margin(three, largest))
 
 
 def _claim_absent_then_growing(section: str, quantity: str, curve: Callable[[SystemData], xr.DataArray],
@@ -276,7 +300,8 @@ def shape_open_paths_large_threshold(system: SystemData, tolerances: ClaimTolera
     median = float(np.median(values))
     evidence = f"S_p beyond rho_J at F_th > 2 over {values.size} cells: median {median:.3g}, range " \
                f"[{values.min():.3g}, {values.max():.3g}] ({system.label()})"
-    return Judgement(median, evidence, abs(median - 1) <= tolerances.unity_tolerance)
+    return Judgement(median, evidence, abs(median - 1) <= tolerances.unity_tolerance,
+                     margin=relative_margin(abs(median - 1), tolerances.unity_tolerance))
 
 
 def _jammed_shapes(context: ClaimContext, *roles) -> dict[str, float]:
@@ -299,7 +324,8 @@ def shape_linear_above_hertz(context: ClaimContext) -> Judgement:
     means = _jammed_shapes(context, LINEAR_2D, HERTZ_2D)
     (linear, a), (hertz, b) = means.items()
     return Judgement(a - b, f"mean S_p beyond rho_J, F_th < 2: {linear} {a:.3g}, {hertz} {b:.3g}",
-                     a - b >= context.tolerances.shape_difference)
+                     a - b >= context.tolerances.shape_difference,
+                     margin=relative_margin(a - b, context.tolerances.shape_difference))
 
 
 @claim("p1-5.2-shape-3d-above-2d-hertz", "5.2",
@@ -312,7 +338,8 @@ def shape_3d_above_2d_hertz(context: ClaimContext) -> Judgement:
     (three, a), (two, b) = means.items()
     bound = P1_SHAPE_BOUNDS[3] / P1_SHAPE_BOUNDS[2]
     return Judgement(a - b, f"mean S_p beyond rho_J, F_th < 2: {three} {a:.3g}, {two} {b:.3g}; ratio {a / b:.3g} "
-                            f"(geometric {bound:.3g})", bool(b < a < bound * b))
+                            f"(geometric {bound:.3g})", bool(b < a < bound * b),
+                     margin=smallest_margin(contrast_margin(a, b), relative_margin(a / b, bound)))
 
 
 @claim("p1-5.2-shape-linear-above-3d", "5.2",
@@ -323,7 +350,8 @@ def shape_linear_above_3d(context: ClaimContext) -> Judgement:
     """Judge of claim p1-5.2-shape-linear-above-3d (across systems)."""
     means = _jammed_shapes(context, LINEAR_2D, HERTZ_3D)
     (linear, a), (three, b) = means.items()
-    return Judgement(a - b, f"mean S_p beyond rho_J, F_th < 2: {linear} {a:.3g}, {three} {b:.3g}", a > b)
+    return Judgement(a - b, f"mean S_p beyond rho_J, F_th < 2: {linear} {a:.3g}, {three} {b:.3g}", a > b,
+                     margin=contrast_margin(a, b))
 
 
 def _relative_shape_spread(system: SystemData) -> float:
@@ -350,7 +378,7 @@ def shape_noisier_in_3d(context: ClaimContext) -> Judgement:
     three, two = (_relative_shape_spread(s) for s in compared)
     return Judgement(three / two if two > 0 else math.inf,
                      f"relative spread of S_p at F_th < 1 beyond rho_J: 3D {three:.3g}, 2D Hertz {two:.3g}",
-                     three > two)
+                     three > two, margin=contrast_margin(three, two))
 
 
 @claim("p1-5.2-shape-bounds", "5.2",
@@ -363,7 +391,9 @@ def shape_bounds(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
     upper = P1_SHAPE_BOUNDS.get(system.dimension, math.nan)
     holds = values.min() >= P1_OPEN_PATH_MIN - 1e-12 and values.max() <= upper + 1e-12
     return Judgement(float(values.max()), f"S_p in [{values.min():.3g}, {values.max():.3g}] over {values.size} "
-                                          f"cells; bounds [{P1_OPEN_PATH_MIN}, {upper:g}] ({system.name})", bool(holds))
+                                          f"cells; bounds [{P1_OPEN_PATH_MIN}, {upper:g}] ({system.name})", bool(holds),
+                     margin=smallest_margin(relative_margin(values.min(), P1_OPEN_PATH_MIN),
+                                            relative_margin(values.max(), upper)))
 
 
 # --- §5.3 Persistence diagrams and total persistence ----------------------------------------------------------
@@ -380,7 +410,8 @@ def rough_similar_near_jamming(context: ClaimContext) -> Judgement:
         raise NotEvaluated("fewer than 2 systems with rho_J and rough-bin counts")
     ratio = max(values.values()) / min(values.values()) if min(values.values()) > 0 else math.inf
     evidence = "rough N0/N at rho_J: " + ", ".join(f"{n} {v:.3g}" for n, v in values.items())
-    return Judgement(ratio, evidence, ratio <= context.tolerances.similar_ratio)
+    return Judgement(ratio, evidence, ratio <= context.tolerances.similar_ratio,
+                     margin=ratio_margin(ratio, context.tolerances.similar_ratio))
 
 
 def _fewer_for_nonlinear(context: ClaimContext, bin_name: str) -> Judgement:
@@ -395,7 +426,7 @@ def _fewer_for_nonlinear(context: ClaimContext, bin_name: str) -> Judgement:
     evidence = (f"mean {bin_name} N0/N beyond rho_J: 2D linear {linear:.3g}; "
                 + ", ".join(f"{n} {v:.3g}" for n, v in others.items()))
     return Judgement(max(others.values()) / linear if linear > 0 else math.inf, evidence,
-                     max(others.values()) < linear)
+                     max(others.values()) < linear, margin=contrast_margin(max(others.values()), linear))
 
 
 @claim("p1-5.3-rough-fewer-nonlinear", "5.3", "the non-linear systems have fewer rough-bin points (Fig. 11a, b)",
@@ -413,20 +444,22 @@ def medium_fewer_nonlinear(context: ClaimContext) -> Judgement:
 
 
 @claim("p1-5.3-medium-jump", "5.3", "the medium-bin N0/N increases suddenly beyond jamming (Fig. 11e, f)",
-       "medium N0/N at the first rho > rho_J + tol >= {jump_factor} x its value at the last rho < rho_J - tol (the "
-       "transition measured symmetrically), "
-       "and > 0")
+       "medium N0/N at the first rho > rho_J + tol >= {jump_factor} x its value at the last state below jamming "
+       "({below_cut}), and > 0")
 def medium_jump(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
-    """Judge of claim p1-5.3-medium-jump (per system)."""
+    """Judge of claim p1-5.3-medium-jump (per system): from the last state below jamming (`SystemData.below`, the
+    last unjammed state) to the first beyond ρ_J + tol."""
     curve = bin_curve(system, "medium").values
-    before = curve[np.flatnonzero(require(system.below_transition, "rho below rho_J - tol"))[-1]]
+    below = require(system.below, f"states below jamming ({system.below_text})")
+    before = curve[np.flatnonzero(below)[-1]]
     after = curve[np.flatnonzero(require(system.beyond, "rho beyond rho_J"))[0]]
     if not (np.isfinite(before) and np.isfinite(after)):
         raise NotEvaluated("medium-bin count NaN next to rho_J")
     ratio = after / before if before > 0 else (math.inf if after > 0 else math.nan)
     evidence = (f"medium N0/N {fmt_values(curve)} at rho {fmt_values(system.rho)} ({system.label()}): "
                 f"{before:.3g} -> {after:.3g}")
-    return Judgement(ratio, evidence, bool(after > 0 and after >= tolerances.jump_factor * before))
+    return Judgement(ratio, evidence, bool(after > 0 and after >= tolerances.jump_factor * before),
+                     margin=ratio_margin(ratio, tolerances.jump_factor))
 
 
 def _bin_peak(system: SystemData, tolerances: ClaimTolerances, bin_name: str, nonlinear: bool) -> Judgement:
@@ -492,7 +525,7 @@ def linear_medium_over_strong(system: SystemData, tolerances: ClaimTolerances) -
     strong = float(np.nanmean(finite_values(bin_curve(system, "strong").values[beyond], "strong N0/N")))
     return Judgement(medium / strong if strong > 0 else math.inf,
                      f"mean N0/N beyond rho_J: medium {medium:.3g}, strong {strong:.3g} ({system.label()})",
-                     medium > strong)
+                     medium > strong, margin=contrast_margin(medium, strong))
 
 
 @claim("p1-5.3-weak-peak-at-ridge", "5.3",
@@ -512,7 +545,9 @@ def weak_peak_at_ridge(system: SystemData, tolerances: ClaimTolerances) -> Judge
         raise NotEvaluated("the weak-bin peak or the B0/N ridge is not found near rho_J")
     distance = abs(found[0].rho - found[1].rho)
     return Judgement(distance, f"weak-bin peak at rho={found[0].rho:.3f}, B0/N ridge at rho={found[1].rho:.3f} "
-                               f"(tolerance {system.tolerance:.3g})", distance <= system.tolerance + 1e-12)
+                               f"(tolerance {system.tolerance:.3g})", distance <= system.tolerance + 1e-12,
+                     margin=relative_margin(distance, system.tolerance),
+                     grid_step=bool(abs(distance - system.tolerance) < system.step - 1e-12))
 
 
 def _persistence_rise(system: SystemData, k: int) -> float:
@@ -529,7 +564,8 @@ def _steeper_in_3d(context: ClaimContext, k: int) -> Judgement:
     ratio = three / largest if largest > 0 else math.inf
     evidence = (f"rise of TP{k}/N over rho_J +- window: 3D {three:.3g}; "
                 + ", ".join(f"{n} {v:.3g}" for n, v in two.items()))
-    return Judgement(ratio, evidence, bool(three > 0 and three >= context.tolerances.steeper_factor * largest))
+    return Judgement(ratio, evidence, bool(three > 0 and three >= context.tolerances.steeper_factor * largest),
+                     margin=ratio_margin(ratio, context.tolerances.steeper_factor))
 
 
 @claim("p1-5.3-tp0-steeper-in-3d", "5.3", "TP0 increases much more prominently close to rho_J in 3D than in 2D "

@@ -25,10 +25,11 @@ class SystemData:
     """One system as the judges see it.
 
     data : total-force measures over the judged ρ range (all ρ, or ρ ≤ ρ_max with ``judge_up_to_rho_max``);
-    full : total-force measures over every simulated ρ; rho_j : ρ_J (inflection of Z, from every ρ); rho_max :
+    full : total-force measures over every simulated ρ; rho_j : ρ_J (inflection of Z, from every ρ); `jump`: the
+    two states the mean Z jumps between (the last unjammed and the first jammed state); rho_max :
     ρ_max under the table's force unit; tolerance, window : `ClaimTolerances.rho_tolerance`/`rho_window` resolved
-    for this system; below_cut : `ClaimTolerances.below_cut`; overlap : the largest overlap of two particles
-    relative to the sum of their radii at the system's largest ρ, from its snapshots (NaN when not given).
+    for this system; below_cut : `ClaimTolerances.below_cut`; overlaps : the largest overlap of two particles
+    relative to the sum of their radii in its snapshots, {ρ: overlap} (P1 §3; empty when not given).
 
     The curves the judges share (`mean`, `percolating_size`, `shape_average`, `pdf_width`) are computed once per
     SystemData and handed out read-only: one table asks for the same curve of a system many times, in every
@@ -45,7 +46,7 @@ class SystemData:
     tolerance: float
     window: float
     below_cut: str = BELOW_BEFORE_JUMP
-    overlap: float = math.nan
+    overlaps: Mapping[float, float] = field(default_factory=dict, compare=False)
     _computed: dict = field(default_factory=dict, init=False, repr=False, compare=False)
 
     @property
@@ -59,22 +60,42 @@ class SystemData:
         return self.computed(("rho",), lambda: rho_values(self.data).copy())  # a copy: the dataset is left as it is
 
     @property
+    def jump(self) -> tuple[float, float]:
+        """(last unjammed ρ, first jammed ρ): the two consecutive states of the largest rise of the realization-mean
+        Z (every simulated ρ), the jump the jamming transition is crossed in (NaN, NaN with fewer than 2 states)."""
+        def compute() -> tuple[float, float]:
+            z = realization_mean(self.full["Z"]).transpose("rho").values.astype(float)
+            rho = rho_values(self.full)
+            rise = np.diff(z)
+            if rise.size == 0 or not np.isfinite(rise).any():
+                return math.nan, math.nan
+            k = int(np.nanargmax(rise))
+            return float(rho[k]), float(rho[k + 1])
+        return self.computed(("jump",), compute)
+
+    @property
     def below(self) -> np.ndarray:
-        """The states below jamming (mask over `data`'s ρ): ρ < ρ_J (`BELOW_BEFORE_JUMP`) or ρ < ρ_J − tolerance
-        (`BELOW_TOLERANCE`), by `below_cut`."""
-        cut = self.rho_j - (self.tolerance if self.below_cut == BELOW_TOLERANCE else 0.0)
-        return self.rho < cut - 1e-12
+        """The states below jamming (mask over `data`'s ρ), by `below_cut`: `BELOW_BEFORE_JUMP`, the states up to
+        the last one before the jump of Z (`jump`), never at or above ρ_J (in 3D ρ_J = 0.595 falls between 0.59
+        and 0.60, but Z jumps between 0.58 and 0.59: 0.59 is jammed); `BELOW_TOLERANCE`, ρ < ρ_J − tolerance."""
+        if self.below_cut == BELOW_TOLERANCE:
+            return self.rho < self.rho_j - self.tolerance - 1e-12
+        last_unjammed = self.jump[0]
+        before_jump = self.rho <= last_unjammed + 1e-12 if np.isfinite(last_unjammed) else True
+        return (self.rho < self.rho_j - 1e-12) & before_jump
 
     @property
-    def below_transition(self) -> np.ndarray:
-        """ρ < ρ_J − tolerance whatever `below_cut` (mask over `data`'s ρ): the side of the transition that a jump
-        across it is measured from, symmetric to `beyond`."""
-        return self.rho < self.rho_j - self.tolerance - 1e-12
+    def below_text(self) -> str:
+        """What `below` is, for the evidence texts: ``rho <= 0.580 (before the jump of Z)`` or ``rho < 0.575``."""
+        mask = self.below
+        if self.below_cut == BELOW_TOLERANCE or not mask.any():
+            return f"rho < {self.rho_j - (self.tolerance if self.below_cut == BELOW_TOLERANCE else 0.0):.3f}"
+        return f"rho <= {self.rho[mask][-1]:.3f} (before the jump of Z)"
 
     @property
-    def below_limit(self) -> float:
-        """The ρ that `below` stays under (ρ_J or ρ_J − tolerance)."""
-        return self.rho_j - (self.tolerance if self.below_cut == BELOW_TOLERANCE else 0.0)
+    def first_jammed(self) -> float:
+        """The first state after the jump of Z (`jump`): the first jammed state."""
+        return self.jump[1]
 
     @property
     def step(self) -> float:
@@ -286,7 +307,9 @@ def peak_verdict(peak: Peak | None, what: str, system: SystemData, tolerances: C
                 f"{system.tolerance:.3g}), relative prominence {peak.relative_prominence:.2f}; peak "
                 f"{'present' if present else 'absent'}, expected {'present' if expected else 'absent'} for a "
                 f"{system.force_law} law")
-    margin = relative_margin(peak.relative_prominence, tolerances.min_prominence) if peak.near else math.nan
+    # near ρ_J the prominence decides, else the distance from ρ_J against the tolerance
+    margin = (relative_margin(peak.relative_prominence, tolerances.min_prominence) if peak.near
+              else relative_margin(abs(peak.rho - system.rho_j), system.tolerance))
     return Judgement(peak.relative_prominence, evidence, present == expected, margin=margin,
                      grid_step=near_by_one_step(peak, system), states=f"rho {peak.rho:.3f}")
 
@@ -353,7 +376,7 @@ def zero_below(curve: xr.DataArray, system: SystemData, tolerances: ClaimToleran
 
     Vacuous (issue 25) when `what` is zero below ρ_J and also at more than half of the states beyond ρ_J + tol:
     P1's "vanishes below, grows beyond" then has nothing to contrast (B2 with filled tetrahedra)."""
-    below = require(system.below, f"rho below {system.below_limit:.3f}")
+    below = require(system.below, f"states below jamming ({system.below_text})")
     values = np.asarray(curve.values, dtype=float)
     below_max, overall = finite_max(values[below]), finite_max(values)
     if not np.isfinite(overall):
@@ -363,9 +386,9 @@ def zero_below(curve: xr.DataArray, system: SystemData, tolerances: ClaimToleran
     beyond = values[system.beyond]
     zero_beyond = int(np.count_nonzero(beyond == 0))
     vacuous = bool(below_max == 0 and beyond.size > 0 and zero_beyond > beyond.size / 2)
-    evidence = (f"max {what} for rho < {system.below_limit:.3f}: {below_max:.3g}; max over all rho "
+    evidence = (f"max {what} for {system.below_text}: {below_max:.3g}; max over all rho "
                 f"{overall:.3g} ({system.label()}); zero at {zero_beyond} of {beyond.size} rho beyond rho_J + tol")
-    margin = relative_margin(below_max, limit) if below_max > 0 else math.nan
+    margin = relative_margin(below_max, limit)  # 1 for a quantity that is zero below ρ_J
     return Judgement(below_max, evidence, bool(holds), margin=margin, vacuous=vacuous, states=system.states(below))
 
 

@@ -19,8 +19,8 @@ import xarray as xr
 
 from forcenet.report import p1_claims, p1_claims_topology
 from forcenet.report.claims import (BELOW_TOLERANCE, FAILS, IMPORTED_NOT_EVALUATED, NOT_EVALUATED, Claim,
-                                    ClaimTolerances, Explanation, JudgedClaim, Judgement, NotEvaluated, judge_claim,
-                                    rows_beside, verdict_summary)
+                                    ClaimTolerances, Explanation, JudgeChange, JudgedClaim, Judgement, NotEvaluated,
+                                    judge_claim, rows_beside, verdict_summary)
 from forcenet.report.claims_table import (VERDICT_COLUMNS, TableLayout, TableSection, claims_frame,
                                           validation_markdown, with_paper_size, write_validation_table)
 from forcenet.report.p1 import (DEFAULT_P1_FORCE_UNIT, P1_FORCE_UNITS, P1_RHO_STEP, P1_ROLES, PAPER_PHI_C,
@@ -28,6 +28,7 @@ from forcenet.report.p1 import (DEFAULT_P1_FORCE_UNIT, P1_FORCE_UNITS, P1_RHO_ST
                                 isostatic_crossing, jamming_point, rho_values, select_total, never_dying_at_minus_one,
                                 system_dimension, system_force_law, system_order, value_at)
 from forcenet.report.p1_diagnostics import SHAPE_READINGS, with_shape_reading
+from forcenet.report.judge_changes import P1_CHANGES
 from forcenet.report.p1_explanations import explain
 from forcenet.report.p1_judging import ClaimContext, SystemData
 from forcenet.report.realizations import REALIZATION, bootstrap_draws, resample_realizations
@@ -75,7 +76,8 @@ P1_READINGS = (Reading(BELOW_TOLERANCE, tolerances={"below_cut": BELOW_TOLERANCE
 def p1_validation(measures: Mapping[str, xr.Dataset], *, force_unit: str = DEFAULT_P1_FORCE_UNIT,
                   judge_up_to_rho_max: bool = False, readings: Sequence[Reading] = P1_READINGS,
                   beside: Mapping[str, Mapping[str, xr.Dataset]] | None = None, resamples: int = 0, seed: int = 0,
-                  overlaps: Mapping[str, float] | None = None, diagrams: Mapping[str, xr.Dataset] | None = None,
+                  overlaps: Mapping[str, float | Mapping[float, float]] | None = None,
+                  diagrams: Mapping[str, xr.Dataset] | None = None,
                   beside_diagrams: Mapping[str, Mapping[str, xr.Dataset]] | None = None,
                   counterparts: Sequence[str] = (), **tolerances) -> pd.DataFrame:
     """P1's numbers and claims beside what `measures` (system → network_measures dataset) shows.
@@ -100,8 +102,13 @@ def p1_validation(measures: Mapping[str, xr.Dataset], *, force_unit: str = DEFAU
     (`never_dying_at_minus_one`, the papers' convention), the measures as stored (classes left out) beside; the
     measures of a reading of `beside` likewise, with that reading's diagrams (`beside_diagrams`, {reading name:
     {system: diagrams.nc}}) where it has its own.
-    `overlaps` ({system: largest overlap / sum of radii at its largest ρ}, `largest_relative_overlap` of its
-    snapshots there) judges P1 §3's "overlaps up to 10 %"; without it that claim is not evaluated.
+    `overlaps` ({system: {ρ: largest overlap / sum of radii}} of its snapshots, `overlaps_by_state`, or {system:
+    that overlap at its largest ρ}) judges P1 §3's "overlaps up to 10 %" at P1's depth above jamming (ρ_J + 0.056,
+    within one grid step); without it, or without a state there, that claim is not evaluated.
+
+    A claim whose judge changed after its verdicts were read (`forcenet.report.judge_changes.P1_CHANGES`) says so
+    in the column ``judge_changed_after_reading``. A verdict resting on one run (the counterparts of P1 §3, or a
+    system with one realization) says so in its robustness.
 
     `counterparts` (``studies.p1.counterparts``: the μ = 0 and box-size runs) are systems of `measures` that only
     the claims comparing systems see (P1 §3's friction and system-size claims): they get no row of their own and
@@ -157,14 +164,34 @@ def p1_validation(measures: Mapping[str, xr.Dataset], *, force_unit: str = DEFAU
 
 def _context(present: Mapping[str, xr.Dataset], tolerances: ClaimTolerances, force_unit: str, up_to_rho_max: bool,
              cuts: Mapping[str, FMaxCut | str] | None = None,
-             overlaps: Mapping[str, float] | None = None, counterparts: Sequence[str] = ()) -> ClaimContext:
+             overlaps: Mapping[str, float | Mapping[float, float]] | None = None,
+             counterparts: Sequence[str] = ()) -> ClaimContext:
     """Every system of `present` as the judges see it, under the F_max cut of `force_unit` (made by the systems
-    that are not `counterparts`), with its snapshot overlap from `overlaps`."""
+    that are not `counterparts`), with its snapshot overlaps from `overlaps` ({ρ: overlap}, or one number: at its
+    largest ρ)."""
     cut = (cuts if cuts is not None else _cuts(present, counterparts)).get(force_unit)
-    systems = {name: replace(system_data(name, ds, cut if isinstance(cut, FMaxCut) else None, tolerances,
-                                         up_to_rho_max), overlap=float((overlaps or {}).get(name, math.nan)))
-               for name, ds in present.items()}
+    systems = {}
+    for name, ds in present.items():
+        system = system_data(name, ds, cut if isinstance(cut, FMaxCut) else None, tolerances, up_to_rho_max)
+        given = (overlaps or {}).get(name)
+        if given is not None and not isinstance(given, Mapping):  # one overlap: at the system's largest ρ
+            given = {float(rho_values(system.full)[-1]): float(given)}
+        systems[name] = replace(system, overlaps={float(rho): float(v) for rho, v in (given or {}).items()})
     return ClaimContext(systems, tolerances, frozenset(counterparts), claims=tuple(CLAIMS))
+
+
+def overlaps_by_state(snapshots: Sequence[xr.Dataset]) -> dict[str, dict[float, float]]:
+    """{system: {ρ: largest overlap / sum of radii over the snapshots at that ρ}} of `snapshots` (every realization
+    of the states to judge; `forcenet.report.p1.largest_relative_overlap`): the `overlaps` of `p1_validation`,
+    which judges P1 §3's bound at P1's depth above jamming."""
+    from forcenet.report.p1 import largest_relative_overlap
+
+    found: dict[str, dict[float, float]] = {}
+    for snapshot in snapshots:
+        by_rho = found.setdefault(str(snapshot.attrs["system"]), {})
+        rho = round(float(snapshot["rho"]), 6)
+        by_rho[rho] = max(by_rho.get(rho, 0.0), largest_relative_overlap(snapshot))
+    return found
 
 
 def _cuts(present: Mapping[str, xr.Dataset], counterparts: Sequence[str] = ()) -> dict[str, FMaxCut | str]:
@@ -214,10 +241,12 @@ def _claim_rows(claim_: Claim, context: ClaimContext, names: Mapping[str, xr.Dat
     `names` (a system of P1 missing from the results is "not evaluated"); its robustness from the same claim
     judged in each of the `resampled` contexts; `reading` names the reading of `context`."""
     criterion = claim_.criterion_text(context.tolerances)
+    changed = P1_CHANGES.get(claim_.id)
     if not claim_.per_system:
         return [judge_claim(claim_, "all", claim_.paper_value(None), criterion, lambda: claim_.judge(context),
                             explain=_explainer(claim_, "all", reading),
-                            resampled=[lambda c=c: claim_.judge(c) for c in resampled], reading=reading)]
+                            resampled=[lambda c=c: claim_.judge(c) for c in resampled], reading=reading,
+                            changed=changed)]
     rows = []
     for name in system_order(names):
         system = context.systems.get(name)
@@ -236,12 +265,13 @@ def _claim_rows(claim_: Claim, context: ClaimContext, names: Mapping[str, xr.Dat
                 raise NotEvaluated("rho_J could not be located")
             return claim_.judge(system, within.tolerances)
 
-        # one realization is the same in every resample: no robustness to measure (NaN), not a trivial 0 or 1
+        # one realization is the same in every resample: no robustness to measure, the row says "one run"
         varies = system is not None and system.full.sizes.get(REALIZATION, 1) > 1
         rows.append(judge_claim(claim_, name, claim_.paper_value(role), criterion, lambda: judge(context),
                                 explain=_explainer(claim_, name, reading),
                                 resampled=[lambda c=c: judge(c) for c in resampled] if varies else [],
-                                reading=reading))
+                                reading=reading, changed=changed,
+                                one_run=(name,) if system is not None and not varies else ()))
     return rows
 
 
@@ -309,9 +339,21 @@ def _value_rows(name: str, system: SystemData | None, cuts: Mapping[str, FMaxCut
     phi_c = 1.0 / (z_j - 1.0) if np.isfinite(z_j) and z_j > 1 else math.nan  # P1 Eq. 6 with <k^2> = <k>^2
     rows.append(_value("phi_c", "4.3", "phi_c = 1/(Z(rho_J) - 1)", name, phi_c, paper_phi,
                        "P1 Eq. 6 with <k^2> = <k>^2, <k> = mean Z at rho_J"))
+    # the same at the first jammed state (after the jump of Z), beside the value interpolated across the jump
+    first = system.first_jammed
+    z_first = value_at(ds, "Z", first) if np.isfinite(first) else math.nan
+    phi_first = 1.0 / (z_first - 1.0) if np.isfinite(z_first) and z_first > 1 else math.nan
+    rows.append(replace(_value("phi_c_first_jammed", "4.3", "phi_c = 1/(Z - 1) at the first jammed state", name,
+                               phi_first, paper_phi, f"P1 Eq. 6 with <k> = mean Z (all particles) {z_first:.3g} at "
+                               f"rho={first:.3f}, the first state after the jump of Z (rho_J={rho_j:.3f} lies in the "
+                               "jump)"), judge_changed_after_reading=PHI_C_FIRST_JAMMED.text(name)))
     rows.append(_value("rho_at_Z_d+1", "4", "rho at Z = d+1", name, isostatic_crossing(ds), math.nan,
                        f"first rho where the mean Z reaches {system.dimension + 1} (P2's definition)"))
     return rows
+
+
+#: the value row of φ_c at the first jammed state was added after the verdicts were read (issue 53)
+PHI_C_FIRST_JAMMED = JudgeChange("row added: phi_c at the first jammed state beside the value interpolated at rho_J")
 
 
 def _value(id_: str, section: str, item: str, system: str, measured: float, paper: float, evidence: str,
@@ -337,11 +379,12 @@ def _markdown_head(force_unit: str) -> list[str]:
 
 def _markdown_sections(table: pd.DataFrame) -> list[TableSection]:
     """The table of values, then the table of claims headed by the verdict counts."""
-    return [TableSection("Values", [], ["item", "system", "measured", "paper", "difference", "evidence", "verdict"],
-                         kind="value"),
+    return [TableSection("Values", [], ["item", "system", "measured", "paper", "difference", "evidence", "verdict",
+                                        "judge_changed_after_reading"], kind="value"),
             TableSection("Claims", [verdict_summary(table), ""],
                          ["id", "section", "item", "system", "measured", "paper", "criterion", "evidence", "verdict",
-                          "marker", "robustness", "states", "reading", "explanation", "explanation_basis"],
+                          "marker", "robustness", "states", "reading", "explanation", "explanation_basis",
+                          "judge_changed_after_reading"],
                          kind="claim")]
 
 

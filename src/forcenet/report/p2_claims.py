@@ -18,8 +18,9 @@ import numpy as np
 import pandas as pd
 
 from forcenet.report.claims import (Claim, ClaimTolerances, Judgement, NotEvaluated, claim_register,
-                                    contrast_margin, ratio_margin, relative_margin, smallest_margin)
+                                    contrast_margin, ratio_margin, reference_margin, relative_margin, smallest_margin)
 from forcenet.report.p2 import (METRIC_SYMBOLS, METRICS, P2_HOMOLOGY_DIMS, TABLE_PAIRS, table_column)
+from forcenet.report.p2_tables import p2_reference_table
 from forcenet.report.p2_judging import (B, NORMAL, TANGENTIAL, W1, W2, Context, Curves, coefficient_of_variation, fmt,
                                         log10_ratio, pearson, per_dim_metric_text, per_metric_text,
                                         rate_quotient, spearman, within_factor, within_factor_margin)
@@ -47,7 +48,8 @@ def _t_bottleneck_small(ctx: Context) -> Judgement:
 @claim("III.D-2", "§III D, Table I",
        "c differs from a by many more small changes than b does: d_W1 grows from (a,b) to (a,c) relatively more "
        "than d_W2",
-       lambda t: "d_W1(a,c)/d_W1(a,b) > d_W2(a,c)/d_W2(a,b) for beta0 and beta1",
+       lambda t: ("d_W1(a,c)/d_W1(a,b) > d_W2(a,c)/d_W2(a,b) for beta0 and beta1; margin against P2's own quotients "
+                  "(how far ours lies from 1 relative to P2's)"),
        paper="beta0: 14.0/4.18 vs 0.89/0.50; beta1: 19.2/3.8 vs 0.99/0.57", scope="tables")
 def _t_relative_w1(ctx: Context) -> Judgement:
     """Judge of claim III.D-2 by its criterion."""
@@ -57,9 +59,23 @@ def _t_relative_w1(ctx: Context) -> Judgement:
         for m in (W1, W2):
             col = table_column(h, m)
             growth[h, m] = float(t.loc["(a,c)", col]) / float(t.loc["(a,b)", col])
-    lead = min(growth[h, W1] / growth[h, W2] for h in P2_HOMOLOGY_DIMS)
+    quotient = {h: growth[h, W1] / growth[h, W2] for h in P2_HOMOLOGY_DIMS}
+    lead = min(quotient.values())
+    # P2's own quotients (its Table I): the margin says how far ours lies from 1 relative to how far P2's does
+    own = _table1_quotients(p2_reference_table("table1"))
+    margin = smallest_margin(*(reference_margin(quotient[h], 1.0, own[h]) for h in P2_HOMOLOGY_DIMS))
     return Judgement(lead, f"Table I (a,c)/(a,b): {per_dim_metric_text(growth)}; smallest d_W1/d_W2 growth quotient "
-                           f"{fmt(lead, 2)}", lead > 1.0, margin=relative_margin(lead, 1.0))
+                           f"{fmt(lead, 2)}; P2's own quotients: "
+                           + ", ".join(f"beta{h} {fmt(own[h], 3)}" for h in P2_HOMOLOGY_DIMS), lead > 1.0,
+                     margin=margin)
+
+
+def _table1_quotients(table: pd.DataFrame) -> dict[int, float]:
+    """{homology dim: d_W1(a,c)/d_W1(a,b) over d_W2(a,c)/d_W2(a,b)} of a Table I (ours or P2's)."""
+    def growth(h: int, m: str) -> float:
+        col = table_column(h, m)
+        return float(table.loc["(a,c)", col]) / float(table.loc["(a,b)", col])
+    return {h: growth(h, W1) / growth(h, W2) for h in P2_HOMOLOGY_DIMS}
 
 
 def quadrant_dominance(table: pd.DataFrame) -> pd.DataFrame:
@@ -92,14 +108,18 @@ def _t_localised(ctx: Context) -> Judgement:
 
 @claim("III.D-4", "§III D, Table III",
        "The (a,c) differences are distributed evenly over the domain",
-       lambda t: f"median over columns of largest/smallest quadrant <= {t.spread}",
+       lambda t: (f"median over columns of largest/smallest quadrant <= {t.spread}; margin against P2's own Table III "
+                  "(how far ours lies from the limit relative to P2's)"),
        paper="similar values in all quadrants", scope="tables")
 def _t_spread(ctx: Context) -> Judgement:
     """Judge of claim III.D-4 by its criterion."""
     stats = quadrant_dominance(ctx.table("table3"))
     median = float(stats["max_over_min"].median())
-    return Judgement(median, f"Table III: median over columns of largest/smallest quadrant = {fmt(median, 2)}",
-                     median <= ctx.tol.spread, margin=relative_margin(median, ctx.tol.spread))
+    # P2's own Table III gives 1.46: the margin says how far ours lies from the limit relative to how far P2's does
+    own = float(quadrant_dominance(p2_reference_table("table3"))["max_over_min"].median())
+    return Judgement(median, f"Table III: median over columns of largest/smallest quadrant = {fmt(median, 2)}; "
+                             f"P2's own {fmt(own, 3)}", median <= ctx.tol.spread,
+                     margin=reference_margin(median, ctx.tol.spread, own))
 
 
 @claim("IV.A-1", "§IV A, Fig. 6",

@@ -19,6 +19,7 @@ from forcenet.report.claims_table import (VERDICT_COLUMNS, TableLayout, TableSec
 from forcenet.report.p1 import system_dimension
 from forcenet.report import p2_claims, p2_claims_friction
 from forcenet.report.p2 import FRICTIONAL, FRICTIONLESS, format_number
+from forcenet.report.judge_changes import P2_CHANGES
 from forcenet.report.p2_explanations import explain
 from forcenet.report.p2_judging import Context, Curves
 from forcenet.report.realizations import bootstrap_draws, resample_realizations
@@ -62,9 +63,11 @@ def p2_validation(distances: Mapping[str, xr.Dataset], tables: Mapping[str, pd.D
         key may be left out: the primary's is used), e.g. the distances with never-dying classes matched only
         with each other (``essential_convention: apart``) or Tables I–III of the literal states at ρ = 0.79; a
         row of a reading is set beside a claim wherever it changes the verdict, marker or key number.
-    resamples, seed : each claim on the realizations (not Tables I–III, one realization) is judged again on
-        `resamples` bootstrap resamples of every system's realizations (seeded by `seed`); its robustness is the
-        share under which it holds (NaN with 0 resamples or one realization).
+    resamples, seed : each claim on the realizations (not Tables I–III, one realization, whose robustness says "one
+        run") is judged again on `resamples` bootstrap resamples of every system's realizations (seeded by `seed`);
+        its robustness is the share under which it holds (NaN with 0 resamples or one realization). A claim whose
+        judge changed after its verdicts were read (`forcenet.report.judge_changes.P2_CHANGES`) says so in the
+        column ``judge_changed_after_reading``.
 
     Returns
     -------
@@ -109,14 +112,17 @@ def p2_validation(distances: Mapping[str, xr.Dataset], tables: Mapping[str, pd.D
             """Why the claim does not hold (nothing where it does, or where it is not judged on imported states)."""
             return explain(claim.id, ctx) if verdict != HOLDS and not imported else None
 
+        # Tables I–III are one realization's: the verdict rests on that one run, and says so
         on_resamples = [] if claim.scope == "tables" else [lambda c=c, judge=judge: judge(c) for c in resampled]
+        changed = P2_CHANGES.get(claim.id)
         row = judge_claim(claim, systems[claim.scope], claim.paper_value(), claim.criterion_text(tol),
-                          lambda judge=judge: judge(ctx), explanation, resampled=on_resamples)
+                          lambda judge=judge: judge(ctx), explanation, resampled=on_resamples, changed=changed,
+                          one_run=(frictional,) if claim.scope == "tables" else ())
         judged.append(row)
         for name, other in others:
             judged += rows_beside([row], [judge_claim(claim, systems[claim.scope], claim.paper_value(),
                                                       claim.criterion_text(tol), lambda judge=judge, o=other: judge(o),
-                                                      reading=name)])
+                                                      reading=name, changed=changed)])
     curves = ctx.curves
     table = claims_frame(judged, P2_LAYOUT)
     table.attrs["systems"] = {name: {"rho_J": c.rho_j, "realizations": c.n_realizations,
