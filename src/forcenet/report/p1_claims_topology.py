@@ -392,8 +392,10 @@ def shape_bounds(system: SystemData, tolerances: ClaimTolerances) -> Judgement:
     holds = values.min() >= P1_OPEN_PATH_MIN - 1e-12 and values.max() <= upper + 1e-12
     return Judgement(float(values.max()), f"S_p in [{values.min():.3g}, {values.max():.3g}] over {values.size} "
                                           f"cells; bounds [{P1_OPEN_PATH_MIN}, {upper:g}] ({system.name})", bool(holds),
-                     margin=smallest_margin(relative_margin(values.min(), P1_OPEN_PATH_MIN),
-                                            relative_margin(values.max(), upper)))
+                     # a two-particle path has S_p = 0.5 exactly: the lower bound is met by construction and
+                     # decides only when broken; the upper bound (from the largest contact number) gives the margin
+                     margin=(relative_margin(values.max(), upper) if values.min() >= P1_OPEN_PATH_MIN - 1e-12
+                             else relative_margin(values.min(), P1_OPEN_PATH_MIN)))
 
 
 # --- §5.3 Persistence diagrams and total persistence ----------------------------------------------------------
