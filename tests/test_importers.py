@@ -464,7 +464,7 @@ def test_the_example_config_passes_and_a_bad_source_entry_names_its_key():
                 for state in EXAMPLE["systems"]["table_2d"]["source"]["runs"][0]]
     flat = {"dimension": 2, "source": {**EXAMPLE["systems"]["table_2d"]["source"], "runs": [same_rho]}}
     with pytest.raises(ConfigError, match="config key 'systems.table_2d.source.runs\\[0\\]': states with the same ρ "
-                                          "at 3 decimals .* imported one per system"):
+                                          "at 3 decimals .* is one run with source.sequence"):
         checked({**EXAMPLE, "systems": {"table_2d": flat}, "studies": {"p1": {"systems": ["table_2d"]}}})
     backwards = {"dimension": 2, "source": {**EXAMPLE["systems"]["table_2d"]["source"],
                                             "runs": [EXAMPLE["systems"]["table_2d"]["source"]["runs"][0][::-1]]}}

@@ -53,6 +53,7 @@ SYMBOLIC = [
     (paths.network_measures, ("{system}",)), (paths.diagrams, ("{system}",)), (paths.distances, ("{system}",)),
     (paths.p2_run, ("{system}", "{realization}")), (paths.figure, ("{figure}", "{pdf,png,csv}")), (paths.p1_validation_table, ("{csv,md}",)),
     (paths.p2_table, ("{1,2,3}", "{csv,md}")), (paths.p2_table_states, ()), (paths.p2_validation_table, ("{csv,md}",)),
+    (paths.skipped_products, ()),
     (paths.movie, (paths.movie_name("{kind}", "{system}"),)), (paths.log, ("{step}", "{name}")),
     (paths.reading, ("{reading}",)),
 ]

@@ -120,6 +120,21 @@ def stacked_seed(config: Mapping[str, Any], spec) -> int:
     return -1 if isinstance(spec, ImportedSystem) else int(config["seed"])
 
 
+def sequence_attrs(spec) -> dict[str, str]:
+    """The global attributes of the stacked files of a sequence (an imported run ordered by strain, time, frame or
+    timestep, `forcenet.importers.sequence`): its coordinate and the coordinate's unit, under which
+    `forcenet.datasets.io` names the state axis on disk; none for a compression (every DEM system)."""
+    from forcenet.datasets.schema import STATE_COORDINATE_ATTR, STATE_UNITS_ATTR
+    from forcenet.systems import ImportedSystem
+
+    if not isinstance(spec, ImportedSystem) or not spec.is_sequence:
+        return {}
+    from forcenet.importers.sequence import coordinate_units
+
+    return {STATE_COORDINATE_ATTR: spec.coordinate,
+            STATE_UNITS_ATTR: coordinate_units({"source": spec.source, "units": spec.units})}
+
+
 def prepare_stage(stage: Path, config: Mapping[str, Any], system: str) -> Path:
     """Create (or keep) the staging folder of a run. A stage written under other simulation settings is
     discarded (its checkpoint must not be resumed); one whose config differs only in what the run does not depend
@@ -255,6 +270,7 @@ def aggregate(*, analyses: Sequence[str], realizations: Sequence[int], rhos: Seq
                                  title=f"forcenet network measures, {system}, stacked over realization and rho")
         attrs.update(dimension=spec.dimension, force_law=spec.force_law, **force_constants(config, system))
         attrs.update(common_analysis_attrs(datasets))
+        attrs.update(sequence_attrs(spec))  # a sequence's state axis is its coordinate
         write_netcdf(stack_network_measures(datasets, realizations, rhos, attrs), measures_path,
                      kind="network_measures")
         attrs["title"] = f"forcenet persistence diagrams, {system}, all realizations and rho"
@@ -456,18 +472,39 @@ def figure(*, name: str, systems: Sequence[str], inputs: Mapping[str, Sequence[s
     and colour of each system (the config's ``system_info``)."""
     from forcenet.plotting.figure_data import write_csv
     from forcenet.plotting.registry import draw_figure, figure_data, figure_entry
-    from forcenet.plotting.style import apply_style, save_figure, use_system_styles
+    from forcenet.plotting.style import apply_style, save_figure, use_state_axes, use_system_styles
 
     with job_logger(log_path, f"figure.{name}") as log:
         apply_style()
         use_system_styles(system_info or {})
         entry = figure_entry(name)
         opened = [FIGURE_INPUT_READERS[kind](inputs[kind], inputs) for kind in entry.inputs]
+        use_state_axes([ds for value in opened for ds in ([value] if hasattr(value, "attrs") else  # a dataset
+                                                          value.values() if isinstance(value, Mapping) else value)])
         one_system = systems[0] if entry.systems != "all" else None  # a P1 preparation's `system` is a choice
         data = figure_data(name, *opened, system=one_system, force_unit=force_unit, rattler_rule=rattler_rule)
         save_figure(draw_figure(name, data), pdf, png)
-        write_csv(data, csv)
+        write_csv(with_state_columns(data), csv)
         log.info("%s drawn for %s (%d rows of source data)", name, ", ".join(systems), len(data.table))
+
+
+def with_state_columns(data):
+    """`data` (a `FigureData`) as its CSV gives it: the ``rho`` column of a figure whose every system is a sequence of
+    one coordinate named after that coordinate and its unit (``strain``, ``t [s]``, `forcenet.plotting.style.
+    state_column`); of a figure that draws sequences beside compressions, a ``state_axis`` column naming each row's."""
+    from forcenet.plotting import figure_data as cols
+    from forcenet.plotting.figure_data import FigureData
+    from forcenet.plotting.style import is_sequence, state_column
+
+    table = data.table
+    if cols.RHO not in table or cols.SYSTEM not in table or not any(map(is_sequence, table[cols.SYSTEM].unique())):
+        return data
+    columns = {state_column(name) for name in table[cols.SYSTEM].unique()}
+    if len(columns) == 1:
+        return FigureData(table.rename(columns={cols.RHO: columns.pop()}), data.layout)
+    table = table.copy()
+    table.insert(list(table.columns).index(cols.RHO), "state_axis", table[cols.SYSTEM].map(state_column))
+    return FigureData(table, data.layout)
 
 
 def _chosen_states(paths: Sequence[str], inputs: Mapping[str, Sequence[str]], reader) -> list:
@@ -513,14 +550,16 @@ def movie(*, kind: str, system: str, inputs: Sequence[str], output: str, rattler
     network_measures.nc of every P1 system, its ρ_max from ⟨F⟩ in `force_unit` (``analysis.p1_force_unit``)."""
     from forcenet.datasets import read_snapshot
     from forcenet.plotting import movies
-    from forcenet.plotting.style import use_system_styles
+    from forcenet.plotting.style import use_state_axes, use_system_styles
 
     with job_logger(log_path, f"movie.{kind}.{system}") as log:
         use_system_styles(system_info or {})
         if kind == "network":
             frames = movies.network_movie([read_snapshot(p) for p in inputs], output, rattler_rule=rattler_rule)
         elif kind == "b0_surface":
-            frames = movies.b0_surface_movie(open_by_system(inputs, "network_measures"), system, output,
+            measures = open_by_system(inputs, "network_measures")
+            use_state_axes(measures.values())
+            frames = movies.b0_surface_movie(measures, system, output,
                                              force_unit=force_unit)
         else:
             raise ValueError(f"unknown movie kind {kind!r}; known: network, b0_surface")
@@ -563,6 +602,26 @@ def p1_validation_table(*, measures: Sequence[str], systems: Sequence[str], csv:
                               counterparts=counterparts)
         write_p1_validation(table, csv, md, paper_size=paper_size)
         log.info("P1 validation: %d rows, claim verdicts %s", len(table), verdict_counts(table))
+
+
+def sequence_claims_note(paper: str, systems: Sequence[str], coordinates: Sequence[str]) -> str:
+    """Why a validation table of `paper` (P1 or P2) lists no claim: its study's `systems` are all sequences (imported
+    runs at any ρ, ordered by `coordinates`)."""
+    return (f"no claim applies: the study's systems ({', '.join(systems)}) are imported sequences ordered by "
+            f"{', '.join(sorted(set(coordinates)))}, not compressions, and every claim of {paper} is about how a "
+            "packing's force networks change as it is compressed (over ρ, around ρ_J, between nearby ρ)")
+
+
+def no_claims_table(*, csv: str, md: str, paper: str, note: str, log_path: str | None = None) -> None:
+    """A validation table that lists no claim (`csv`: one column `note`, one row; `md`: a title and the line `note`
+    saying why), for a study whose every system is a sequence (`sequence_claims_note`)."""
+    import pandas as pd
+
+    with job_logger(log_path, f"{paper.lower()}_validation") as log:
+        Path(csv).parent.mkdir(parents=True, exist_ok=True)
+        pd.DataFrame({"note": [note]}).to_csv(csv, index=False)
+        Path(md).write_text(f"# {paper} validation\n\n{note[0].upper()}{note[1:]}.\n", encoding="utf-8")
+        log.info("%s validation: %s", paper, note)
 
 
 def chosen_datasets(paths: Sequence[str], states_csv: str, reader) -> list:

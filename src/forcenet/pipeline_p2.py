@@ -9,7 +9,7 @@ from typing import Any, Mapping, Sequence
 
 from forcenet.datasets.paths import rho_file
 from forcenet.pipeline import (chosen_datasets, common_analysis_attrs, job_logger, open_by_system, readings_beside,
-                               run_attrs, simulate, stacked_seed)
+                               run_attrs, sequence_attrs, simulate, stacked_seed)
 from forcenet.systems import select_table_snapshots, system_from_config
 
 #: how many states of the grid, from the first at or above ``studies.p2.table_rho``, are the candidates for the states
@@ -63,7 +63,8 @@ def p2_run_summary(*, analyses: Sequence[str], output: str, config: Mapping[str,
                           title=f"forcenet P2 run summary, {system} {realization}")
         attrs.update(dimension=spec.dimension, simulation_sha256=expect["simulation_sha256"],
                      **common_analysis_attrs(datasets))
-        write_netcdf(run_summary(datasets, conventions, spec.rho_grid, attrs), output, kind="p2_run")
+        write_netcdf(run_summary(datasets, conventions, spec.rho_grid, attrs, sequence=bool(sequence_attrs(spec))),
+                     output, kind="p2_run")
         log.info("%s %s: %d states, distances under %s", system, realization, len(datasets), ", ".join(conventions))
 
 
@@ -112,7 +113,9 @@ def p2_distances(*, runs: Sequence[str], realizations: Sequence[int], output: st
                                  title=f"forcenet distances between consecutive persistence diagrams, {system}")
         attrs.update(dimension=spec.dimension, force_law=spec.force_law)
         attrs.update(common_analysis_attrs(list(summaries.values())))  # the rule and complex of every diagram
-        stacked = distances_on_grid(stack_distances(results, realizations, attrs), spec.rho_grid[1:])
+        attrs.update(sequence_attrs(spec))  # a sequence's pairs lie along its coordinate, not along ρ
+        stacked = distances_on_grid(stack_distances(results, realizations, attrs), spec.rho_grid[1:],
+                                    measured_on_grid=not sequence_attrs(spec))
         write_netcdf(stacked, output, kind="distances")
 
 

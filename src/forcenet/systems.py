@@ -158,11 +158,17 @@ class ImportedSystem:
     ----------
     name : config name
     dimension : 2 or 3
-    rho_grid : the packing fractions of run 0's states (from each state's particles and box), rounded to
-        `RHO_DECIMALS`, increasing: the states' labels in file names
+    rho_grid : the run's state axis, increasing: the packing fractions of run 0's states (from each state's particles
+        and box), rounded to `RHO_DECIMALS`, for a compression (`coordinate` "rho"); the coordinate of each state
+        for a sequence (``source.sequence``, `forcenet.importers.sequence`), whose stacked files name that axis after
+        the coordinate (`forcenet.datasets.schema.STATE_COORDINATE_ATTR`)
     source : the config's ``source:`` entry
     particles : particles in run 0's first state (the cost model's job sizes)
     force_law : ``"imported"`` (the law is the source's own; every network is analysed in units of its mean force)
+    coordinate : "rho" (a compression), or a sequence's coordinate: strain, time, frame or timestep
+    measured_rho : the packing fraction of each of run 0's states (for a compression: `rho_grid` unrounded)
+    units : the config's ``units:`` entry (length, force, time), empty for the source's own unnamed units
+    movies : whether the P1 movies of this system are made (``movies:``, default false: opt-in for imports)
     """
 
     name: str
@@ -173,31 +179,62 @@ class ImportedSystem:
     force_law: str = IMPORTED_FORCE_LAW
     paper: str = "imported"
     normal_stiffness: float = float("nan")
+    coordinate: str = "rho"
+    measured_rho: tuple[float, ...] = ()
+    units: Mapping[str, str] = field(default_factory=dict, compare=False)
+    movies: bool = False
+
+    @property
+    def is_sequence(self) -> bool:
+        return self.coordinate != "rho"
 
     @property
     def rho_labels(self) -> list[str]:
+        """The states' labels in file names: ρ at `RHO_DECIMALS` (a compression), ``state000``, … (a sequence)."""
+        if self.is_sequence:
+            from forcenet.importers.sequence import state_labels
+
+            return state_labels(len(self.rho_grid))
         return [format_rho(rho) for rho in self.rho_grid]
 
 
 def imported_system(name: str, entry: Mapping[str, Any]) -> ImportedSystem:
     """The `ImportedSystem` of a ``source:`` entry: the ρ grid of run 0 from each state's particles and box
-    (`forcenet.importers.scan.run_outline`: the particles files read once per content, which stops at a malformed
-    one with its name and line; the other files are checked to exist here and read by the import job)."""
-    from forcenet.importers.scan import run_outline
+    (`forcenet.importers.scan.run_scan`: the particles files read once per content, which stops at a malformed
+    one with its name and line; the other files are checked to exist here and read by the import job), or for a
+    sequence (``source.sequence``) the coordinate of each state, the same in every run."""
+    from forcenet.importers.scan import run_scan
+    from forcenet.importers.sequence import COORDINATES, SequenceError, coordinate, coordinate_values
 
     key = f"systems.{name}.source"
-    runs = [run_outline(entry, run) for run in range(len(entry["source"]["runs"]))]
-    grids = [[rho for rho, _ in states] for states in runs]
+    runs = [run_scan(entry, run) for run in range(len(entry["source"]["runs"]))]
+    grids = [[rho for rho, _, _ in states] for states in runs]
     if len({len(grid) for grid in grids}) != 1:
         raise ConfigError(f"{key}.runs", f"every run needs the same number of states, got {[len(g) for g in grids]}")
+    common = dict(name=name, dimension=int(entry["dimension"]), source=dict(entry["source"]),
+                  particles=runs[0][0][1] if runs[0] else 0, units=dict(entry.get("units") or {}),
+                  movies=bool(entry.get("movies", False)), measured_rho=tuple(grids[0]))
+    name_of = coordinate(entry)
+    if name_of not in COORDINATES:
+        raise ConfigError(f"{key}.sequence.coordinate", f"{name_of!r} is not one of {', '.join(COORDINATES)}")
+    if name_of != "rho":
+        try:
+            values = [coordinate_values(entry, [step for _, _, step in states], key) for states in runs]
+        except SequenceError as error:
+            raise ConfigError(error.key, error.problem) from None
+        for run, other in enumerate(values[1:], start=1):
+            if other != values[0]:
+                raise ConfigError(f"{key}.runs[{run}]", f"its states' {name_of} differ from run 0's: every run of a "
+                                                        "sequence is stacked on run 0's coordinate")
+        return ImportedSystem(rho_grid=values[0], coordinate=name_of, **common)
     rounded = np.round(grids[0], RHO_DECIMALS)
     if np.any(np.diff(rounded) == 0):  # a shear at constant volume: its states share one ρ
         raise ConfigError(f"{key}.runs[0]", f"states with the same ρ at {RHO_DECIMALS} decimals ({rounded.tolist()}): a "
-                                            "run's states are keyed by ρ, so states at one ρ (a shear at constant volume) "
-                                            "are imported one per system (source.timesteps: [t] for LAMMPS)")
-    return ImportedSystem(name=name, dimension=int(entry["dimension"]),
-                          rho_grid=rho_grid(grids[0], f"{key}.runs[0] (the states' packing fractions, in order)"),
-                          source=dict(entry["source"]), particles=runs[0][0][1] if runs[0] else 0)
+                                            "compression's states are keyed by ρ; a sequence at constant ρ (a shear, "
+                                            "a time series) is one run with source.sequence: {coordinate: strain, "
+                                            "time, frame or timestep}")
+    return ImportedSystem(rho_grid=rho_grid(grids[0], f"{key}.runs[0] (the states' packing fractions, in order)"),
+                          **common)
 
 
 def read_all_sources(config: Mapping[str, Any], systems: Mapping[str, Any]) -> None:

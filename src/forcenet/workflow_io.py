@@ -164,6 +164,8 @@ def table_rho_problem(config: Mapping[str, Any], systems: Mapping[str, Any]) -> 
     table_rho = float(p2.get("table_rho", 0.79))
     rule = p2.get("table_states", "jammed")
     for name in p2.get("systems", []):
+        if getattr(systems[name], "is_sequence", False):  # no states a, b, c of a sequence (workflow/rules/p2.smk)
+            continue
         grid = systems[name].rho_grid
         if rule == "jammed" and sum(rho >= table_rho - 1e-9 for rho in grid) < TABLE_STATES:
             return ConfigError("studies.p2.table_rho", f"is {table_rho:g}, but system '{name}' has "

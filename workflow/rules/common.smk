@@ -51,6 +51,13 @@ P1_SYSTEMS = list(config["studies"].get("p1", {}).get("systems", []))
 P2_SYSTEMS = list(config["studies"].get("p2", {}).get("systems", []))
 # P1's counterparts (the mu = 0 and box-size runs): only the friction and system-size claims judge them
 P1_COUNTERPARTS = list(config["studies"].get("p1", {}).get("counterparts", []))
+# imported sequences (source.sequence: states ordered by strain, time, frame or timestep at any rho,
+# forcenet.importers.sequence): their measures are drawn against the coordinate; the products that compare states of
+# a compression (P2's states a, b, c, P1's and P2's validation claims) are not made for them
+SEQUENCES = [name for name, spec in SYSTEMS.items() if getattr(spec, "is_sequence", False)]
+# the products this config does not make, or makes for fewer systems, each as one line: printed below once the rules
+# are read and listed in tables/skipped.md (rule skipped_products)
+SKIPPED = []
 
 
 def realizations(system):
@@ -156,11 +163,14 @@ def all_targets():
     targets += [paths.network_measures(RESULTS, s) for s in dict.fromkeys(P1_SYSTEMS + P2_SYSTEMS + list(SYSTEMS))
                 if not (s in P2_SYSTEMS and recorded_runs(s))]
     targets += [paths.figure(RESULTS, name, "pdf") for name in BUILT_FIGURES]  # figures.smk, from the registry
+    if SKIPPED:
+        targets += [paths.skipped_products(RESULTS)]
     if P1_SYSTEMS:
         targets += [paths.p1_validation_table(RESULTS, "md")]
         targets += [paths.movie(RESULTS, name) for name in P1_MOVIES]
     if P2_SYSTEMS:
         targets += [paths.distances(RESULTS, s) for s in P2_SYSTEMS]
-        targets += [paths.p2_table(RESULTS, i, "md") for i in paths.P2_TABLE_NUMBERS]
+        if not P2_SEQUENCES:  # p2.smk: no Tables I-III of a sequence
+            targets += [paths.p2_table(RESULTS, i, "md") for i in paths.P2_TABLE_NUMBERS]
         targets += [paths.p2_validation_table(RESULTS, "md")]
     return targets

@@ -43,8 +43,18 @@ def figure_inputs(entry, systems):
     return files
 
 
-# the figures this config builds (every one of a study it lists), each with its systems: all_targets builds them all
-BUILT_FIGURES = {entry.id: (entry, figure_systems(entry)) for entry in FIGURES if figure_systems(entry)}
+# the figures this config builds (every one of a study it lists), each with the systems it fits
+# (forcenet.plotting.registry.figure_fit: one state, or a sequence where states a, b, c of a compression are read,
+# leaves a system out, with a note in SKIPPED): all_targets builds them all
+from forcenet.plotting.registry import figure_fit
+
+STATE_COUNTS = {name: len(spec.rho_grid) for name, spec in SYSTEMS.items()}
+BUILT_FIGURES = {}
+for _entry in FIGURES:
+    _kept, _notes = figure_fit(_entry, figure_systems(_entry), STATE_COUNTS, SEQUENCES)
+    SKIPPED.extend(_notes)
+    if _kept:
+        BUILT_FIGURES[_entry.id] = (_entry, _kept)
 
 for _figure, (_entry, _systems) in BUILT_FIGURES.items():
 
@@ -69,38 +79,76 @@ for _figure, (_entry, _systems) in BUILT_FIGURES.items():
             "../scripts/figure.py"
 
 
-rule p1_validation_table:
-    localrule: True
-    input:
-        measures=p1_measures() + [paths.network_measures(RESULTS, s) for s in P1_COUNTERPARTS],
-        paper_size=paper_size_input("p1"),
-        # P1 §3: the overlaps at the largest rho, every realization
-        snapshots=[snapshot_path(s, r, SYSTEMS[s].rho_labels[-1]) for s in P1_SYSTEMS for r in realizations(s)],
-        # never-dying classes at death -1 in TP, bins
-        diagrams=[paths.diagrams(RESULTS, s) for s in P1_SYSTEMS + P1_COUNTERPARTS],
-        # the tetrahedra reading beside (analyze.smk): the 3D systems with the other complex
-        tetrahedra_measures=[paths.network_measures(TETRAHEDRA_RESULTS, s) for s in P1_SOLIDS],
-        tetrahedra_diagrams=[paths.diagrams(TETRAHEDRA_RESULTS, s) for s in P1_SOLIDS],
-    output:
-        csv=paths.p1_validation_table(RESULTS, "csv"),
-        md=report(paths.p1_validation_table(RESULTS, "md"), caption="../report/table.rst", category="P1",
-                  subcategory=REPORT_TABLES),
-    log:
-        paths.log(RESULTS, "tables", "p1_validation"),
-    params:
-        systems=P1_SYSTEMS,
-        force_unit=FORCE_UNIT,
-        paper_size=paper_size_table("p1"),
-        tetrahedra_reading=READINGS["tetrahedra"].label,
-        counterparts=P1_COUNTERPARTS,
-    script:
-        "../scripts/p1_validation.py"
+# P1's claims are judged on its compressions: a sequence (SEQUENCES) is left out, and a study of sequences alone gets a
+# table that says why it lists no claim
+P1_CLAIMED = [s for s in P1_SYSTEMS if s not in SEQUENCES]
+SKIPPED.extend(f"p1_validation: {s} left out: it is an imported sequence, and P1's claims are about compressions"
+               for s in P1_SYSTEMS if s in SEQUENCES and P1_CLAIMED)
+if P1_CLAIMED or not P1_SYSTEMS:
+
+    rule p1_validation_table:
+        localrule: True
+        input:
+            measures=[paths.network_measures(RESULTS, s) for s in P1_CLAIMED + P1_COUNTERPARTS],
+            paper_size=paper_size_input("p1"),
+            # P1 §3: the overlaps at the largest rho, every realization
+            snapshots=[snapshot_path(s, r, SYSTEMS[s].rho_labels[-1]) for s in P1_CLAIMED for r in realizations(s)],
+            # never-dying classes at death -1 in TP, bins
+            diagrams=[paths.diagrams(RESULTS, s) for s in P1_CLAIMED + P1_COUNTERPARTS],
+            # the tetrahedra reading beside (analyze.smk): the 3D systems with the other complex
+            tetrahedra_measures=[paths.network_measures(TETRAHEDRA_RESULTS, s) for s in P1_SOLIDS],
+            tetrahedra_diagrams=[paths.diagrams(TETRAHEDRA_RESULTS, s) for s in P1_SOLIDS],
+        output:
+            csv=paths.p1_validation_table(RESULTS, "csv"),
+            md=report(paths.p1_validation_table(RESULTS, "md"), caption="../report/table.rst", category="P1",
+                      subcategory=REPORT_TABLES),
+        log:
+            paths.log(RESULTS, "tables", "p1_validation"),
+        params:
+            systems=P1_CLAIMED,
+            force_unit=FORCE_UNIT,
+            paper_size=paper_size_table("p1"),
+            tetrahedra_reading=READINGS["tetrahedra"].label,
+            counterparts=P1_COUNTERPARTS,
+        script:
+            "../scripts/p1_validation.py"
+
+else:
+    from forcenet.pipeline import sequence_claims_note
+
+    rule p1_validation_table:
+        localrule: True
+        output:
+            csv=paths.p1_validation_table(RESULTS, "csv"),
+            md=report(paths.p1_validation_table(RESULTS, "md"), caption="../report/table.rst", category="P1",
+                      subcategory=REPORT_TABLES),
+        log:
+            paths.log(RESULTS, "tables", "p1_validation"),
+        params:
+            paper="P1",
+            note=sequence_claims_note("P1", P1_SYSTEMS, [SYSTEMS[s].coordinate for s in P1_SYSTEMS]),
+        script:
+            "../scripts/no_claims_table.py"
 
 
 # Compression movies (MP4, ffmpeg from the imageio-ffmpeg wheel): per P1 system, its force network through the ρ
 # grid (realization 0, rattlers removed by P1's rule as in the analysis) and one turn around its B0/N surface (the
 # data of Fig. 2). Part of the default build; `snakemake --cores 2 movies` builds only them.
-P1_MOVIES = {paths.movie_name(kind, system): (kind, system) for system in P1_SYSTEMS for kind in ("network", "b0_surface")}
+# Imported systems have movies only where their entry sets `movies: true`, and a system with one state none.
+def makes_movies(system):
+    spec = SYSTEMS[system]
+    if len(spec.rho_grid) < 2:
+        SKIPPED.append(f"movies of {system}: not made: it has one state (a movie needs several)")
+        return False
+    if isinstance(spec, ImportedSystem) and not spec.movies:
+        SKIPPED.append(f"movies of {system}: not made: an imported system's movies are opt-in "
+                       f"(systems.{system}.movies: true)")
+        return False
+    return True
+
+
+P1_MOVIES = {paths.movie_name(kind, system): (kind, system) for system in P1_SYSTEMS if makes_movies(system)
+             for kind in ("network", "b0_surface")}
 
 
 def movie_inputs(kind, system):
@@ -144,3 +192,21 @@ rule figures:
     localrule: True
     input:
         [paths.figure(RESULTS, name, fmt) for name in BUILT_FIGURES for fmt in paths.FIGURE_FORMATS],
+
+
+rule skipped_products:
+    """The products this config does not make, or makes for fewer systems, and why (SKIPPED, common.smk)."""
+    localrule: True
+    output:
+        report(paths.skipped_products(RESULTS), caption="../report/skipped.rst", category="Notes",
+               subcategory=REPORT_TABLES),
+    params:
+        notes=SKIPPED,
+    run:
+        Path(output[0]).parent.mkdir(parents=True, exist_ok=True)
+        Path(output[0]).write_text("# Products left out of this build\n\n"
+                                   + "".join(f"- {note}\n" for note in params.notes), encoding="utf-8")
+
+
+for _note in SKIPPED:
+    print(f"forcenet: note: {_note}", file=sys.stderr)

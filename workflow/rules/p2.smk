@@ -55,6 +55,16 @@ if "table_states" in READINGS:  # only beside the jammed rule (forcenet.pipeline
     P2_BUILDS.append(("_table_states_reading", READING_RESULTS["table_states"], READINGS["table_states"].value,
                       paths.p2_table_states(READING_RESULTS["table_states"]), ESSENTIAL_CONVENTION))
 
+# P2's Tables I-III, Figs 1, 3 and claims compare nearby states of a compression: a study with a sequence (SEQUENCES,
+# common.smk) makes its distances and their figures, and a validation table that says why it lists no claim
+P2_SEQUENCES = [s for s in P2_SYSTEMS if s in SEQUENCES]
+if P2_SEQUENCES:
+    P2_BUILDS = []
+    SKIPPED.append(f"p2_table1, p2_table2, p2_table3: not made: {', '.join(P2_SEQUENCES)} "
+                   f"{'is a sequence' if len(P2_SEQUENCES) == 1 else 'are sequences'} at constant ρ, and the tables "
+                   "compare three nearby states of a compression")
+
+
 def p2_runs(wildcards):
     """The summary of every run of one P2 system (kind "p2_run"), in realization order."""
     return [paths.p2_run(RESULTS, wildcards.system, r) for r in realizations(wildcards.system)]
@@ -182,33 +192,52 @@ def p2_reading_tables(key, fmt="csv"):
     return [paths.p2_table(READING_RESULTS[key], i, fmt) for i in paths.P2_TABLE_NUMBERS]
 
 
-rule p2_validation:
-    localrule: True
-    input:
-        distances=[paths.distances(RESULTS, s) for s in P2_SYSTEMS],
-        tables=rules.p2_tables.output.csv,
-        runs=p2_run_files(P2_SYSTEMS),  # never-dying class counts, PD1 point counts (IV.C-8)
-        states=P2_TABLE_STATES,
-        paper_size=paper_size_input("p2"),
-        # the readings beside (common.smk), each judged where it changes a claim
-        essential_distances=[paths.distances(READING_RESULTS["essential"], s) for s in P2_SYSTEMS],
-        essential_tables=p2_reading_tables("essential"),
-        essential_drop_distances=[paths.distances(READING_RESULTS["essential_drop"], s) for s in P2_SYSTEMS]
-                                 if "essential_drop" in READINGS else [],
-        essential_drop_tables=p2_reading_tables("essential_drop"),
-        table_states_tables=p2_reading_tables("table_states"),
-    output:
-        md=report(paths.p2_validation_table(RESULTS, "md"), caption="../report/table.rst", category="P2",
-                  subcategory=REPORT_TABLES),
-        csv=paths.p2_validation_table(RESULTS, "csv"),
-    log:
-        paths.log(RESULTS, "tables", "p2_validation"),
-    params:
-        frictional=P2_FRICTIONAL,
-        frictionless=P2_FRICTIONLESS,
-        paper_size=paper_size_table("p2"),
-        essential_reading=READINGS["essential"].label,
-        essential_drop_reading=READINGS["essential_drop"].label if "essential_drop" in READINGS else None,
-        table_states_reading=READINGS["table_states"].label if "table_states" in READINGS else None,
-    script:
-        "../scripts/p2_validation.py"
+if not P2_SEQUENCES:
+
+    rule p2_validation:
+        localrule: True
+        input:
+            distances=[paths.distances(RESULTS, s) for s in P2_SYSTEMS],
+            tables=rules.p2_tables.output.csv,
+            runs=p2_run_files(P2_SYSTEMS),  # never-dying class counts, PD1 point counts (IV.C-8)
+            states=P2_TABLE_STATES,
+            paper_size=paper_size_input("p2"),
+            # the readings beside (common.smk), each judged where it changes a claim
+            essential_distances=[paths.distances(READING_RESULTS["essential"], s) for s in P2_SYSTEMS],
+            essential_tables=p2_reading_tables("essential"),
+            essential_drop_distances=[paths.distances(READING_RESULTS["essential_drop"], s) for s in P2_SYSTEMS]
+                                     if "essential_drop" in READINGS else [],
+            essential_drop_tables=p2_reading_tables("essential_drop"),
+            table_states_tables=p2_reading_tables("table_states"),
+        output:
+            md=report(paths.p2_validation_table(RESULTS, "md"), caption="../report/table.rst", category="P2",
+                      subcategory=REPORT_TABLES),
+            csv=paths.p2_validation_table(RESULTS, "csv"),
+        log:
+            paths.log(RESULTS, "tables", "p2_validation"),
+        params:
+            frictional=P2_FRICTIONAL,
+            frictionless=P2_FRICTIONLESS,
+            paper_size=paper_size_table("p2"),
+            essential_reading=READINGS["essential"].label,
+            essential_drop_reading=READINGS["essential_drop"].label if "essential_drop" in READINGS else None,
+            table_states_reading=READINGS["table_states"].label if "table_states" in READINGS else None,
+        script:
+            "../scripts/p2_validation.py"
+
+else:
+    from forcenet.pipeline import sequence_claims_note
+
+    rule p2_validation:
+        localrule: True
+        output:
+            md=report(paths.p2_validation_table(RESULTS, "md"), caption="../report/table.rst", category="P2",
+                      subcategory=REPORT_TABLES),
+            csv=paths.p2_validation_table(RESULTS, "csv"),
+        log:
+            paths.log(RESULTS, "tables", "p2_validation"),
+        params:
+            paper="P2",
+            note=sequence_claims_note("P2", P2_SYSTEMS, [getattr(SYSTEMS[s], "coordinate", "rho") for s in P2_SYSTEMS]),
+        script:
+            "../scripts/no_claims_table.py"

@@ -90,15 +90,16 @@ def stack_diagrams(analyses: Sequence[xr.Dataset], realizations: Sequence[int], 
     return stacked
 
 
-def distances_on_grid(distances: xr.Dataset, grid_rhos: Sequence[float]) -> xr.Dataset:
+def distances_on_grid(distances: xr.Dataset, grid_rhos: Sequence[float], measured_on_grid: bool = True) -> xr.Dataset:
     """P2 distances (`forcenet.report.p2_distances.stack_distances`) with `rho` set to the config's grid value of the later
     snapshot of each pair (`grid_rhos`, one per pair), so that ``sel(rho=0.78)`` selects; the measured values stay in
-    `rho_measured` and `rho_previous` (per realization)."""
+    `rho_measured` and `rho_previous` (per realization). A sequence (`measured_on_grid` false) gives its coordinate
+    of each pair's later state as `grid_rhos`, which its measured ρ need not be near."""
     grid_rhos = np.asarray(grid_rhos, dtype=float)
     if grid_rhos.shape != (distances.sizes["rho"],):
         raise ValueError(f"{grid_rhos.size} grid values for {distances.sizes['rho']} snapshot pairs")
     measured = distances["rho_measured"].values
-    worst = float(np.max(np.abs(measured - grid_rhos))) if measured.size else 0.0
+    worst = float(np.max(np.abs(measured - grid_rhos))) if measured.size and measured_on_grid else 0.0
     spacing = float(np.min(np.diff(grid_rhos))) if grid_rhos.size > 1 else np.inf
     if worst >= 0.5 * spacing:
         raise ValueError(f"measured packing fractions lie up to {worst:.4f} from the grid (spacing {spacing:.4f}): "

@@ -16,10 +16,12 @@ import numpy as np
 import xarray as xr
 
 from forcenet.boxes import tilt_problem
-from forcenet.datasets.schema import (ANALYSIS_FINITE_VARIABLES, BOX_TILT_ATTR, DTYPE_KINDS, ENGINE_SOURCE_FORMAT,
-                                      FILE_KINDS, KIND_GLOBAL_ATTRS, OPTIONAL_VARIABLES, PERIODIC_AXES_ATTR,
-                                      REQUIRED_GLOBAL_ATTRS, SNAPSHOT_FINITE_VARIABLES, SNAPSHOT_GLOBAL_ATTRS,
-                                      SNAPSHOT_SOURCE_ATTRS, SOURCE_FORMAT_ATTR, VariableSpec)
+from forcenet.datasets.schema import (ANALYSIS_FINITE_VARIABLES, BOX_TILT_ATTR, DIMENSIONLESS, DTYPE_KINDS,
+                                      ENGINE_SOURCE_FORMAT, FILE_KINDS, KIND_GLOBAL_ATTRS, OPTIONAL_VARIABLES,
+                                      PERIODIC_AXES_ATTR, REQUIRED_GLOBAL_ATTRS, SNAPSHOT_FINITE_VARIABLES,
+                                      SNAPSHOT_GLOBAL_ATTRS, SNAPSHOT_SOURCE_ATTRS, SOURCE_FORMAT_ATTR,
+                                      STATE_COORDINATE_ATTR, STATE_COORDINATE_LONG_NAMES, STATE_UNITS_ATTR,
+                                      VariableSpec)
 from forcenet.errors import ForcenetError
 
 CONVENTIONS = "CF-1.10"
@@ -221,6 +223,32 @@ def _new_private_name(path: Path) -> Path:
             continue
 
 
+def sequence_on_disk(ds: xr.Dataset) -> xr.Dataset:
+    """`ds` as a file of a sequence (`schema.STATE_COORDINATE_ATTR`: an imported run ordered by strain, time, frame or
+    timestep) stores it: its state axis `rho` (in memory, where every reader selects on it) named after the
+    coordinate, with the coordinate's unit and long name, and `point_rho` likewise; ρ stays `rho_measured`. Any
+    other dataset is returned as it is."""
+    name = ds.attrs.get(STATE_COORDINATE_ATTR)
+    if name in (None, "rho") or "rho" not in ds.dims:
+        return ds
+    out = ds.rename({"rho": name, **({"point_rho": f"point_{name}"} if "point_rho" in ds.variables else {})})
+    units = str(ds.attrs.get(STATE_UNITS_ATTR, DIMENSIONLESS))
+    out[name].attrs = {"units": units, "long_name": STATE_COORDINATE_LONG_NAMES.get(name, name)}
+    if f"point_{name}" in out.variables:
+        out[f"point_{name}"].attrs = {"units": units,
+                                      "long_name": f"{STATE_COORDINATE_LONG_NAMES.get(name, name)} of the point"}
+    return out
+
+
+def sequence_in_memory(ds: xr.Dataset) -> xr.Dataset:
+    """A file of a sequence as the readers take it (`sequence_on_disk` undone): its state axis renamed `rho`."""
+    name = ds.attrs.get(STATE_COORDINATE_ATTR)
+    if name in (None, "rho") or name not in ds.dims:
+        return ds
+    point = f"point_{name}"
+    return ds.rename({name: "rho", **({point: "point_rho"} if point in ds.variables else {})})
+
+
 def write_netcdf(ds: xr.Dataset, path: str | os.PathLike, kind: str | None = None,
                  encoding: Mapping[str, Mapping[str, Any]] | None = None) -> Path:
     """Validate (against `kind`'s schema when given) and write `ds` with zlib compression, atomically: a temporary
@@ -234,6 +262,7 @@ def write_netcdf(ds: xr.Dataset, path: str | os.PathLike, kind: str | None = Non
         raise DatasetError(path, f"not written, not a valid {kind or 'forcenet'} file: " + "; ".join(problems))
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
+    ds = sequence_on_disk(ds)
     encoding = {**{name: {"zlib": True, "complevel": 4} for name, var in ds.variables.items()
                    if var.dtype.kind in "fiub" and var.ndim > 0}, **(encoding or {})}
     with interrupts_deferred():
@@ -292,6 +321,7 @@ def read_dataset(path: str | os.PathLike, kind: str, expect: Mapping[str, Any] |
     except Exception as error:  # netCDF4/HDF5 raise OSError, RuntimeError, ValueError or KeyError for bad files
         reason = str(error).strip().splitlines()[0] if str(error).strip() else type(error).__name__
         raise DatasetError(path, f"cannot be read as netCDF ({reason})") from None
+    ds = sequence_in_memory(ds)
     problems = schema_problems(ds, kind)
     if problems:
         raise DatasetError(path, f"not a valid {kind} file: " + "; ".join(problems))

@@ -22,6 +22,7 @@ scripts, tests and tutorial use to find a file. Imported when the workflow is pa
     tables/p2_table{1,2,3}.{csv,md}          P2 Tables I–III
     tables/p2_table_states.csv               which realization's states a, b, c make Tables I–III and Figs 1, 3
     tables/p2_validation.{csv,md}            every P2 claim with its evidence and verdict
+    tables/skipped.md                        the figures, movies and tables a build leaves out, and why
     movies/{kind}_{system}.mp4               compression movies of the P1 systems (kind: network, b0_surface)
     logs/{step}/{name}.log                   one log per job: simulate and analyze {system}/{realization}, …
     readings/{reading}                       a reading beside (another value of one convention), laid out as above
@@ -34,7 +35,9 @@ campaign's finished runs there, in the repository (`forcenet.campaign`)::
     {system}/{realization}/states.nc         the run's snapshots, kind "run_record" (`forcenet.datasets.records`)
     {system}/{realization}/p2_run.nc         a P2 run's summary and the states Tables I-III read, kind "p2_run_record"
 
-A realization is named ``r{NN}`` (`realization_name`, `realization_index`); a ρ label has
+A state of an imported sequence (`forcenet.importers.sequence`) is ``state{k}.nc`` (k = 000, 001, …) where a
+compression's is ``rho{ρ}.nc`` (`rho_file`). A realization is named ``r{NN}`` (`realization_name`,
+`realization_index`); a ρ label has
 `forcenet.systems.RHO_DECIMALS` decimals (`forcenet.systems.format_rho`).
 """
 from __future__ import annotations
@@ -81,8 +84,10 @@ def realization_index(name: str) -> int:
 
 
 def rho_file(rho_label: str) -> str:
-    """The file name of the state at one ρ of a run (snapshot or analysis): ``rho{ρ}.nc``."""
-    return f"rho{rho_label}.nc"
+    """The file name of one state of a run (snapshot or analysis): ``rho{ρ}.nc`` for the state at one ρ of a
+    compression, ``{label}.nc`` for a state of an imported sequence (its label ``state000``, ``state001``, …:
+    `forcenet.importers.sequence.state_labels`)."""
+    return f"{rho_label}.nc" if rho_label[:1].isalpha() else f"rho{rho_label}.nc"
 
 
 def run_dir(results: Folder, system: str, realization: str) -> str:
@@ -181,6 +186,11 @@ def p2_table_states(results: str) -> str:
 def p2_validation_table(results: Folder, fmt: str) -> str:
     """Every P2 claim with its evidence and verdict (csv or md)."""
     return table(results, "p2_validation", fmt)
+
+
+def skipped_products(results: Folder) -> str:
+    """The products a build does not make, or makes for fewer systems, one line each (Markdown, in the report)."""
+    return table(results, "skipped", "md")
 
 
 def movie_name(kind: str, system: str) -> str:

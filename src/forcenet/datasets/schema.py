@@ -93,6 +93,23 @@ PERIODIC_AXES_ATTR = "periodic_axes"
 #: packing): its tilt factors [d_ave] in LAMMPS's order, xy in 2D and xy, xz, yz in 3D (`forcenet.boxes`); absent
 #: for an orthogonal box. A box is tilted only along its periodic axes; the snapshot's analysis files carry it too
 BOX_TILT_ATTR = "box_tilt"
+#: global attributes of a sequence (an imported run ordered by a coordinate other than ρ, `forcenet.importers.sequence`):
+#: the coordinate's name (strain, time, frame, timestep) and unit on its snapshots, analyses' stacked files and
+#: distances, and on each snapshot the state's value of it. A stacked file (network_measures, diagrams, distances)
+#: of a sequence names its state axis after the coordinate on disk (dimension `strain`, `point_strain` …) where a
+#: compression's is `rho`; `forcenet.datasets.io` writes and reads it so (`sequence_on_disk`), and ρ is then the
+#: measured variable `rho_measured` of each state. Absent: a compression (every DEM file)
+STATE_COORDINATE_ATTR = "state_coordinate"
+STATE_UNITS_ATTR = "state_coordinate_units"
+STATE_VALUE_ATTR = "state_coordinate_value"
+#: the long name of each sequence coordinate (the stacked files' state axis of that name)
+STATE_COORDINATE_LONG_NAMES = {
+    "strain": "strain of the state (source.sequence)",
+    "time": "time of the state (source.sequence)",
+    "frame": "position of the state in its run (source.sequence: 0, 1, 2, ...)",
+    "timestep": "timestep of the state in its source (source.sequence)",
+}
+
 #: variables that must hold finite values (issue 27: a NaN position or force is refused, never analysed)
 SNAPSHOT_FINITE_VARIABLES = ("position", "radius", "force_normal", "force_tangential", "wall_contact_force",
                              "box_lo", "box_hi", "rho", "Z")

@@ -12,6 +12,9 @@ from forcenet.boxes import P1_OVERLAP_BOUND
 from forcenet.importers.common import SourceError, file_sha256, largest_relative_overlap
 from forcenet.importers.sources import source_states
 
+#: the snapshot variables in the source's length and force units (`forcenet.importers.sequence.unit`)
+LENGTH_VARIABLES = ("position", "radius", "box_lo", "box_hi")
+FORCE_VARIABLES = ("force_normal", "force_tangential", "wall_contact_force")
 #: the ρ label in a snapshot's file name (`forcenet.datasets.paths.snapshot`: …/rho0.842.nc)
 RHO_LABEL = re.compile(r"rho(\d\.\d+)\.nc$")
 
@@ -19,15 +22,21 @@ RHO_LABEL = re.compile(r"rho(\d\.\d+)\.nc$")
 def import_run(*, config: Mapping[str, Any], system: str, realization: int, outputs: Sequence[str],
                log=None) -> list[str]:
     """Read every state of run `realization` of `system`'s ``source:`` and write one snapshot per state to
-    `outputs` (in the source's order, which is increasing ρ). Every state is read and checked against the snapshot
+    `outputs` (in the source's order: increasing ρ, or a sequence's coordinate, which each snapshot then records). Every state is read and checked against the snapshot
     contract before the first file is written: a malformed source writes nothing."""
     from forcenet.datasets import provenance_attrs
     from forcenet.datasets.io import DatasetError, schema_problems, write_netcdf
-    from forcenet.datasets.schema import BOX_TILT_ATTR, PERIODIC_AXES_ATTR, SOURCE_FORMAT_ATTR
+    from forcenet.datasets.schema import (BOX_TILT_ATTR, PERIODIC_AXES_ATTR, SOURCE_FORMAT_ATTR, STATE_COORDINATE_ATTR,
+                                          STATE_UNITS_ATTR, STATE_VALUE_ATTR)
     from forcenet.datasets.snapshot import snapshot_dataset
+
+    from forcenet.importers.sequence import coordinate, coordinate_units, coordinate_values, is_sequence, unit
 
     entry = config["systems"][system]
     states = source_states(entry, realization, where=f"systems.{system}.source")
+    # a sequence's states carry their coordinate (the import checks that it increases along this run, too)
+    values = (coordinate_values(entry, [state.timestep for state in states], f"systems.{system}.source")
+              if is_sequence(entry) else None)
     if len(states) != len(outputs):
         raise SourceError(f"systems.{system}.source.runs[{realization}]", "",
                           f"{len(states)} states, but run 0 has {len(outputs)}: every run of a system needs the same "
@@ -54,11 +63,17 @@ def import_run(*, config: Mapping[str, Any], system: str, realization: int, outp
                       "source_files": json.dumps(list(state.files)),
                       "source_sha256": json.dumps([hashes.setdefault(f, file_sha256(f)) for f in state.files]),
                       "source_timestep": int(state.timestep)})
+        if values is not None:  # absent for a compression, as in our engine's snapshots
+            attrs.update({STATE_COORDINATE_ATTR: coordinate(entry), STATE_VALUE_ATTR: values[k],
+                          STATE_UNITS_ATTR: coordinate_units(entry)})
         if state.periodic_axes:  # absent for a bounded box, as in our engine's snapshots
             attrs[PERIODIC_AXES_ATTR] = state.periodic_axes
         if state.tilt is not None:  # absent for an orthogonal box
             attrs[BOX_TILT_ATTR] = np.asarray(state.tilt, dtype=float)
         ds = snapshot_dataset(attrs=attrs, **state.snapshot_arrays())
+        for names, quantity in ((LENGTH_VARIABLES, "length"), (FORCE_VARIABLES, "force")):
+            for name in names:  # the source's units (systems.<name>.units), never the engine's reduced ones
+                ds[name].attrs["units"] = unit(entry, quantity)
         problems = schema_problems(ds, "snapshot")
         if problems:
             raise DatasetError(state.files[0], f"timestep {state.timestep} breaks the snapshot contract: "

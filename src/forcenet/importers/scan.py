@@ -148,6 +148,12 @@ def _rho(volume: float, lo, hi, path, where: str) -> float:
 def run_outline(entry: Mapping[str, Any], realization: int) -> list[tuple[float, int]]:
     """(ρ, particles) of each state of one run of a ``source:`` entry, in the source's order, from the records
     (`file_record`): the particles files scanned once per content, the others checked to exist and be non-empty."""
+    return [(rho, particles) for rho, particles, _ in run_scan(entry, realization)]
+
+
+def run_scan(entry: Mapping[str, Any], realization: int) -> list[tuple[float, int, int]]:
+    """(ρ, particles, timestep) of each state of one run, as `run_outline`; the timestep is a LAMMPS state's and a
+    table state's index in its run."""
     source, dimension = entry["source"], int(entry["dimension"])
     run = source["runs"][realization]
     if source["format"] not in ("lammps", "table"):
@@ -165,7 +171,7 @@ def run_outline(entry: Mapping[str, Any], realization: int) -> list[tuple[float,
             frames = [frame for frame in frames if frame["timestep"] in wanted]
         box = source.get("box")
         return [(_rho(f["volume"], box["lo"] if box else f["lo"], box["hi"] if box else f["hi"], run["atoms"],
-                      f"timestep {f['timestep']}"), f["particles"]) for f in frames]
+                      f"timestep {f['timestep']}"), f["particles"], int(f["timestep"])) for f in frames]
     states = []
     for state in run:
         file_record(state["contacts"])
@@ -173,5 +179,6 @@ def run_outline(entry: Mapping[str, Any], realization: int) -> list[tuple[float,
                            lambda: scan_particles(state["particles"], dimension))["scans"][f"table:{dimension}"]
         box = state.get("box", source.get("box"))
         lo, hi = (scan["lo"], scan["hi"]) if box is None else given_box(box, dimension, state["particles"])
-        states.append((_rho(scan["volume"], lo, hi, state["particles"], "box" if box else ""), scan["particles"]))
+        states.append((_rho(scan["volume"], lo, hi, state["particles"], "box" if box else ""), scan["particles"],
+                       len(states)))
     return states

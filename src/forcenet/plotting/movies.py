@@ -18,7 +18,7 @@ import xarray as xr
 from forcenet.plotting import figure_data as cols
 from forcenet.plotting import networks, p1
 from forcenet.plotting.figure_data import concat
-from forcenet.plotting.style import LABELS, apply_style, system_color, system_label
+from forcenet.plotting.style import LABELS, apply_style, is_sequence, state_axis_label, system_color, system_label
 
 import matplotlib.pyplot as plt  # noqa: E402  (style sets the Agg backend first)
 from matplotlib.animation import FFMpegWriter  # noqa: E402
@@ -93,10 +93,11 @@ def b0_surface_movie(measures: Mapping[str, xr.Dataset], system: str, output: st
     ax = fig.add_subplot(projection="3d")
     surface = ax.plot_surface(rho, threshold, values, cmap="magma", linewidth=0, antialiased=False)
     fig.colorbar(surface, ax=ax, label=p1.LABEL_B0, shrink=0.7, pad=0.1)
-    ax.set_xlabel(LABELS["rho"])
+    ax.set_xlabel(state_axis_label(system))
     ax.set_ylabel(LABELS["threshold"])
     ax.set_zlabel(p1.LABEL_B0)
-    ax.set_title(system_label(system) + r", realization mean, $\rho \leq \rho_{max}$", color=system_color(system))
+    ax.set_title(system_label(system) + (", realization mean" if is_sequence(system) else
+                                         r", realization mean, $\rho \leq \rho_{max}$"), color=system_color(system))
     writer = _writer(fps)
     with writer.saving(fig, str(partial), DPI):
         for azimuth in np.linspace(-60.0, 300.0, frames, endpoint=False):

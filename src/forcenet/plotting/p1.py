@@ -25,7 +25,8 @@ import xarray as xr
 from forcenet.measures.persistence_stats import MEDIUM_BIRTH, ROUGH_LIFESPAN, STRONG_BIRTH, WEAK_BIRTH
 from forcenet.plotting import figure_data as cols
 from forcenet.plotting.figure_data import FigureData, concat, curve_rows
-from forcenet.plotting.style import LABELS, panel_figure, system_color, system_label, system_title
+from forcenet.plotting.style import (LABELS, is_sequence, panel_figure, state_axis_label, system_color, system_label,
+                                     system_title)
 from forcenet.report.p1 import (DEFAULT_P1_FORCE_UNIT, P1_SMALL_THRESHOLD, f_max_cut, jamming_point,
                                 never_dying_at_minus_one, per_particle, percolating_size_mean, rho_values, select_total,
                                 shape_parameter_average, system_dimension, system_order)
@@ -81,9 +82,14 @@ def _systems(measures: Mapping[str, xr.Dataset], force_unit: str = DEFAULT_P1_FO
     """The systems in P1's order, each with its ρ_J and its ρ_max (P1 §3 F_max rule, ⟨F⟩ in `force_unit`)."""
     if not measures:
         raise ValueError("no system to plot")
-    cut = f_max_cut(measures, force_unit)
+    # a sequence (drawn against its coordinate, `style.is_sequence`) has neither ρ_J nor ρ_max, and no place in the cut
+    compressions = {name: ds for name, ds in measures.items() if not is_sequence(name)}
+    cut = f_max_cut(compressions, force_unit) if compressions else None
     return [_System(name, select_total(measures[name]), jamming_point(measures[name]),
                     system_dimension(measures[name], name), cut.rho_max[name], cut.below_grid(name))
+            if name in compressions else
+            _System(name, select_total(measures[name]), float("nan"), system_dimension(measures[name], name),
+                    float("nan"))
             for name in system_order(measures)]
 
 
@@ -160,7 +166,7 @@ def _mark_jamming(ax, rho_j: float, name: str) -> None:
 def _mark_rho_max(ax, rows: pd.DataFrame, name: str, color=None, label: bool = True) -> None:
     """ρ_max of P1's F_max rule (§3) as a dashed vertical line, the ρ beyond it (where P1 shows nothing) lightly
     shaded; every ρ shaded when ρ_max lies below the grid (NaN)."""
-    if RHO_MAX_COLUMN not in rows or cols.RHO not in rows:
+    if RHO_MAX_COLUMN not in rows or cols.RHO not in rows or is_sequence(name):
         return
     color = system_color(name) if color is None else color
     rho_max = float(rows[RHO_MAX_COLUMN].iloc[0])
@@ -183,7 +189,7 @@ def _draw_family(ax, rows: pd.DataFrame, family: str, label: Callable[[float], s
         _draw_rows(ax, rows[rows[family] == value], cols.RHO, color, label=label(value))
     _mark_jamming(ax, float(rows[cols.RHO_J].iloc[0]), name)
     _mark_rho_max(ax, rows, name)
-    ax.set_xlabel(LABELS["rho"])
+    ax.set_xlabel(state_axis_label(name))
     ax.set_ylabel(QUANTITY_LABELS[rows[cols.QUANTITY].iloc[0]])
     system_title(ax, name)
 
@@ -220,7 +226,7 @@ def draw_heat_maps(data: FigureData) -> Figure:
         fig.colorbar(mesh, ax=ax, label=QUANTITY_LABELS[rows[cols.QUANTITY].iloc[0]])
         _mark_jamming(ax, float(rows[cols.RHO_J].iloc[0]), name)
         _mark_rho_max(ax, rows, name, color="white", label=False)
-        ax.set_xlabel(LABELS["rho"])
+        ax.set_xlabel(state_axis_label(name))
         ax.set_ylabel(LABELS["threshold"])
         system_title(ax, name)
     return fig
@@ -460,7 +466,7 @@ def draw_p1_fig11_persistence_bins(data: FigureData) -> Figure:
             _draw_rows(ax, curve, cols.RHO, system_color(name), label=system_label(name))
             _mark_jamming(ax, float(curve[cols.RHO_J].iloc[0]), name)
             _mark_rho_max(ax, curve, name, label=False)
-        ax.set_xlabel(LABELS["rho"])
+        ax.set_xlabel(state_axis_label(name))
         ax.set_ylabel(LABEL_N0)
         ax.set_title(f"{rows['persistence_bin'].iloc[0]}, {rows['dimension'].iloc[0]}D")
         ax.legend(fontsize="x-small", frameon=False)
@@ -492,7 +498,7 @@ def draw_p1_fig12_total_persistence(data: FigureData) -> Figure:
                        linestyle=style)
         _mark_jamming(ax, float(rows[cols.RHO_J].iloc[0]), name)
         _mark_rho_max(ax, rows, name)
-        ax.set_xlabel(LABELS["rho"])
+        ax.set_xlabel(state_axis_label(name))
         ax.set_ylabel(LABEL_TP)
         system_title(ax, name)
         ax.legend(fontsize="x-small", frameon=False)
@@ -507,7 +513,7 @@ def prepare_p1_z_jamming(measures: Mapping[str, xr.Dataset], *, force_unit: str 
         ds = measures[name]
         mean, spread = mean_and_spread(ds["Z"])
         rho = rho_values(ds)
-        rho_j = jamming_point(ds)
+        rho_j = float("nan") if is_sequence(name) else jamming_point(ds)
         z_j = float(np.interp(rho_j, rho, mean.values)) if np.isfinite(rho_j) else float("nan")
         blocks.append(_spread_rows(cols.RHO, rho, mean, spread, **{
             cols.PANEL: 0, cols.SYSTEM: name, "dimension": system_dimension(ds, name), cols.QUANTITY: "Z",
@@ -530,7 +536,7 @@ def draw_p1_z_jamming(data: FigureData) -> Figure:
         ax.axhline(dimension + 1, color="0.5", linestyle=":", linewidth=0.8, gid="isostatic")
         ax.annotate(f"Z = d + 1 = {dimension + 1} ({dimension}D)", (0.01, dimension + 1),
                     xycoords=("axes fraction", "data"), va="bottom", fontsize="x-small", color="0.4")
-    ax.set_xlabel(LABELS["rho"])
+    ax.set_xlabel(state_axis_label(name))
     ax.set_ylabel(LABELS["Z"])
     ax.legend(fontsize="x-small", frameon=False)
     return fig

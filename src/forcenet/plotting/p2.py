@@ -22,8 +22,8 @@ from matplotlib.figure import Figure
 
 from forcenet.plotting import figure_data as cols
 from forcenet.plotting.figure_data import FigureData, concat, curve_rows
-from forcenet.plotting.style import (FALLBACK_COLORS, FORCE_KIND_WORDS, LABELS, apply_style, system_color,
-                                     system_label)
+from forcenet.plotting.style import (FALLBACK_COLORS, FORCE_KIND_WORDS, LABELS, apply_style, is_sequence,
+                                     state_axis_label, system_color, system_label)
 from forcenet.report import p2 as report
 from forcenet.report.p1 import system_dimension
 from forcenet.datasets import diagram_points
@@ -88,6 +88,8 @@ def prepare_distances(distances: xr.Dataset, *, kind: str, system: str, source: 
     """d_B, d_W1, d_W2 between consecutive PDs vs ρ (realization mean ± standard deviation), panel h = β_h, and the
     realization-mean Z(ρ) (quantity "Z", no band) drawn on a twin axis of each panel; ρ_J on every row."""
     dimension, rho_j = _jamming(distances)
+    if is_sequence(system):  # Z reaching d + 1 along a sequence's coordinate is no jamming point
+        rho_j = float("nan")
     blocks = []
     for h in report.P2_HOMOLOGY_DIMS:
         common = {cols.PANEL: h, cols.SYSTEM: system, "force_kind": kind, "homology_dim": h}
@@ -137,7 +139,9 @@ def _draw_beta_panels(data: FigureData, size: tuple[float, float], curves: dict[
         for quantity, (metric, label) in curves.items():
             _draw_band(ax, rows[rows[cols.QUANTITY] == quantity], METRIC_COLORS[metric], METRIC_MARKERS[metric], label)
         _log_panel_vs_rho(ax, h, ylabel, layout["rho_J"], layout["dimension"])
-        _mark_quoted_levels(ax, layout["source"], h, rows[cols.RHO].values, layout["rho_J"])
+        ax.set_xlabel(state_axis_label(layout["system"]))
+        if not is_sequence(layout["system"]):  # P2 quotes its levels over ρ
+            _mark_quoted_levels(ax, layout["source"], h, rows[cols.RHO].values, layout["rho_J"])
     fig.suptitle(f"{system_label(layout['system'])}, {FORCE_KIND_WORDS.get(layout['kind'], layout['kind'])}: {what} "
                  f"({layout['realizations']}; {layout['source']})")
     return fig, axes
@@ -204,6 +208,8 @@ def prepare_ratios(distances: xr.Dataset, *, kind: str, system: str, source: str
     """d_B/d_W1 and d_B/d_W2 vs ρ, panel h = β_h: the ratio of the realization-mean distances, ± the standard
     deviation of the per-realization ratios."""
     dimension, rho_j = _jamming(distances)
+    if is_sequence(system):  # Z reaching d + 1 along a sequence's coordinate is no jamming point
+        rho_j = float("nan")
     blocks = []
     for h in report.P2_HOMOLOGY_DIMS:
         panel = {"force_kind": kind, "homology_dim": h}

@@ -142,6 +142,38 @@ FIGURES: tuple[FigureEntry, ...] = (
 )
 FIGURES_BY_ID: dict[str, FigureEntry] = {entry.id: entry for entry in FIGURES}
 
+#: the figures that draw a measure over the states of a run (curves or surfaces along ρ, or along a sequence's
+#: coordinate): a system with one state has nothing to draw there and is left out of them (`figure_fit`)
+SEVERAL_STATE_FIGURES = frozenset({
+    "p1_fig02_betti0_surface", "p1_fig04_cluster_size", "p1_fig05_percolating_cluster", "p1_fig06_betti0",
+    "p1_fig07_betti1", "p1_fig08_shape_heatmap", "p1_fig09_shape_sections", "p1_fig11_persistence_bins",
+    "p1_fig12_total_persistence", "p1_z_jamming"})
+#: the figures that compare three nearby states a, b, c of a compression (P2 Tables I–III's): not made for a
+#: sequence, whose states share one ρ
+COMPRESSION_STATE_FIGURES = frozenset(entry.id for entry in FIGURES
+                                      if {"state_snapshots", "state_analysis"} & set(entry.inputs))
+
+
+def figure_fit(entry: FigureEntry, systems, state_counts: Mapping[str, int],
+               sequences=()) -> tuple[list[str], list[str]]:
+    """(the systems figure `entry` is drawn for, one-line notes on those it leaves out) among `systems`:
+    a figure of `SEVERAL_STATE_FIGURES` leaves out a system with fewer than two states (`state_counts`), and one of
+    `COMPRESSION_STATE_FIGURES` a sequence (`sequences`). A figure left with no system is not made: its notes say
+    why (the workflow prints them and lists them in ``tables/skipped.md``)."""
+    kept, notes = [], []
+    for name in systems:
+        if entry.id in SEVERAL_STATE_FIGURES and state_counts.get(name, 0) < 2:
+            notes.append(f"{entry.id}: {name} left out: it has {state_counts.get(name, 0)} state, and the figure "
+                         "draws a measure over the states of a run")
+        elif entry.id in COMPRESSION_STATE_FIGURES and name in sequences:
+            notes.append(f"{entry.id}: {name} left out: it is a sequence at constant ρ, and the figure compares three "
+                         "nearby states of a compression (P2 Tables I–III's a, b, c)")
+        else:
+            kept.append(name)
+    if systems and not kept:  # one line: the figure is not made
+        notes = [f"{entry.id}: not made: " + "; ".join(note.split(": ", 1)[1] for note in notes)]
+    return kept, notes
+
 
 def figure_entry(figure_id: str) -> FigureEntry:
     """The entry of `figure_id`; KeyError naming the known ids otherwise."""

@@ -36,6 +36,51 @@ def use_system_styles(system_info: Mapping[str, Mapping[str, str]]) -> None:
                           for name, info in system_info.items() if "label" in info and "colour" in info})
 
 
+#: the state axis of each system a figure draws that is a sequence (an imported run ordered by strain, time, frame or
+#: timestep at any ρ): {name: (coordinate, unit)}, filled by `use_state_axes` before a figure is drawn; a system not
+#: in it is a compression, drawn against ρ
+STATE_AXES: dict[str, tuple[str, str]] = {}
+#: each sequence coordinate's axis label (its unit is added where it has one)
+COORDINATE_LABELS = {"strain": r"strain $\gamma$", "time": r"time $t$", "frame": "frame", "timestep": "timestep"}
+
+
+def use_state_axes(datasets) -> None:
+    """Record the state axis of every sequence among `datasets` (stacked files, snapshots or analyses, whose global
+    attributes name their system and coordinate, `forcenet.datasets.schema.STATE_COORDINATE_ATTR`)."""
+    from forcenet.datasets.schema import STATE_COORDINATE_ATTR, STATE_UNITS_ATTR
+
+    for ds in datasets:
+        coordinate = ds.attrs.get(STATE_COORDINATE_ATTR)
+        if coordinate not in (None, "rho"):
+            STATE_AXES[str(ds.attrs["system"])] = (str(coordinate), str(ds.attrs.get(STATE_UNITS_ATTR, "1")))
+
+
+def is_sequence(name: str) -> bool:
+    """Whether system `name` is drawn against a sequence's coordinate (`STATE_AXES`), not against ρ: no ρ_J, ρ_max
+    or P2 levels quoted over ρ are marked on its axes."""
+    return name in STATE_AXES
+
+
+def state_axis_label(name: str | None = None) -> str:
+    """The label of the axis of system `name`'s states: ρ, or its sequence coordinate with its unit."""
+    if name not in STATE_AXES:
+        return LABELS["rho"]
+    coordinate, unit = STATE_AXES[name]
+    label = COORDINATE_LABELS.get(coordinate, coordinate)
+    return label if unit in ("1", "") else f"{label} [{unit}]"
+
+
+def state_column(name: str | None = None) -> str:
+    """The CSV column of system `name`'s state axis: ``rho``, or its coordinate's symbol with its unit."""
+    from forcenet.importers.sequence import COORDINATE_SYMBOLS
+
+    if name not in STATE_AXES:
+        return "rho"
+    coordinate, unit = STATE_AXES[name]
+    symbol = COORDINATE_SYMBOLS.get(coordinate, coordinate)
+    return symbol if unit in ("1", "") else f"{symbol} [{unit}]"
+
+
 def system_color(name: str):
     if name in SYSTEM_STYLES:
         return SYSTEM_STYLES[name]["colour"]

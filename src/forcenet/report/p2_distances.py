@@ -136,12 +136,13 @@ def analysis_diagram(analysis: xr.Dataset, kind: str, homology_dim: int):
 
 def consecutive_distances(analyses: Sequence[xr.Dataset], essential_convention: str = "minus_one", *,
                           force_kinds: Sequence[str] = P2_FORCE_KINDS,
-                          homology_dims: Sequence[int] = P2_HOMOLOGY_DIMS) -> xr.Dataset:
+                          homology_dims: Sequence[int] = P2_HOMOLOGY_DIMS, sequence: bool = False) -> xr.Dataset:
     """d_B, d_W1, d_W2 between the diagrams of consecutive snapshots of ONE realization.
 
     Parameters
     ----------
-    analyses : per-snapshot analysis datasets (``results/analysis/{system}/r{NN}/rho{ρ}.nc``) in increasing ρ
+    analyses : per-snapshot analysis datasets (``results/analysis/{system}/r{NN}/rho{ρ}.nc``) in increasing ρ, or
+        with `sequence` in the order of a sequence's coordinate (an imported run at any ρ, ``state{k}.nc``)
     essential_convention : how never-dying classes enter the matching (see `forcenet.topology.diagram_distances`);
         default ``"minus_one"``: death −1 ⟨F⟩, as P2 §III B. Distances come from forcenet's exact solver.
 
@@ -153,7 +154,7 @@ def consecutive_distances(analyses: Sequence[xr.Dataset], essential_convention: 
     if len(analyses) < 2:
         raise ValueError(f"need at least two snapshots for a consecutive distance, got {len(analyses)}")
     rho = np.array([float(ds["rho"]) for ds in analyses])
-    if np.any(np.diff(rho) <= 0):
+    if not sequence and np.any(np.diff(rho) <= 0):
         raise ValueError(f"analyses must be in strictly increasing rho, got {rho.tolist()}")
     force_kinds, homology_dims = tuple(force_kinds), tuple(int(h) for h in homology_dims)
     values = np.full((len(analyses) - 1, len(force_kinds), len(homology_dims), len(METRICS)), np.nan)
@@ -224,18 +225,19 @@ def stack_distances(per_realization: Sequence[xr.Dataset], realizations: Sequenc
 
 
 def run_summary(analyses: Sequence[xr.Dataset], conventions: Sequence[str], grid_rhos: Sequence[float],
-                attrs: Mapping[str, Any]) -> xr.Dataset:
+                attrs: Mapping[str, Any], sequence: bool = False) -> xr.Dataset:
     """What P2's products read from ONE run, its diagrams apart (kind "p2_run", `schema.P2_RUN_VARIABLES`): per
     state of its grid (`grid_rhos`, the analyses in the same order) the measured ρ, Z, the never-dying class and point
     counts of each P2 diagram and the total point count, and the `consecutive_distances` of the run under every
-    never-dying `conventions`; `attrs` are the file's global attributes."""
+    never-dying `conventions`; `attrs` are the file's global attributes. A `sequence` gives the coordinate of each
+    state as `grid_rhos` and its analyses in that order, at any ρ."""
     from forcenet.datasets.io import dataset_from_specs
     from forcenet.datasets.schema import P2_RUN_VARIABLES
 
     if len(analyses) != len(grid_rhos):
         raise ValueError(f"{len(analyses)} analyses for {len(grid_rhos)} grid states")
     conventions = list(dict.fromkeys(conventions))
-    distances = [consecutive_distances(analyses, convention) for convention in conventions]
+    distances = [consecutive_distances(analyses, convention, sequence=sequence) for convention in conventions]
     essential = np.zeros((len(analyses), len(P2_FORCE_KINDS), len(P2_HOMOLOGY_DIMS)), dtype=np.int64)
     points = np.zeros_like(essential)
     for s, ds in enumerate(analyses):
