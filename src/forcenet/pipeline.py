@@ -573,23 +573,25 @@ def p1_validation_table(*, measures: Sequence[str], systems: Sequence[str], csv:
     """P1's numbers and claims next to ours (results/tables/p1_validation.{csv,md}); `force_unit`
     (``analysis.p1_force_unit``) is the unit of the F_max rule the figures use; `paper_size` (the campaign's
     ``docs/validation/p1.csv``, or None in a paper-size config) adds our paper-size values beside P1's;
-    `snapshots` (each system's snapshots at its largest ρ, every realization) give the overlaps P1 §3 bounds;
+    `snapshots` (each system's snapshots, every state and realization) give the overlaps P1 §3 bounds, judged at
+    P1's depth above jamming (`forcenet.report.p1_validation.overlaps_by_state`);
     `diagrams` (diagrams.nc) the never-dying classes that enter TP and the bins at death −1; `beside` ({reading
     label: {"measures": […], "diagrams": […]}}, `readings_beside`) the systems a reading changes, judged beside;
     `counterparts` (``studies.p1.counterparts``) the systems among `measures` that only the friction and
     system-size claims judge."""
     from forcenet.datasets import read_snapshot
     from forcenet.report.claims import verdict_counts
-    from forcenet.report.p1 import largest_relative_overlap
-    from forcenet.report.p1_validation import p1_validation, write_p1_validation
+    from forcenet.report.p1_validation import overlaps_by_state, p1_validation, write_p1_validation
     from forcenet.report.realizations import ROBUSTNESS_RESAMPLES
 
-    with job_logger(log_path, "p1_validation") as log:
-        overlaps: dict[str, float] = {}
-        for path in snapshots:
+    def opened(paths: Sequence[str]):
+        """Each snapshot open only while it is measured."""
+        for path in paths:
             with read_snapshot(path) as snapshot:
-                name = str(snapshot.attrs["system"])
-                overlaps[name] = max(overlaps.get(name, 0.0), largest_relative_overlap(snapshot))
+                yield snapshot
+
+    with job_logger(log_path, "p1_validation") as log:
+        overlaps = overlaps_by_state(opened(snapshots))
         # a reading without measures of its own (no 3D system for the tetrahedra) would only repeat the primary
         readings = {label: files for label, files in (beside or {}).items() if files.get("measures")}
         table = p1_validation(open_by_system(measures, "network_measures"), force_unit=force_unit,

@@ -91,8 +91,9 @@ if P1_CLAIMED or not P1_SYSTEMS:
         input:
             measures=[paths.network_measures(RESULTS, s) for s in P1_CLAIMED + P1_COUNTERPARTS],
             paper_size=paper_size_input("p1"),
-            # P1 §3: the overlaps at the largest rho, every realization
-            snapshots=[snapshot_path(s, r, SYSTEMS[s].rho_labels[-1]) for s in P1_CLAIMED for r in realizations(s)],
+            # P1 §3: the overlaps of every state and realization, judged at P1's depth above jamming
+            snapshots=[snapshot_path(s, r, rho) for s in P1_CLAIMED for r in realizations(s)
+                       for rho in SYSTEMS[s].rho_labels],
             # never-dying classes at death -1 in TP, bins
             diagrams=[paths.diagrams(RESULTS, s) for s in P1_CLAIMED + P1_COUNTERPARTS],
             # the tetrahedra reading beside (analyze.smk): the 3D systems with the other complex

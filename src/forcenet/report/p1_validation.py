@@ -11,7 +11,7 @@ from __future__ import annotations
 import math
 import os
 from dataclasses import dataclass, field, replace
-from typing import Any, Callable, Mapping, Sequence
+from typing import Any, Callable, Iterable, Mapping, Sequence
 
 import numpy as np
 import pandas as pd
@@ -180,7 +180,7 @@ def _context(present: Mapping[str, xr.Dataset], tolerances: ClaimTolerances, for
     return ClaimContext(systems, tolerances, frozenset(counterparts), claims=tuple(CLAIMS))
 
 
-def overlaps_by_state(snapshots: Sequence[xr.Dataset]) -> dict[str, dict[float, float]]:
+def overlaps_by_state(snapshots: Iterable[xr.Dataset]) -> dict[str, dict[float, float]]:
     """{system: {ρ: largest overlap / sum of radii over the snapshots at that ρ}} of `snapshots` (every realization
     of the states to judge; `forcenet.report.p1.largest_relative_overlap`): the `overlaps` of `p1_validation`,
     which judges P1 §3's bound at P1's depth above jamming."""
