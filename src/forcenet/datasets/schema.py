@@ -74,6 +74,16 @@ REQUIRED_GLOBAL_ATTRS = (
 #: the variables of a DEM run's dynamics: written by our engine, optional in the contract (an import has none)
 SNAPSHOT_DYNAMICS = ("velocity", "angular_velocity", "kinetic_energy", "pressure", "time", "step",
                      "relaxation_steps")
+#: variables an import writes only under the option that makes them, optional in the contract (absent from our
+#: engine's snapshots and from campaign records): the disagreement of a contact given once from each side, whose two
+#: estimates ``source.duplicate_contacts: mean`` merged into their mean (`forcenet.importers.common.merge_two_sided`),
+#: in the source's force unit like the forces
+SNAPSHOT_IMPORT_VARIABLES: dict[str, VariableSpec] = {
+    "contact_force_disagreement": VariableSpec(
+        ("contact",), FORCE_UNITS,
+        "disagreement |F_a - F_b| of the two estimates of the force on i from j of a contact given once from each "
+        "side, merged into their mean (source.duplicate_contacts); NaN where the contact is given once"),
+}
 #: global attributes of every snapshot beyond REQUIRED_GLOBAL_ATTRS: the spatial dimension (2 or 3)
 SNAPSHOT_GLOBAL_ATTRS = ("dimension",)
 #: global attribute saying where a snapshot came from (absent in snapshots written before it existed: our engine)
@@ -304,7 +314,7 @@ KIND_GLOBAL_ATTRS: dict[str, tuple[str, ...]] = {
 
 #: every file kind the pipeline reads: its variables and the coordinates a reader selects on
 FILE_KINDS: dict[str, tuple[dict[str, VariableSpec], tuple[str, ...]]] = {
-    "snapshot": (SNAPSHOT_VARIABLES, ("spatial",)),
+    "snapshot": ({**SNAPSHOT_VARIABLES, **SNAPSHOT_IMPORT_VARIABLES}, ("spatial",)),
     "analysis": (ANALYSIS_VARIABLES, ("force_kind", "homology_dim", "threshold", "force_bin", "persistence_bin")),
     "network_measures": (NETWORK_MEASURES_VARIABLES, ("realization", "rho", "force_kind", "homology_dim",
                                                       "threshold", "force_bin", "persistence_bin")),
@@ -317,5 +327,5 @@ FILE_KINDS: dict[str, tuple[dict[str, VariableSpec], tuple[str, ...]]] = {
 }
 
 #: variables of a file kind that may be absent (when present they must match their spec)
-OPTIONAL_VARIABLES: dict[str, tuple[str, ...]] = {"snapshot": SNAPSHOT_DYNAMICS,
+OPTIONAL_VARIABLES: dict[str, tuple[str, ...]] = {"snapshot": (*SNAPSHOT_DYNAMICS, *SNAPSHOT_IMPORT_VARIABLES),
                                                   "p2_run_record": tuple(RECORD_VARIABLES)}  # no state kept

@@ -19,7 +19,8 @@ import xarray as xr
 
 from forcenet.boxes import AXIS_LABELS, box_periods
 from forcenet.datasets.io import dataset_from_specs, read_dataset, write_netcdf
-from forcenet.datasets.schema import BOX_TILT_ATTR, PERIODIC_AXES_ATTR, SNAPSHOT_DYNAMICS, SNAPSHOT_VARIABLES
+from forcenet.datasets.schema import (BOX_TILT_ATTR, PERIODIC_AXES_ATTR, SNAPSHOT_DYNAMICS,
+                                      SNAPSHOT_IMPORT_VARIABLES, SNAPSHOT_VARIABLES)
 
 SPATIAL_LABELS = AXIS_LABELS  # the `spatial` coordinate
 ROTATION_LABELS_2D = ("z",)
@@ -43,7 +44,8 @@ def periodic_vectors(snapshot: xr.Dataset) -> np.ndarray | None:
 
 def snapshot_dataset(*, attrs: Mapping[str, Any], **arrays: Any) -> xr.Dataset:
     """Build a snapshot dataset from its arrays (keyword names = `SNAPSHOT_VARIABLES`; the dynamics
-    `SNAPSHOT_DYNAMICS` may be left out, as an importer does).
+    `SNAPSHOT_DYNAMICS` may be left out, as an importer does; an importer's optional `SNAPSHOT_IMPORT_VARIABLES`,
+    contact_force_disagreement (C,), are written where given).
 
     Shapes: position, velocity (N, d) [d_ave, d_ave/τ_c]; radius (N,); angular_velocity (N,) in 2D or
     (N, 3) in 3D [1/τ_c]; contact_i, contact_j (C,); force_normal, force_tangential (C, d) [m̄ d_ave/τ_c²];
@@ -63,8 +65,9 @@ def snapshot_dataset(*, attrs: Mapping[str, Any], **arrays: Any) -> xr.Dataset:
     for name in ("step", "relaxation_steps"):
         if name in values:
             values[name] = np.int64(values[name])
-    specs = {name: spec for name, spec in SNAPSHOT_VARIABLES.items()
-             if name in values or name not in SNAPSHOT_DYNAMICS}
+    specs = {**{name: spec for name, spec in SNAPSHOT_VARIABLES.items()
+                if name in values or name not in SNAPSHOT_DYNAMICS},
+             **{name: spec for name, spec in SNAPSHOT_IMPORT_VARIABLES.items() if name in values}}
     coords = {
         "spatial": xr.Variable(("spatial",), list(SPATIAL_LABELS[:dim]),
                                attrs={"units": "1", "long_name": "Cartesian axis"}),

@@ -36,7 +36,9 @@ class SourceState:
     force_tangential (C, d): forces on particle i from j; wall_particle, wall_id (W,), wall_force (W, d); box_lo,
     box_hi (d,); files: the source files this state was read from; timestep: the LAMMPS timestep or the state's
     index in its run's table list; periodic_axes: the letters of the box's periodic axes ("" for a bounded box);
-    tilt: a triclinic box's tilt factors (`forcenet.boxes.tilt_labels`), None for an orthogonal box."""
+    tilt: a triclinic box's tilt factors (`forcenet.boxes.tilt_labels`), None for an orthogonal box;
+    force_disagreement (C,): under ``source.duplicate_contacts`` the difference of a contact's two estimates
+    (`merge_two_sided`; NaN for a contact given once), None otherwise."""
 
     position: np.ndarray
     radius: np.ndarray
@@ -53,6 +55,7 @@ class SourceState:
     wall_force: np.ndarray | None = None
     periodic_axes: str = ""
     tilt: np.ndarray | None = None
+    force_disagreement: np.ndarray | None = None
 
     @property
     def dimension(self) -> int:
@@ -65,10 +68,13 @@ class SourceState:
         return packing_fraction(self.radius, self.box_lo, self.box_hi)
 
     def snapshot_arrays(self) -> dict[str, Any]:
-        """The keyword arrays of `forcenet.datasets.write_snapshot` (no dynamics: an imported state has none)."""
+        """The keyword arrays of `forcenet.datasets.write_snapshot` (no dynamics: an imported state has none; the
+        disagreement of contacts given from each side where ``source.duplicate_contacts`` merged them)."""
         d = self.dimension
         wall_force = np.zeros((0, d)) if self.wall_force is None else self.wall_force
-        return dict(position=self.position, radius=self.radius, contact_i=self.contact_i, contact_j=self.contact_j,
+        merged = {} if self.force_disagreement is None else {"contact_force_disagreement": self.force_disagreement}
+        return dict(**merged,
+                    position=self.position, radius=self.radius, contact_i=self.contact_i, contact_j=self.contact_j,
                     force_normal=self.force_normal, force_tangential=self.force_tangential,
                     wall_contact_particle=self.wall_particle, wall_contact_wall=self.wall_id,
                     wall_contact_force=wall_force, box_lo=self.box_lo, box_hi=self.box_hi, rho=self.rho,
@@ -221,3 +227,154 @@ def order_pairs(i: np.ndarray, j: np.ndarray, fn: np.ndarray, ft: np.ndarray):
     i, j = np.where(swap, j, i), np.where(swap, i, j)
     sign = np.where(swap, -1.0, 1.0)[:, None]
     return i, j, fn * sign, ft * sign
+
+
+# --- the conventions of real inputs (issue 56 item 3): signed tangential components, contacts given from each side,
+# several wall sources. The same option of `source:` means the same in both importers (docs/importing.md
+# "Conventions of real inputs").
+
+#: ``source.signed_tangential``: how a tangential force given as one signed column (``ft``, or a one-column
+#: ``pair_columns.tangential``) is read: ``magnitude`` takes |ft| (stored perpendicular to the normal, as a
+#: magnitude), ``vector`` keeps its sign: ft along the normal n (from j to i) turned by +90°, 2D only. Absent: the
+#: column is a magnitude and a negative value is refused, naming this option
+SIGNED_TANGENTIAL = ("magnitude", "vector")
+#: ``source.duplicate_contacts``: how a contact given once from each side (rows i, j and j, i) is merged: ``mean``,
+#: the mean of its two estimates of the force on i from j, their disagreement recorded per contact
+#: (``contact_force_disagreement``). Absent: a contact given twice is refused, naming this option
+DUPLICATE_RULES = ("mean",)
+#: ``source.wall_forces``: what the wall forces of several sources on one particle at one wall become: ``separate``
+#: (the default), each source's force its own wall contact; ``summed_per_wall``, one contact per particle and wall
+#: with the sources' forces summed. Contacts at different walls (a corner particle) stay apart under both
+WALL_FORCE_RULES = ("separate", "summed_per_wall")
+
+OPTION_SIGNED = "source.signed_tangential"
+OPTION_DUPLICATES = "source.duplicate_contacts"
+
+
+def signed_tangential_rule(source: Mapping[str, Any], dimension: int, one_column: bool) -> str | None:
+    """The `SIGNED_TANGENTIAL` rule `source` states (None: a magnitude, ≥ 0); `SourceError` naming the option when it
+    cannot apply: a value not in the list, ``vector`` in 3D (a signed component names a direction only in a plane) or
+    a tangential force given as a vector (`one_column` False), whose components are signed already."""
+    rule = source.get("signed_tangential")
+    if rule is None:
+        return None
+    if rule not in SIGNED_TANGENTIAL:
+        raise SourceError(OPTION_SIGNED, "", f"{rule!r} is not one of {', '.join(SIGNED_TANGENTIAL)}")
+    if not one_column:
+        raise SourceError(OPTION_SIGNED, "", "applies to a tangential force given as one column (table forces: "
+                                             "magnitudes, a one-column pair_columns.tangential); this source gives "
+                                             "its components, signed already: leave the option out")
+    if rule == "vector" and dimension != 2:
+        raise SourceError(OPTION_SIGNED, "", "vector: the sign of one tangential component names a direction only "
+                                             "in 2D (along n turned by +90°); a 3D system takes magnitude")
+    return rule
+
+
+def negative_tangential_problem(value: float) -> str:
+    """What a refused negative tangential magnitude says: the value and the option that accepts it."""
+    return (f"a force magnitude must be ≥ 0, got {value:g}: a signed tangential component is read with "
+            f"{OPTION_SIGNED}: magnitude (|ft| taken) or vector (its sign kept, along the normal turned by +90°)")
+
+
+def tangential_from_column(values: np.ndarray, n: np.ndarray, rule: str | None) -> np.ndarray:
+    """Tangential forces (C, d) from one column `values` (C,) or (C, 1), `n` (C, d) the normals from j to i: a
+    magnitude (`rule` None or ``magnitude``: |ft|) along `perpendicular_unit_vectors` (n), or with ``vector`` the
+    signed component along it (2D: n turned by +90°)."""
+    values = np.asarray(values, dtype=float).reshape(len(n), 1)
+    return (values if rule == "vector" else np.abs(values)) * perpendicular_unit_vectors(n)
+
+
+def duplicate_rule(source: Mapping[str, Any]) -> str | None:
+    """The `DUPLICATE_RULES` rule `source` states, None if absent; `SourceError` naming the option for another."""
+    rule = source.get("duplicate_contacts")
+    if rule is not None and rule not in DUPLICATE_RULES:
+        raise SourceError(OPTION_DUPLICATES, "", f"{rule!r} is not one of {', '.join(DUPLICATE_RULES)}")
+    return rule
+
+
+@dataclass
+class RepeatedContact:
+    """A contact whose rows `rule` (`DUPLICATE_RULES`, or None) does not accept: `row` repeats the contact of
+    `first` (indices into the rows as given); it appears `how` ("twice, once from each side", …), and `remedy` says
+    which option accepts such data, or why none does. An importer's message: "contact a-b appears {how} (first on
+    line …): {remedy}"."""
+
+    row: int
+    first: int
+    how: str
+    remedy: str
+
+
+def repeated_contact(i: np.ndarray, j: np.ndarray, swapped: np.ndarray, rule: str | None) -> RepeatedContact | None:
+    """The first row (in the order given) that repeats a contact in a way `rule` refuses, or None. `i` < `j` (C,) are
+    the contacts' particles once ordered (`order_pairs`) and `swapped` (C,) bool which rows were given as (j, i).
+    Without a rule any repeat is refused, naming `OPTION_DUPLICATES`; with ``mean`` a contact may be given twice,
+    once from each side: the same side twice (a repeated row) or a third row is refused."""
+    i, j, swapped = (np.asarray(a).reshape(-1) for a in (i, j, swapped))
+    if len(i) < 2:
+        return None
+    keys = i.astype(np.int64) * (int(max(i.max(), j.max())) + 1) + j
+    order = np.argsort(keys, kind="stable")  # each contact's rows together, in the order given
+    sorted_keys = keys[order]
+    starts = np.r_[True, sorted_keys[1:] != sorted_keys[:-1]]
+    start = np.maximum.accumulate(np.where(starts, np.arange(len(keys)), 0))
+    rank = np.arange(len(keys)) - start  # 0 for a contact's first row, 1 for its second, …
+    first = order[start]
+    same_side = swapped[order] == swapped[first]
+    bad = rank >= 1 if rule is None else (rank >= 2) | ((rank == 1) & same_side)
+    if not bad.any():
+        return None
+    k = int(np.argmin(np.where(bad, order, len(keys))))  # the earliest refused row in the order given
+    row, head = int(order[k]), int(first[k])
+    if rank[k] >= 2:
+        return RepeatedContact(row, head, f"{rank[k] + 1} times", f"{OPTION_DUPLICATES}: mean merges a contact "
+                                                                  "given twice, once from each side, no more")
+    if same_side[k]:
+        return RepeatedContact(row, head, "twice from the same side", f"a repeated row? {OPTION_DUPLICATES}: mean "
+                                                                      "merges a contact given once from each side "
+                                                                      "(i, j and j, i)")
+    return RepeatedContact(row, head, "twice, once from each side", f"{OPTION_DUPLICATES}: mean merges them (the "
+                                                                    "mean of the two estimates, their disagreement "
+                                                                    "recorded)")
+
+
+def merge_two_sided(i: np.ndarray, j: np.ndarray, fn: np.ndarray, ft: np.ndarray):
+    """Contacts given once from each side merged by the mean of their two estimates (rows already ordered, i < j,
+    each a force on i from j, `order_pairs`; `repeated_contact` found none refused): (i, j, F_n, F_t,
+    disagreement) with one row per contact in the order of first appearance; disagreement (C,) is |F_a − F_b|, the
+    norm of the difference of the two estimates of the whole force F_n + F_t, NaN for a contact given once."""
+    keys = np.asarray(i, np.int64) * (int(max(np.max(i, initial=0), np.max(j, initial=0))) + 1) + np.asarray(j)
+    unique, first, inverse, counts = np.unique(keys, return_index=True, return_inverse=True, return_counts=True)
+    inverse = inverse.reshape(-1)
+    d = fn.shape[1]
+    fn_sum, ft_sum = np.zeros((len(unique), d)), np.zeros((len(unique), d))
+    np.add.at(fn_sum, inverse, fn)
+    np.add.at(ft_sum, inverse, ft)
+    whole = fn + ft
+    signed = np.zeros((len(unique), d))  # estimate a − estimate b: the first row of each contact +, the second −
+    np.add.at(signed, inverse, np.where((np.arange(len(keys)) == first[inverse])[:, None], whole, -whole))
+    disagreement = np.where(counts == 2, np.linalg.norm(signed, axis=1), np.nan)
+    keep = np.argsort(first)  # the order of first appearance
+    return (np.asarray(i)[first][keep], np.asarray(j)[first][keep], (fn_sum / counts[:, None])[keep],
+            (ft_sum / counts[:, None])[keep], disagreement[keep])
+
+
+def wall_rule(source: Mapping[str, Any]) -> str:
+    """The `WALL_FORCE_RULES` rule `source` states (default ``separate``)."""
+    rule = source.get("wall_forces", "separate")
+    if rule not in WALL_FORCE_RULES:
+        raise SourceError("source.wall_forces", "", f"{rule!r} is not one of {', '.join(WALL_FORCE_RULES)}")
+    return rule
+
+
+def sum_per_wall(particle: np.ndarray, wall: np.ndarray, force: np.ndarray):
+    """Wall contacts (W,), (W,), (W, d) with those of one particle at one wall summed into one, in the order of
+    their first appearance (`WALL_FORCE_RULES`: summed_per_wall)."""
+    if len(particle) == 0:
+        return particle, wall, force
+    keys = np.asarray(particle, np.int64) * 6 + np.asarray(wall, np.int64)
+    unique, first, inverse = np.unique(keys, return_index=True, return_inverse=True)
+    summed = np.zeros((len(unique), force.shape[1]))
+    np.add.at(summed, inverse.reshape(-1), force)
+    keep = np.argsort(first)
+    return particle[first][keep], wall[first][keep], summed[keep]

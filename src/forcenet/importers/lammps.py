@@ -13,7 +13,12 @@ through that face joins i to the image of j nearest to it (`forcenet.boxes`), an
 Optional wall forces: ``source.wall_columns`` names the atom columns holding the force of the walls on each atom
 (e.g. ``[f_walls[2], f_walls[3], f_walls[4]]`` of ``fix wall/gran/region … contacts``); an atom with a non-zero wall
 force gets one wall contact, at the box face nearest to it (fix wall/gran/region's per-atom output holds one contact
-per atom: a particle in a corner, touching two walls, is imported with one of them).
+per atom). Several wall fixes (one ``fix wall/gran`` per axis, as LAMMPS's granular examples) are a list of sources
+``{columns, walls}`` (`wall_sources`): each source's force is its own contact at the nearest of its walls, so a
+particle in a corner touching two walls gets two; ``source.wall_forces: summed_per_wall`` sums those of one atom at
+one wall. A one-column tangential force may be signed (``source.signed_tangential``) and a pair may be listed from
+each side (``source.duplicate_contacts: mean``, as ``newton off`` lists a pair across processors), as in a table
+(`forcenet.importers.common`).
 
 Pairs dump (``dump local``): one row per pair (``compute property/local patom1 patom2`` and ``compute pair/local
 force p1 p2 p3`` of a ``gran/*`` pair style); ``source.pair_columns`` names the columns: ``i``, ``j`` (atom ids),
@@ -36,9 +41,11 @@ import numpy as np
 
 from forcenet.boxes import (AXIS_LABELS, TILT_LABELS, box_periods, box_vectors, fold_into_box, tilt_labels,
                             tilt_problem, tilted_faces)
-from forcenet.importers.common import (SourceError, SourceState, coincident_pair, negative_magnitude,
-                                       normal_unit_vectors, order_pairs, perpendicular_unit_vectors, source_lines,
-                                       split_total_force)
+from forcenet.importers.common import (WALL_NAMES, SourceError, SourceState, coincident_pair, duplicate_rule,
+                                       merge_two_sided, negative_magnitude, negative_tangential_problem,
+                                       normal_unit_vectors, order_pairs, repeated_contact,
+                                       signed_tangential_rule, source_lines, split_total_force, sum_per_wall,
+                                       tangential_from_column, wall_rule)
 
 #: the pair columns of the shipped example (bench/lammps/make_import_example.py), used where the config names none
 DEFAULT_PAIR_COLUMNS = {"i": "c_pid[1]", "j": "c_pid[2]", "normal": ["c_pf[1]"],
@@ -255,8 +262,42 @@ def _positions(path, frame: Frame, axes: Sequence[str]) -> np.ndarray:
     return position
 
 
-def atom_state(path, frame: Frame, dimension: int, wall_columns: Sequence[str] | None = None):
-    """(ids, position (N, d), radius, box_lo, box_hi, wall force (N, d) or None) of one atoms frame."""
+@dataclass
+class WallSource:
+    """One source of wall forces in the atoms dump (``source.wall_columns``: one wall fix's per-atom force columns):
+    its columns, the wall ids it may touch (`WALL_NAMES` indices; None: every face of a bounded axis, the nearest
+    taken) and the config key that names it, for messages."""
+
+    columns: list[str]
+    walls: tuple[int, ...] | None
+    key: str
+
+
+def wall_sources(given: Any, dimension: int) -> list[WallSource]:
+    """The wall sources of ``source.wall_columns``: one list of column names (one source, e.g. ``fix
+    wall/gran/region … contacts``: its contact at the box face nearest the atom), or a list of sources ``{columns,
+    walls}`` (several wall fixes, e.g. ``fix wall/gran … xplane`` and ``… yplane``: each source's contact at the
+    nearest of its own walls, so a corner atom touching both gets two). `SourceError` naming the key for a wall
+    that is not one of the system's."""
+    if not given:
+        return []
+    if all(isinstance(item, str) for item in given):
+        return [WallSource(list(given), None, "source.wall_columns")]
+    sources = []
+    for k, item in enumerate(given):
+        key = f"source.wall_columns[{k}]"
+        names = list(item["walls"])
+        wrong = [name for name in names if name not in WALL_NAMES[:2 * dimension]]
+        if wrong:
+            raise SourceError(key, "walls", f"{wrong[0]!r} is not a wall of a {dimension}D system (one of "
+                                            f"{', '.join(WALL_NAMES[:2 * dimension])})")
+        sources.append(WallSource(list(item["columns"]), tuple(WALL_NAMES.index(name) for name in names), key))
+    return sources
+
+
+def atom_state(path, frame: Frame, dimension: int, wall_columns: Any = None):
+    """(ids, position (N, d), radius, box_lo, box_hi, wall forces) of one atoms frame; the wall forces are a list
+    of (N, d) arrays, one per source of ``wall_columns`` (`wall_sources`), or None without any."""
     if len(frame.rows) == 0:
         raise SourceError(path, f"timestep {frame.timestep} (line {frame.line})", "no atoms")
     ids = _ids(path, frame, "id", "the atom ids")
@@ -293,23 +334,29 @@ def atom_state(path, frame: Frame, dimension: int, wall_columns: Sequence[str] |
         raise SourceError(path, f"lines {frame.first_row_line + a} and {frame.first_row_line + b}",
                           f"atoms {ids[a]} and {ids[b]} are at the same position "
                           f"({', '.join(f'{v:g}' for v in position[a])}) at timestep {frame.timestep}")
-    wall_force = None
-    if wall_columns:
-        wall_force = np.stack([_column(path, frame, c, "source.wall_columns") for c in wall_columns], axis=1)
-        for c, name in enumerate(wall_columns):
-            _finite(path, frame, wall_force[:, c], name)
-        wall_force = wall_force[:, :dimension]
     order = np.argsort(ids)  # particles in id order, as LAMMPS numbers them
+    wall_forces = None
+    if wall_columns:
+        wall_forces = []
+        for wall in wall_sources(wall_columns, dimension):
+            force = np.stack([_column(path, frame, c, wall.key) for c in wall.columns], axis=1)
+            for c, name in enumerate(wall.columns):
+                _finite(path, frame, force[:, c], name)
+            wall_forces.append(force[:, :dimension][order])
     return (ids[order], position[order], radius[order], frame.box[:dimension, 0],
-            frame.box[:dimension, 1], None if wall_force is None else wall_force[order])
+            frame.box[:dimension, 1], wall_forces)
 
 
 def pair_forces(path, frame: Frame, ids: np.ndarray, position: np.ndarray, columns: Mapping[str, Any],
-                atoms_path, period: np.ndarray | None = None) -> tuple[np.ndarray, ...]:
-    """(i, j, F_n (C, d), F_t (C, d)) of one pairs frame, i < j indices into the atoms of the same timestep; a
-    force given as a magnitude points along the line from j's image nearest to i (`period`: the box's periodic
-    edge vectors, `forcenet.boxes.box_periods`) to i, and a total force (`columns["total"]`, in place of normal and
-    tangential) is split along that line (`split_total_force`)."""
+                atoms_path, period: np.ndarray | None = None, *, signed: str | None = None,
+                duplicates: str | None = None) -> tuple[np.ndarray, ...]:
+    """(i, j, F_n (C, d), F_t (C, d), disagreement (C,) or None) of one pairs frame, i < j indices into the atoms of
+    the same timestep; a force given as a magnitude points along the line from j's image nearest to i (`period`:
+    the box's periodic edge vectors, `forcenet.boxes.box_periods`) to i, and a total force (`columns["total"]`, in
+    place of normal and tangential) is split along that line (`split_total_force`). `signed`: how a one-column
+    tangential force is read (``source.signed_tangential``, `common.SIGNED_TANGENTIAL`; None: a magnitude ≥ 0);
+    `duplicates`: ``source.duplicate_contacts`` (a pair listed from each side, as ``newton off`` lists a pair
+    across processors, merged by the mean; None: refused), whose disagreement is returned."""
     dimension = position.shape[1]
     force_keys = ("total",) if "total" in columns else ("normal", "tangential")
     names = {key: ([columns[key]] if isinstance(columns[key], str) else list(columns[key]))
@@ -340,12 +387,13 @@ def pair_forces(path, frame: Frame, ids: np.ndarray, position: np.ndarray, colum
         index[key] = np.where(found, slot, -1)
     rows = np.flatnonzero(touching)
     for key in force_keys:  # a magnitude (one column) is signed the same way as in the table importer: ≥ 0
-        if key != "total" and values[key].shape[1] == 1:
+        if key != "total" and values[key].shape[1] == 1 and not (key == "tangential" and signed):
             r = negative_magnitude(values[key][rows])
             if r is not None:
                 raise SourceError(path, f"line {frame.first_row_line + rows[r]}, column '{names[key][0]}'",
-                                  f"a force magnitude must be ≥ 0, got {values[key][rows[r], 0]:g} (source.pair_columns."
-                                  f"{key} names a magnitude, repulsive > 0)")
+                                  f"a force magnitude must be ≥ 0, got {values[key][rows[r], 0]:g} "
+                                  f"(source.pair_columns.{key} names a magnitude, repulsive > 0)" if key == "normal" else
+                                  negative_tangential_problem(values[key][rows[r], 0]))
     i, j = index["i"][rows], index["j"][rows]
     same = i == j
     if same.any():
@@ -357,32 +405,67 @@ def pair_forces(path, frame: Frame, ids: np.ndarray, position: np.ndarray, colum
         fn = values["normal"][rows]
         fn = fn[:, :1] * n if fn.shape[1] == 1 else fn[:, :dimension]
         ft = values["tangential"][rows]
-        ft = ft[:, :1] * perpendicular_unit_vectors(n) if ft.shape[1] == 1 else ft[:, :dimension]
+        ft = tangential_from_column(ft[:, 0], n, signed) if ft.shape[1] == 1 else ft[:, :dimension]
+    swapped = i > j
     i, j, fn, ft = order_pairs(i, j, fn, ft)
-    keys = i * len(ids) + j
-    unique, first = np.unique(keys, return_index=True)
-    if len(unique) != len(keys):
-        repeated = np.setdiff1d(np.arange(len(keys)), first)[0]
-        raise SourceError(path, f"line {frame.first_row_line + rows[repeated]}",
-                          f"the pair of atoms {ids[i[repeated]]}, {ids[j[repeated]]} appears twice at timestep "
-                          f"{frame.timestep}")
+    repeat = repeated_contact(i, j, swapped, duplicates)
+    if repeat is not None:
+        r = repeat.row
+        raise SourceError(path, f"line {frame.first_row_line + rows[r]}",
+                          f"the pair of atoms {ids[i[r]]}, {ids[j[r]]} appears {repeat.how} at timestep "
+                          f"{frame.timestep} (first on line {frame.first_row_line + rows[repeat.first]}): "
+                          f"{repeat.remedy}")
+    disagreement = None
+    if duplicates is not None:
+        i, j, fn, ft, disagreement = merge_two_sided(i, j, fn, ft)
     order = np.lexsort((j, i))
-    return i[order], j[order], fn[order], ft[order]
+    return i[order], j[order], fn[order], ft[order], None if disagreement is None else disagreement[order]
 
 
-def wall_contacts(position, radius, box_lo, box_hi, wall_force, bounded=None):
-    """One wall contact per atom with a non-zero wall force, at the box face nearest to it among those of the
-    `bounded` axes ((d,) bool; default all: a periodic axis has no walls)."""
+def wall_contacts(position, radius, box_lo, box_hi, wall_force, bounded=None, walls=None):
+    """One wall contact per atom with a non-zero wall force (N, d), at the box face nearest to it among those of the
+    `bounded` axes ((d,) bool; default all: a periodic axis has no walls) and, where `walls` (wall ids) is given,
+    among those walls."""
     if wall_force is None:
         return np.zeros(0, np.int64), np.zeros(0, np.int64), None
     atoms = np.flatnonzero(np.any(wall_force != 0, axis=1))
-    bounded = np.ones(position.shape[1], bool) if bounded is None else np.asarray(bounded, bool)
-    gaps = np.concatenate([position[atoms] - box_lo, box_hi - position[atoms]], axis=1)  # (W, 2d): lo faces, hi faces
-    gaps[:, ~np.concatenate([bounded, bounded])] = np.inf
-    face = np.argmin(gaps, axis=1)
     d = position.shape[1]
+    bounded = np.ones(d, bool) if bounded is None else np.asarray(bounded, bool)
+    allowed = np.concatenate([bounded, bounded])  # faces in the order lo x, y, z then hi x, y, z
+    if walls is not None:
+        allowed &= np.isin(np.r_[2 * np.arange(d), 2 * np.arange(d) + 1], list(walls))
+    gaps = np.concatenate([position[atoms] - box_lo, box_hi - position[atoms]], axis=1)  # (W, 2d): lo faces, hi faces
+    gaps[:, ~allowed] = np.inf
+    face = np.argmin(gaps, axis=1)
     wall = np.where(face < d, 2 * face, 2 * (face - d) + 1)
     return atoms, wall.astype(np.int64), wall_force[atoms]
+
+
+def source_wall_contacts(path, frame: Frame, position, radius, box_lo, box_hi, wall_forces, bounded, sources,
+                         rule: str):
+    """The wall contacts of every source (`wall_sources`; `wall_forces` one (N, d) array each), in atom order and,
+    for one atom, source order; `rule` (``source.wall_forces``) ``summed_per_wall`` sums the contacts of one atom at
+    one wall. A source whose walls all lie on periodic axes, and carries a force, is refused naming its key."""
+    if wall_forces is None:
+        return np.zeros(0, np.int64), np.zeros(0, np.int64), None
+    d = position.shape[1]
+    parts = []
+    for k, (source, force) in enumerate(zip(sources, wall_forces)):
+        if source.walls is not None and np.any(force != 0):
+            usable = [w for w in source.walls if bounded[w // 2]]
+            if not usable:
+                names = ", ".join(WALL_NAMES[w] for w in source.walls)
+                raise SourceError(path, f"timestep {frame.timestep} (line {frame.line})",
+                                  f"wall forces in {source.key}, whose walls ({names}) lie on periodic axes of the "
+                                  "box: no walls there")
+        atoms, wall, f = wall_contacts(position, radius, box_lo, box_hi, force, bounded, source.walls)
+        parts.append((atoms, wall, f, np.full(len(atoms), k)))
+    atoms, wall, force, which = (np.concatenate([part[c] for part in parts]) for c in range(4))
+    order = np.lexsort((which, atoms))
+    atoms, wall, force = atoms[order], wall[order], force[order].reshape(-1, d)
+    if rule == "summed_per_wall":
+        atoms, wall, force = sum_per_wall(atoms, wall, force)
+    return atoms.astype(np.int64), wall.astype(np.int64), force
 
 
 def read_run(run: Mapping[str, Any], dimension: int, source: Mapping[str, Any]) -> list[SourceState]:
@@ -393,6 +476,11 @@ def read_run(run: Mapping[str, Any], dimension: int, source: Mapping[str, Any]) 
     columns = {**{key: value for key, value in DEFAULT_PAIR_COLUMNS.items()
                   if "total" not in given or key not in ("normal", "tangential")}, **given}
     wanted = source.get("timesteps")
+    # the conventions of the source (forcenet.importers.common): checked once, before any frame is read
+    one_column = "total" not in columns and (isinstance(columns["tangential"], str) or len(columns["tangential"]) == 1)
+    signed = signed_tangential_rule(source, dimension, one_column)
+    duplicates, walls_rule = duplicate_rule(source), wall_rule(source)
+    sources = wall_sources(source.get("wall_columns"), dimension)
     states, have = [], []
     # frame by frame, the two dumps side by side: the memory of the raw rows is one frame's
     for a, p in zip_longest(read_frames(atoms_path, "ATOMS"), read_frames(pairs_path, "ENTRIES")):
@@ -420,7 +508,7 @@ def read_run(run: Mapping[str, Any], dimension: int, source: Mapping[str, Any]) 
                        SourceError(atoms_path, f"timestep {a.timestep} (line {a.line})", problem))
             if not np.any(tilt):
                 tilt = None
-        if wall_force is not None and np.any(wall_force != 0):
+        if wall_force is not None and any(np.any(force != 0) for force in wall_force):
             if periodic.all():
                 raise SourceError(atoms_path, f"timestep {a.timestep} (line {a.line})",
                                   "wall forces in source.wall_columns, but every axis of the box is periodic: no walls")
@@ -428,12 +516,14 @@ def read_run(run: Mapping[str, Any], dimension: int, source: Mapping[str, Any]) 
                 raise SourceError(atoms_path, f"timestep {a.timestep} (line {a.line})",
                                   "wall forces in source.wall_columns on a tilted face of a triclinic box: walls are "
                                   "imported on untilted faces only")
-        i, j, fn, ft = pair_forces(pairs_path, p, ids, position, columns, atoms_path, box_periods(axes, lo, hi, tilt))
-        wall_atoms, wall_id, wall_f = wall_contacts(position, radius, lo, hi, wall_force, ~periodic)
+        i, j, fn, ft, disagreement = pair_forces(pairs_path, p, ids, position, columns, atoms_path,
+                                                 box_periods(axes, lo, hi, tilt), signed=signed, duplicates=duplicates)
+        wall_atoms, wall_id, wall_f = source_wall_contacts(atoms_path, a, position, radius, lo, hi, wall_force,
+                                                           ~periodic, sources, walls_rule)
         states.append(SourceState(position=position, radius=radius, contact_i=i, contact_j=j, force_normal=fn,
                                   force_tangential=ft, box_lo=lo, box_hi=hi, files=(str(atoms_path), str(pairs_path)),
                                   timestep=a.timestep, wall_particle=wall_atoms, wall_id=wall_id, wall_force=wall_f,
-                                  periodic_axes=axes, tilt=tilt))
+                                  periodic_axes=axes, tilt=tilt, force_disagreement=disagreement))
     missing = [step for step in wanted or () if step not in have]
     if missing:
         raise SourceError(atoms_path, "source.timesteps", f"timestep {missing[0]} is not in the dump ({have})")

@@ -14,7 +14,7 @@ from forcenet.importers.sources import source_states
 
 #: the snapshot variables in the source's length and force units (`forcenet.importers.sequence.unit`)
 LENGTH_VARIABLES = ("position", "radius", "box_lo", "box_hi")
-FORCE_VARIABLES = ("force_normal", "force_tangential", "wall_contact_force")
+FORCE_VARIABLES = ("force_normal", "force_tangential", "wall_contact_force", "contact_force_disagreement")
 #: the ρ label in a snapshot's file name (`forcenet.datasets.paths.snapshot`: …/rho0.842.nc)
 RHO_LABEL = re.compile(r"rho(\d\.\d+)\.nc$")
 
@@ -57,6 +57,12 @@ def import_run(*, config: Mapping[str, Any], system: str, realization: int, outp
                         "past the %.0f %% P1 states: check the source's units and radii", state.files[0],
                         state.timestep, 100 * overlap, state.contact_i[contact], state.contact_j[contact],
                         100 * P1_OVERLAP_BOUND)
+        if state.force_disagreement is not None and log is not None:
+            merged = np.isfinite(state.force_disagreement)
+            log.info("%s: timestep %s: %d of %d contacts given once from each side, merged into the mean of their two "
+                     "estimates (source.duplicate_contacts: mean); their disagreement |F_a - F_b| at most %.4g, "
+                     "recorded as contact_force_disagreement", state.files[-1], state.timestep, int(merged.sum()),
+                     len(merged), float(np.max(state.force_disagreement[merged], initial=0.0)))
         attrs = provenance_attrs(system=system, realization=realization, seed=-1, config=config,
                                  title=f"forcenet snapshot imported from {entry['source']['format']}, {system}")
         attrs.update({SOURCE_FORMAT_ATTR: entry["source"]["format"],
@@ -73,7 +79,8 @@ def import_run(*, config: Mapping[str, Any], system: str, realization: int, outp
         ds = snapshot_dataset(attrs=attrs, **state.snapshot_arrays())
         for names, quantity in ((LENGTH_VARIABLES, "length"), (FORCE_VARIABLES, "force")):
             for name in names:  # the source's units (systems.<name>.units), never the engine's reduced ones
-                ds[name].attrs["units"] = unit(entry, quantity)
+                if name in ds.variables:  # contact_force_disagreement: only under source.duplicate_contacts
+                    ds[name].attrs["units"] = unit(entry, quantity)
         problems = schema_problems(ds, "snapshot")
         if problems:
             raise DatasetError(state.files[0], f"timestep {state.timestep} breaks the snapshot contract: "

@@ -25,6 +25,12 @@ the box is periodic (it must then be given): a contact across a periodic face jo
 it (`forcenet.boxes`), which directs a magnitude's normal force, and no wall lies on those axes. A given box may be
 triclinic, ``box: {lo, hi, tilt: [xy]}`` (3D: ``[xy, xz, yz]``), LAMMPS's tilt factors, tilted only along its
 periodic axes; walls then lie on its untilted faces only.
+
+Conventions of real inputs (`forcenet.importers.common`, docs/importing.md): ``source.signed_tangential`` reads a
+signed ``ft`` (``magnitude``: |ft|; ``vector``: its sign kept, 2D) where a negative one is otherwise refused;
+``source.duplicate_contacts: mean`` merges a contact given once from each side (rows i, j and j, i) into the mean
+of its two estimates, recording their disagreement, where a contact given twice is otherwise refused;
+``source.wall_forces: summed_per_wall`` sums the rows of one particle at one wall into one wall contact.
 """
 from __future__ import annotations
 
@@ -36,9 +42,11 @@ from typing import Any, Mapping, Sequence
 import numpy as np
 
 from forcenet.boxes import AXIS_LABELS, box_periods, tilt_problem, tilted_faces
-from forcenet.importers.common import (WALL_NAMES, SourceError, SourceState, coincident_pair, negative_magnitude,
-                                       normal_unit_vectors, order_pairs, perpendicular_unit_vectors, read_source_text,
-                                       split_total_force)
+from forcenet.importers.common import (WALL_NAMES, SourceError, SourceState, coincident_pair, duplicate_rule,
+                                       merge_two_sided, negative_magnitude, negative_tangential_problem,
+                                       normal_unit_vectors, order_pairs, read_source_text, repeated_contact,
+                                       signed_tangential_rule, split_total_force, sum_per_wall,
+                                       tangential_from_column, wall_rule)
 
 AXES = AXIS_LABELS
 #: the two conventions of the contacts' forces (`source.forces`)
@@ -48,7 +56,8 @@ FORCE_CONVENTIONS = ("magnitudes", "vectors", "total")
 def read_run(run: Sequence[Mapping[str, Any]], dimension: int, source: Mapping[str, Any]) -> list[SourceState]:
     """The states of one run: a list of {particles, contacts[, box]} (paths relative to where snakemake runs)."""
     return [read_state(state["particles"], state["contacts"], dimension, source.get("forces", "vectors"),
-                       box=state.get("box", source.get("box")), index=k, periodic=source.get("periodic", ()))
+                       box=state.get("box", source.get("box")), index=k, periodic=source.get("periodic", ()),
+                       source=source)
             for k, state in enumerate(run)]
 
 
@@ -141,10 +150,15 @@ def read_particles(path: str | Path, dimension: int) -> tuple[dict[int, int], np
 
 def read_state(particles: str | Path, contacts: str | Path, dimension: int, forces: str = "vectors", *,
                box: Mapping[str, Sequence[float]] | None = None, index: int = 0,
-               periodic: Sequence[str] = ()) -> SourceState:
-    """One state from its particles and contacts CSV files (module docstring); `periodic`: the box's periodic axes."""
+               periodic: Sequence[str] = (), source: Mapping[str, Any] | None = None) -> SourceState:
+    """One state from its particles and contacts CSV files (module docstring); `periodic`: the box's periodic axes;
+    `source`: the config's ``source:`` entry, for its conventions (``signed_tangential``, ``duplicate_contacts``,
+    ``wall_forces``: `forcenet.importers.common`)."""
     if forces not in FORCE_CONVENTIONS:
         raise SourceError(contacts, "", f"unknown force convention {forces!r}: one of {FORCE_CONVENTIONS}")
+    source = source or {}
+    signed = signed_tangential_rule(source, dimension, one_column=forces == "magnitudes")
+    duplicates, walls_rule = duplicate_rule(source), wall_rule(source)
     wrong = [axis for axis in periodic if axis not in AXES[:dimension]]
     if wrong:
         raise SourceError("source.periodic", "", f"axis {wrong[0]!r} is not an axis of a {dimension}D system")
@@ -167,17 +181,19 @@ def read_state(particles: str | Path, contacts: str | Path, dimension: int, forc
     z_column = "f_z" if forces == "total" else "fn_z"
     forbidden = {z_column: "present, but the system is declared 2D (dimension: 2)"} if dimension == 2 else {}
     columns = _columns(contacts, header, ("i", "j", *force_columns), forbidden)
-    pairs, walls, seen = [], [], {}
+    pairs, walls = [], []
     for number, cells in body:
         first = _integer(contacts, number, cells, columns, "i")
         if first not in ids:
             raise SourceError(contacts, f"line {number}, column 'i'", f"no particle with id {first} in {particles}")
         other = _cell(contacts, number, cells, columns, "j")
         values = np.array([_number(contacts, number, cells, columns, name) for name in force_columns])
-        negative = negative_magnitude(values[:, None]) if forces == "magnitudes" else None
+        # a magnitude is ≥ 0; a signed tangential component is read as source.signed_tangential states
+        negative = (negative_magnitude(values[:1 if signed else 2, None]) if forces == "magnitudes" else None)
         if negative is not None:
             raise SourceError(contacts, f"line {number}, column '{force_columns[negative]}'",
-                              f"a force magnitude must be ≥ 0, got {values[negative]:g}")
+                              f"a force magnitude must be ≥ 0, got {values[negative]:g}" if negative == 0 else
+                              negative_tangential_problem(values[negative]))
         if other in WALL_NAMES:
             wall = WALL_NAMES.index(other)
             if wall >= 2 * dimension:
@@ -201,24 +217,29 @@ def read_state(particles: str | Path, contacts: str | Path, dimension: int, forc
             raise SourceError(contacts, f"line {number}, column 'j'", f"no particle with id {second} in {particles}")
         if second == first:
             raise SourceError(contacts, f"line {number}, column 'j'", f"particle {first} in contact with itself")
-        key = tuple(sorted((first, second)))
-        if key in seen:
-            raise SourceError(contacts, f"line {number}", f"contact {key[0]}-{key[1]} appears twice (first on line "
-                                                          f"{seen[key]})")
-        seen[key] = number
-        pairs.append((ids[first], ids[second], values))
+        pairs.append((ids[first], ids[second], values, number, first, second))
     i = np.array([p[0] for p in pairs], dtype=np.int64)
     j = np.array([p[1] for p in pairs], dtype=np.int64)
     values = np.array([p[2] for p in pairs]).reshape(len(pairs), len(force_columns))
+    # a contact given twice: refused, or (source.duplicate_contacts) merged once given from each side
+    repeat = repeated_contact(np.minimum(i, j), np.maximum(i, j), i > j, duplicates)
+    if repeat is not None:
+        row, head = pairs[repeat.row], pairs[repeat.first]
+        a, b = sorted((row[4], row[5]))
+        raise SourceError(contacts, f"line {row[3]}", f"contact {a}-{b} appears {repeat.how} (first on line "
+                                                      f"{head[3]}): {repeat.remedy}")
     lo, hi = _box(box, position, radius, particles)
     if forces in ("magnitudes", "total"):
         period = box_periods(periodic_axes, lo, hi, tilt)
         n = normal_unit_vectors(position, i, j, period) if len(pairs) else np.zeros((0, dimension))
-        fn, ft = ((values[:, :1] * n, values[:, 1:2] * perpendicular_unit_vectors(n)) if forces == "magnitudes"
+        fn, ft = ((values[:, :1] * n, tangential_from_column(values[:, 1], n, signed)) if forces == "magnitudes"
                   else split_total_force(values, n))
     else:
         fn, ft = values[:, :dimension], values[:, dimension:]
     i, j, fn, ft = order_pairs(i, j, fn, ft)
+    disagreement = None
+    if duplicates is not None:
+        i, j, fn, ft, disagreement = merge_two_sided(i, j, fn, ft)
     order = np.lexsort((j, i))
     wall_particle = np.array([w[0] for w in walls], dtype=np.int64)
     wall_id = np.array([w[1] for w in walls], dtype=np.int64)
@@ -226,15 +247,18 @@ def read_state(particles: str | Path, contacts: str | Path, dimension: int, forc
     if forces == "magnitudes":
         n = np.zeros((len(walls), dimension))
         n[np.arange(len(walls)), wall_id // 2] = np.where(wall_id % 2 == 0, 1.0, -1.0)
-        wall_force = wall_values[:, :1] * n + wall_values[:, 1:2] * perpendicular_unit_vectors(n)
+        wall_force = wall_values[:, :1] * n + tangential_from_column(wall_values[:, 1], n, signed)
     elif forces == "total":
         wall_force = wall_values
     else:
         wall_force = wall_values[:, :dimension] + wall_values[:, dimension:]
+    if walls_rule == "summed_per_wall":  # rows of one particle at one wall: one contact, their forces summed
+        wall_particle, wall_id, wall_force = sum_per_wall(wall_particle, wall_id, wall_force)
     return SourceState(position=position, radius=radius, contact_i=i[order], contact_j=j[order],
                        force_normal=fn[order], force_tangential=ft[order], box_lo=lo, box_hi=hi,
                        files=(str(particles), str(contacts)), timestep=index, wall_particle=wall_particle,
-                       wall_id=wall_id, wall_force=wall_force, periodic_axes=periodic_axes, tilt=tilt)
+                       wall_id=wall_id, wall_force=wall_force, periodic_axes=periodic_axes, tilt=tilt,
+                       force_disagreement=None if disagreement is None else disagreement[order])
 
 
 def _box(box, position, radius, where) -> tuple[np.ndarray, np.ndarray]:
