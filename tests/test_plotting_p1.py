@@ -13,6 +13,7 @@ import xarray as xr  # noqa: E402
 from matplotlib.collections import LineCollection, PathCollection, QuadMesh  # noqa: E402
 from matplotlib.figure import Figure  # noqa: E402
 
+from contract import contract_attrs  # noqa: E402
 from forcenet.datasets.schema import FORCE_KINDS  # noqa: E402
 from forcenet.network import snapshot_network  # noqa: E402
 from forcenet.plotting import figure_data as cols  # noqa: E402
@@ -86,7 +87,7 @@ def make_snapshot(dimension: int, n_side: int = 6, seed: int = 1) -> xr.Dataset:
         "force_normal": (("contact", "spatial"), normal), "force_tangential": (("contact", "spatial"), tangential),
         "box_lo": ("spatial", np.zeros(dimension)), "box_hi": ("spatial", np.full(dimension, float(n_side))),
         "rho": 0.85 if dimension == 2 else 0.6,
-    }, attrs={"dimension": dimension})
+    }, attrs=contract_attrs("snapshot", dimension=dimension))
 
 
 @pytest.fixture(scope="module")

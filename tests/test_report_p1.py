@@ -18,6 +18,7 @@ import pandas as pd
 import pytest
 import xarray as xr
 
+from contract import contract_attrs, record_settings
 from forcenet.datasets.schema import FORCE_KINDS, PERSISTENCE_BINS
 from forcenet.report import claims as framework
 from forcenet.report import p1 as report
@@ -170,8 +171,8 @@ def make_measures(name: str, *, dimension: int = 2, force_law: str = "hertz", rh
     }
     coords = {"realization": np.arange(R), "rho": rho, "force_kind": list(FORCE_KINDS), "homology_dim": homology,
               "threshold": THRESHOLDS, "force_bin": FORCE_BINS, "persistence_bin": list(PERSISTENCE_BINS)}
-    attrs = {"system": name, "dimension": dimension, "force_law": force_law}
-    if force_unit_dyn is not None:
+    attrs = contract_attrs("network_measures", system=name, dimension=dimension, force_law=force_law)
+    if force_unit_dyn is not None:  # None: a system without a material (its constants NaN)
         attrs["force_unit_dyn"] = force_unit_dyn
         attrs["stiffness_scale_reduced"] = 1.0 / force_unit_dyn if stiffness_scale is None else stiffness_scale
     elif stiffness_scale is not None:
@@ -245,7 +246,7 @@ def test_f_max_rule_by_hand():
 
 def test_f_max_rule_names_a_missing_constant():
     measures = make_p1_measures()
-    measures["2d_linear"].attrs.pop("force_unit_dyn")
+    measures["2d_linear"].attrs["force_unit_dyn"] = math.nan  # a system without a material has no dyn
     with pytest.raises(ValueError, match="2d_linear.*force_unit_dyn"):
         report.f_max_cut(measures, "dyn")
     assert np.isfinite(report.f_max_cut(measures, "reduced").f_max)  # other units need no dyn
@@ -355,7 +356,7 @@ def test_the_unit_of_the_figures_is_marked_and_checked():
 def test_a_missing_constant_leaves_only_its_unit_unevaluated():
     measures = make_p1_measures()
     for ds in measures.values():
-        ds.attrs.pop("stiffness_scale_reduced")  # e.g. aggregated before the attribute existed
+        ds.attrs["stiffness_scale_reduced"] = math.nan  # no material (a file without it is refused at read)
     table = validation.p1_validation(measures)
     assert verdict(table, "rho_max.stiffness_scale", "2d_hertz") == framework.NOT_EVALUATED
     assert "stiffness_scale_reduced" in rows(table, "rho_max.stiffness_scale", "2d_hertz")["evidence"].iloc[0]
@@ -934,11 +935,9 @@ def _with_runs(**extra) -> dict[str, xr.Dataset]:
     """P1's systems (friction 0.5, N = 400) plus `extra` runs {name: (friction, N, make_measures keywords)}."""
     measures = make_p1_measures()
     for ds in measures.values():
-        ds.attrs["friction"] = 0.5
-        ds.attrs["relaxation_tolerance"] = 0.1
+        record_settings(ds, friction=0.5, relaxation={"tolerance": 0.1})
     for name, (friction, particles, keywords) in extra.items():
-        ds = make_measures(name, **keywords)
-        ds.attrs["friction"] = friction
+        ds = record_settings(make_measures(name, **keywords), friction=friction)
         ds["n_particles"][:] = particles
         measures[name] = ds
     return measures
@@ -963,7 +962,7 @@ def test_friction_changes_only_rho_j_when_the_mu0_run_gives_the_same_verdicts():
 
 def _stricter(measures: dict[str, xr.Dataset], name: str, tolerance: float = 0.05) -> dict[str, xr.Dataset]:
     """`measures` with run `name` marked as relaxed to `tolerance` (P1's systems: 0.1)."""
-    measures[name].attrs["relaxation_tolerance"] = tolerance
+    record_settings(measures[name], relaxation={"tolerance": tolerance})
     return measures
 
 
@@ -999,7 +998,7 @@ def test_a_run_relaxed_by_the_contact_number_is_judged_beside_p1s_criterion():
     # the other criterion's counterpart; alike it holds, jamming 0.02 later it fails
     def by_contacts(rho_j: float) -> dict[str, xr.Dataset]:
         measures = _with_runs(**{"2d_linear_contacts": (0.5, N_PARTICLES, dict(force_law="linear", rho_j=rho_j))})
-        measures["2d_linear_contacts"].attrs["relaxation_criterion"] = "contact_number"
+        record_settings(measures["2d_linear_contacts"], relaxation={"criterion": "contact_number"})
         return measures
 
     alike = rows(validation.p1_validation(by_contacts(0.832)), "p1-3-relaxation", "all").iloc[0]
@@ -1007,11 +1006,12 @@ def test_a_run_relaxed_by_the_contact_number_is_judged_beside_p1s_criterion():
     assert ("2d_linear_contacts (contact number against tolerance 0.1) +0.0020, allowed 0.0050"
             in alike["evidence"]), alike["evidence"]
     assert verdict(validation.p1_validation(by_contacts(0.85)), "p1-3-relaxation", "all") == framework.FAILS
-    # the reader: the recorded config says the criterion where no attribute does; P1's own otherwise
+    # the reader: the recorded config says the criterion; P1's own where it does not
     recorded = xr.Dataset(attrs={"system": "x", "config": json.dumps(
         {"systems": {"x": {"relaxation": {"criterion": "contact_number"}}}})})
     assert report.system_relaxation_criterion(recorded) == "contact_number"
-    assert report.system_relaxation_criterion(xr.Dataset()) == "kinetic_energy_fluctuation"
+    assert report.system_relaxation_criterion(xr.Dataset(attrs={"system": "x", "config": "{}"})) == \
+        "kinetic_energy_fluctuation"
 
 
 def test_other_box_sizes_are_judged_where_a_run_exists_and_30_cubed_never():

@@ -8,6 +8,7 @@ import pandas as pd
 import pytest
 import xarray as xr
 
+from contract import contract_attrs
 from forcenet.datasets import provenance_attrs, validate_dataset, write_netcdf, open_dataset
 from forcenet.datasets.schema import FORCE_KINDS
 from forcenet.datasets.snapshot import snapshot_dataset
@@ -177,7 +178,7 @@ def lattice_snapshot(forces: np.ndarray, rho: float, offset=(0.0, 0.0)) -> xr.Da
     n = len(position)
     zeros2 = np.zeros((0, 2))
     return snapshot_dataset(
-        attrs={"system": "test"}, position=position, radius=np.full(n, 0.5), velocity=np.zeros((n, 2)),
+        attrs=contract_attrs("snapshot"), position=position, radius=np.full(n, 0.5), velocity=np.zeros((n, 2)),
         angular_velocity=np.zeros(n), contact_i=ci, contact_j=cj, force_normal=-forces[:, None] * direction,
         force_tangential=0.1 * forces[:, None] * direction[:, ::-1] * [1, -1],
         wall_contact_particle=np.zeros(0), wall_contact_wall=np.zeros(0), wall_contact_force=zeros2,
@@ -359,7 +360,7 @@ def p2_shaped(*, frictionless=False, rho_j=None, tangential="track", n_realizati
          "Z": (("realization", "rho"), np.tile(z, (n_realizations, 1)))},
         coords={"realization": np.arange(n_realizations), "rho": RHO, "force_kind": ["normal", "tangential"],
                 "homology_dim": [0, 1], "metric": list(p2.METRICS)},
-        attrs={"essential_convention": "minus_one", "dimension": 2})
+        attrs=contract_attrs("distances", system="2d_poly_mu0" if frictionless else "2d_poly_mu05"))
 
 
 def pd1_diagrams(points_per_state, n_realizations: int = 3) -> xr.Dataset:
@@ -628,7 +629,7 @@ def small_snapshot(rattler_forces=(), realization=0, rho=0.79, z=2.0, scale=1.0)
     direction /= np.linalg.norm(direction, axis=1, keepdims=True)
     n = len(position)
     return snapshot_dataset(
-        attrs={"system": "test", "realization": realization}, position=position, radius=np.full(n, 0.5),
+        attrs=contract_attrs("snapshot", realization=realization), position=position, radius=np.full(n, 0.5),
         velocity=np.zeros((n, 2)), angular_velocity=np.zeros(n), contact_i=ci, contact_j=cj,
         force_normal=-f[:, None] * direction, force_tangential=np.zeros((len(f), 2)),
         wall_contact_particle=np.zeros(0), wall_contact_wall=np.zeros(0), wall_contact_force=np.zeros((0, 2)),

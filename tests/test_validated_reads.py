@@ -14,8 +14,8 @@ import xarray as xr
 
 from conftest import load_config
 from forcenet import pipeline, pipeline_p2
-from forcenet.datasets import (DatasetError, open_dataset, provenance_attrs, read_dataset, write_netcdf,
-                               write_snapshot)
+from forcenet.datasets import (DatasetError, open_dataset, provenance_attrs, read_dataset, run_expectation,
+                               write_netcdf, write_snapshot)
 from forcenet.datasets.aggregate import distances_on_grid
 from forcenet.report import p2_distances
 from test_datasets import attrs, two_triangles_snapshot
@@ -48,13 +48,20 @@ def good(tmp_path_factory) -> dict[str, list[Path]]:
         system="2d_poly_mu05", realization=-1, seed=1, config={}, title="P2 distances"),
         "dimension": 2, "force_law": "linear", "rattler_rule": "none", "flag_complex": "triangles"})
     distances = write_netcdf(distances_on_grid(stacked, [0.71, 0.72]), root / "distances.nc", kind="distances")
+    opened = [read_dataset(path, "analysis") for path in analyses]
+    summary_attrs = {**pipeline.run_attrs(CONFIG, "2d_linear", 0, title="P2 run summary"), "dimension": 2,
+                     "simulation_sha256": run_expectation(CONFIG, "2d_linear")["simulation_sha256"],
+                     **pipeline.common_analysis_attrs(opened)}
+    run = write_netcdf(p2_distances.run_summary(opened, ["minus_one"], [0.80, 0.84, 0.88], summary_attrs),
+                       root / "p2_runs" / "r00.nc", kind="p2_run")
     return {"snapshot": snaps, "analysis": analyses, "network_measures": [measures], "diagrams": [diagrams],
-            "distances": [distances]}
+            "distances": [distances], "p2_run": [run]}
 
 
 def broken_copy(source: Path, target: Path, how: str, name: str | None = None) -> Path:
-    """A copy of `source` with one thing wrong: a variable dropped, turned into float, given other dims, or the
-    file truncated to half its bytes. Written with xarray directly (the pipeline's writer would refuse it)."""
+    """A copy of `source` with one thing wrong: a variable dropped, turned into float, given other dims, a global
+    attribute dropped ("attr"), or the file truncated to half its bytes. Written with xarray directly (the pipeline's
+    writer would refuse it)."""
     target.parent.mkdir(parents=True, exist_ok=True)
     if how == "truncated":
         data = source.read_bytes()
@@ -67,6 +74,8 @@ def broken_copy(source: Path, target: Path, how: str, name: str | None = None) -
         ds[name] = ds[name].astype(float)
     elif how == "dims":
         ds[name] = ds[name].rename({ds[name].dims[0]: "elsewhere"})
+    elif how == "attr":
+        del ds.attrs[name]
     ds.to_netcdf(target)
     return target
 
@@ -97,6 +106,34 @@ CASES = {
 }
 
 
+def reading_job(kind: str, inputs: list[str], good, out: Path, log: Path, tmp_path: Path):
+    """The pipeline job that reads `inputs`, files of `kind` (writing under `out`, logging to `log`)."""
+    if kind == "snapshot":  # the good first snapshot must not be analysed either
+        outputs = [str(out / Path(p).name) for p in inputs]
+        return lambda: pipeline.analyze_run(snapshots=inputs, outputs=outputs, analysis=CONFIG["analysis"],
+                                            log_path=str(log))
+    if kind == "analysis":
+        return lambda: pipeline.aggregate(analyses=inputs, realizations=[0, 0, 0], rhos=[0.80, 0.84, 0.88],
+                                          measures_path=str(out / "m.nc"), diagrams_path=str(out / "d.nc"),
+                                          config=CONFIG, system="2d_linear", log_path=str(log))
+    if kind == "network_measures":
+        return lambda: pipeline.p1_validation_table(measures=inputs, systems=["2d_linear"], force_unit="dyn",
+                                                    csv=str(out / "t.csv"), md=str(out / "t.md"), log_path=str(log))
+    if kind == "diagrams":
+        return lambda: pipeline.figure(name="p1_fig10_persistence_diagram", systems=["2d_linear"],
+                                       inputs={"measures": [str(p) for p in good["network_measures"]],
+                                               "diagrams": inputs},
+                                       pdf=str(out / "f.pdf"), png=str(out / "f.png"), csv=str(out / "f.csv"),
+                                       log_path=str(log))
+    if kind == "distances":
+        return lambda: pipeline_p2.p2_validation_table(distances=inputs, tables=[], frictional="2d_poly_mu05",
+                                                    frictionless=None, md=str(out / "v.md"), csv=str(out / "v.csv"),
+                                                    states=str(tmp_path / "states.csv"), log_path=str(log))
+    return lambda: pipeline_p2.p2_distances(runs=inputs, realizations=[0], output=str(out / "d.nc"),  # p2_run
+                                            essential_convention="minus_one", config=CONFIG, system="2d_linear",
+                                            log_path=str(log))
+
+
 @pytest.mark.parametrize("case", sorted(CASES))
 def test_a_broken_input_stops_the_job_with_one_line_and_writes_nothing(good, tmp_path, case):
     kind, how, name, expected = CASES[case]
@@ -104,34 +141,33 @@ def test_a_broken_input_stops_the_job_with_one_line_and_writes_nothing(good, tmp
     files = [Path(p) for p in good[kind]]
     broken = broken_copy(files[1 if len(files) > 1 else 0], tmp_path / "in" / files[-1].name, how, name)
     inputs = [str(broken if i == (1 if len(files) > 1 else 0) else p) for i, p in enumerate(files)]
-    if kind == "snapshot":  # the good first snapshot must not be analysed either
-        outputs = [str(out / Path(p).name) for p in inputs]
-        job = lambda: pipeline.analyze_run(snapshots=inputs, outputs=outputs, analysis=CONFIG["analysis"],  # noqa: E731
-                                           log_path=str(log))
-    elif kind == "analysis":
-        job = lambda: pipeline.aggregate(analyses=inputs, realizations=[0, 0, 0], rhos=[0.80, 0.84, 0.88],  # noqa: E731
-                                         measures_path=str(out / "m.nc"), diagrams_path=str(out / "d.nc"),
-                                         config=CONFIG, system="2d_linear", log_path=str(log))
-    elif kind == "network_measures":
-        job = lambda: pipeline.p1_validation_table(measures=inputs, systems=["2d_linear"], force_unit="dyn",  # noqa: E731
-                                                   csv=str(out / "t.csv"), md=str(out / "t.md"), log_path=str(log))
-    elif kind == "diagrams":
-        job = lambda: pipeline.figure(name="p1_fig10_persistence_diagram", systems=["2d_linear"],  # noqa: E731
-                                      inputs={"measures": [str(p) for p in good["network_measures"]],
-                                              "diagrams": inputs},
-                                      pdf=str(out / "f.pdf"), png=str(out / "f.png"), csv=str(out / "f.csv"),
-                                      log_path=str(log))
-    else:
-        job = lambda: pipeline_p2.p2_validation_table(distances=inputs, tables=[], frictional="2d_poly_mu05",  # noqa: E731
-                                                   frictionless=None, md=str(out / "v.md"), csv=str(out / "v.csv"),
-                                                   states=str(tmp_path / "states.csv"),
-                                                   log_path=str(log))
-    line = run_job(job, log)
+    line = run_job(reading_job(kind, inputs, good, out, log, tmp_path), log)
     assert f"{broken}: " in line and expected in line, line
     assert not out.exists() or not any(out.iterdir()), "a failed job must write nothing"
 
 
-@pytest.mark.parametrize("kind", ["snapshot", "analysis", "network_measures", "diagrams", "distances"])
+#: kind: a global attribute of its contract (`forcenet.datasets.schema.KIND_GLOBAL_ATTRS`) that its readers index
+#: (the analysis, the network movie and P2 Tables I-III a snapshot's realization; aggregate and P2 distances the
+#: rattler rule and flag complex every analysis or run summary shares; P1's F_max rule the force constants; P2's
+#: validation table the never-dying convention)
+INDEXED_ATTRIBUTES = {"snapshot": "realization", "analysis": "rattler_rule", "network_measures": "force_unit_dyn",
+                      "distances": "essential_convention", "p2_run": "flag_complex"}
+
+
+@pytest.mark.parametrize("kind", sorted(INDEXED_ATTRIBUTES))
+def test_a_file_without_a_global_attribute_its_reader_indexes_is_refused_naming_it(good, tmp_path, kind):
+    """The readers index their kind's global attributes (issue 55: no `.attrs.get` with a default): a file without
+    one stops the job that reads it at its validated read, with one line naming the file and the attribute."""
+    name = INDEXED_ATTRIBUTES[kind]
+    out, log = tmp_path / "out", tmp_path / "job.log"
+    files = [Path(p) for p in good[kind]]
+    broken = broken_copy(files[0], tmp_path / "in" / files[0].name, "attr", name)
+    line = run_job(reading_job(kind, [str(broken), *map(str, files[1:])], good, out, log, tmp_path), log)
+    assert f"{broken}: not a valid {kind} file: global attribute '{name}' missing" in line, line
+    assert not out.exists() or not any(out.iterdir()), "a failed job must write nothing"
+
+
+@pytest.mark.parametrize("kind", ["snapshot", "analysis", "network_measures", "diagrams", "distances", "p2_run"])
 def test_files_written_by_the_pipeline_pass_their_read_check(good, kind):
     for path in good[kind]:
         read_dataset(path, kind)

@@ -435,11 +435,12 @@ def flag_complex_attrs(name: str) -> dict[str, str]:
 
 
 def common_attribute(datasets: Sequence[Any], name: str, what: str) -> str:
-    """The global attribute `name` shared by every dataset (analysis files); ValueError when they differ or one
-    lacks it (a product must not mix diagrams made under different `what`)."""
-    values = {ds.attrs.get(name, "missing") for ds in datasets}
-    if len(values) != 1 or "missing" in values:
-        raise ValueError(f"analyses were made with different or unrecorded {what}: {sorted(values)}")
+    """The global attribute `name` shared by every dataset (analysis files or P2 run summaries, whose validated read
+    refused one without it); ValueError when they differ (a product must not mix diagrams made under different
+    `what`)."""
+    values = {ds.attrs[name] for ds in datasets}
+    if len(values) != 1:
+        raise ValueError(f"analyses were made with different {what}: {sorted(values)}")
     return values.pop()
 
 

@@ -151,7 +151,7 @@ def p2_tables(*, snapshots: Sequence[str], states: str, csv: Sequence[str], md: 
         expected = sorted(Path(p).resolve() for p in (*csv, *md))
         if sorted(p.resolve() for p in written) != expected:
             raise ValueError(f"P2 tables written as {[str(p) for p in written]}, expected {[str(p) for p in expected]}")
-        log.info("P2 tables from realization %s, rho %s", chosen[0].attrs.get("realization"),
+        log.info("P2 tables from realization %s, rho %s", chosen[0].attrs["realization"],
                  ", ".join(f"{float(s.rho):.4f}" for s in chosen))
 
 

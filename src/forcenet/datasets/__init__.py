@@ -10,8 +10,8 @@ from forcenet._lazy import lazy_exports
 #: public name → the submodule that defines it
 _EXPORTS = {
     "DiagramPoints": "diagrams", "diagram_points": "diagrams",
-    "DatasetError": "io", "SchemaError": "io", "git_commit": "io", "open_dataset": "io", "provenance_attrs": "io",
-    "read_dataset": "io", "validate_dataset": "io", "write_netcdf": "io",
+    "DatasetError": "io", "SchemaError": "io", "git_commit": "io", "open_dataset": "io", "optional_attr": "io",
+    "provenance_attrs": "io", "read_dataset": "io", "validate_dataset": "io", "write_netcdf": "io",
     "read_snapshot": "snapshot", "snapshot_dataset": "snapshot", "write_snapshot": "snapshot",
     "run_expectation": "runs", "run_mismatch": "runs",
 }

@@ -16,8 +16,8 @@ import numpy as np
 import xarray as xr
 
 from forcenet.boxes import tilt_problem
-from forcenet.datasets.schema import (ANALYSIS_FINITE_VARIABLES, BOX_TILT_ATTR, DIMENSIONLESS, DTYPE_KINDS,
-                                      ENGINE_SOURCE_FORMAT, FILE_KINDS, KIND_GLOBAL_ATTRS, OPTIONAL_VARIABLES,
+from forcenet.datasets.schema import (ANALYSIS_FINITE_VARIABLES, BOX_TILT_ATTR, DTYPE_KINDS, ENGINE_SOURCE_FORMAT,
+                                      FILE_KINDS, KIND_GLOBAL_ATTRS, OPTIONAL_GLOBAL_ATTRS, OPTIONAL_VARIABLES,
                                       PERIODIC_AXES_ATTR, REQUIRED_GLOBAL_ATTRS, SNAPSHOT_FINITE_VARIABLES,
                                       SNAPSHOT_GLOBAL_ATTRS, SNAPSHOT_SOURCE_ATTRS, SOURCE_FORMAT_ATTR,
                                       STATE_COORDINATE_ATTR, STATE_COORDINATE_LONG_NAMES, STATE_UNITS_ATTR,
@@ -72,6 +72,16 @@ def provenance_attrs(*, system: str, realization: int, seed: int, config: Mappin
         "config": json.dumps(config, sort_keys=True, default=str),
         "Conventions": CONVENTIONS,
     }
+
+
+def optional_attr(ds: xr.Dataset, name: str) -> Any:
+    """The global attribute `name` of `ds`, or, where the file lacks it, what that means (`schema.
+    OPTIONAL_GLOBAL_ATTRS`: a compression's state axis ρ, an engine's snapshot, a bounded orthogonal box). The one
+    reader of an attribute a file may lack; KeyError for any other: a kind's required attribute is read as
+    ``ds.attrs[name]``, the validated read (`read_dataset`) having refused a file without it."""
+    if name not in OPTIONAL_GLOBAL_ATTRS:
+        raise KeyError(f"global attribute '{name}' is not optional (schema.OPTIONAL_GLOBAL_ATTRS): a reader indexes it")
+    return ds.attrs.get(name, OPTIONAL_GLOBAL_ATTRS[name])
 
 
 def make_variable(spec: VariableSpec, values: Any, **extra_attrs: Any) -> xr.Variable:
@@ -143,7 +153,7 @@ def snapshot_value_problems(ds: xr.Dataset) -> list[str]:
     box or ρ, a radius ≤ 0, contact or wall indices naming no particle or wall, a box with box_hi ≤ box_lo, tilt
     factors (`schema.BOX_TILT_ATTR`) of the wrong number, non-finite or along a bounded axis."""
     problems = [f"global attribute '{key}' missing" for key in SNAPSHOT_GLOBAL_ATTRS if key not in ds.attrs]
-    source = ds.attrs.get(SOURCE_FORMAT_ATTR, ENGINE_SOURCE_FORMAT)
+    source = optional_attr(ds, SOURCE_FORMAT_ATTR)
     if source != ENGINE_SOURCE_FORMAT:
         problems += [f"global attribute '{key}' missing (imported snapshot, {SOURCE_FORMAT_ATTR} '{source}')"
                      for key in SNAPSHOT_SOURCE_ATTRS if key not in ds.attrs]
@@ -183,7 +193,7 @@ def snapshot_value_problems(ds: xr.Dataset) -> list[str]:
     if np.any(ds["box_hi"].values <= ds["box_lo"].values):
         problems.append("variables 'box_lo', 'box_hi': box_hi must exceed box_lo on every axis")
     if BOX_TILT_ATTR in ds.attrs:
-        tilt = tilt_problem(str(ds.attrs.get(PERIODIC_AXES_ATTR, "")), ds.attrs[BOX_TILT_ATTR], dimension)
+        tilt = tilt_problem(str(optional_attr(ds, PERIODIC_AXES_ATTR)), ds.attrs[BOX_TILT_ATTR], dimension)
         if tilt:
             problems.append(f"global attribute '{BOX_TILT_ATTR}': {tilt}")
     return problems
@@ -228,11 +238,11 @@ def sequence_on_disk(ds: xr.Dataset) -> xr.Dataset:
     timestep) stores it: its state axis `rho` (in memory, where every reader selects on it) named after the
     coordinate, with the coordinate's unit and long name, and `point_rho` likewise; ρ stays `rho_measured`. Any
     other dataset is returned as it is."""
-    name = ds.attrs.get(STATE_COORDINATE_ATTR)
-    if name in (None, "rho") or "rho" not in ds.dims:
+    name = optional_attr(ds, STATE_COORDINATE_ATTR)
+    if name == "rho" or "rho" not in ds.dims:
         return ds
     out = ds.rename({"rho": name, **({"point_rho": f"point_{name}"} if "point_rho" in ds.variables else {})})
-    units = str(ds.attrs.get(STATE_UNITS_ATTR, DIMENSIONLESS))
+    units = str(optional_attr(ds, STATE_UNITS_ATTR))
     out[name].attrs = {"units": units, "long_name": STATE_COORDINATE_LONG_NAMES.get(name, name)}
     if f"point_{name}" in out.variables:
         out[f"point_{name}"].attrs = {"units": units,
@@ -242,8 +252,8 @@ def sequence_on_disk(ds: xr.Dataset) -> xr.Dataset:
 
 def sequence_in_memory(ds: xr.Dataset) -> xr.Dataset:
     """A file of a sequence as the readers take it (`sequence_on_disk` undone): its state axis renamed `rho`."""
-    name = ds.attrs.get(STATE_COORDINATE_ATTR)
-    if name in (None, "rho") or name not in ds.dims:
+    name = optional_attr(ds, STATE_COORDINATE_ATTR)
+    if name == "rho" or name not in ds.dims:
         return ds
     point = f"point_{name}"
     return ds.rename({name: "rho", **({point: "point_rho"} if point in ds.variables else {})})

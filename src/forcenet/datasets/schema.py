@@ -120,6 +120,17 @@ STATE_COORDINATE_LONG_NAMES = {
     "timestep": "timestep of the state in its source (source.sequence)",
 }
 
+#: the global attributes a file of any kind may lack, each with what a file without it is: the value its readers take
+#: (`forcenet.datasets.optional_attr`, the one reader of them; every other global attribute of a kind is required,
+#: `KIND_GLOBAL_ATTRS`, and read as ``ds.attrs[name]``)
+OPTIONAL_GLOBAL_ATTRS: dict[str, object] = {
+    SOURCE_FORMAT_ATTR: ENGINE_SOURCE_FORMAT,  # our engine (its snapshots written before the attribute existed)
+    PERIODIC_AXES_ATTR: "",  # every axis bounded (walls)
+    BOX_TILT_ATTR: None,  # an orthogonal box
+    STATE_COORDINATE_ATTR: "rho",  # a compression: its states ordered by ρ
+    STATE_UNITS_ATTR: DIMENSIONLESS,  # ρ's unit
+}
+
 #: variables that must hold finite values (issue 27: a NaN position or force is refused, never analysed)
 SNAPSHOT_FINITE_VARIABLES = ("position", "radius", "force_normal", "force_tangential", "wall_contact_force",
                              "box_lo", "box_hi", "rho", "Z")

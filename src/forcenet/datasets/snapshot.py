@@ -18,7 +18,7 @@ import numpy as np
 import xarray as xr
 
 from forcenet.boxes import AXIS_LABELS, box_periods
-from forcenet.datasets.io import dataset_from_specs, read_dataset, write_netcdf
+from forcenet.datasets.io import dataset_from_specs, optional_attr, read_dataset, write_netcdf
 from forcenet.datasets.schema import (BOX_TILT_ATTR, PERIODIC_AXES_ATTR, SNAPSHOT_DYNAMICS,
                                       SNAPSHOT_IMPORT_VARIABLES, SNAPSHOT_VARIABLES)
 
@@ -29,7 +29,7 @@ ROTATION_LABELS_2D = ("z",)
 def box_tilt(snapshot: xr.Dataset) -> np.ndarray | None:
     """The tilt factors of a snapshot's triclinic box (`BOX_TILT_ATTR`: xy in 2D, xy, xz, yz in 3D) [d_ave]; None for
     an orthogonal box (our engine's, and most imports)."""
-    tilt = snapshot.attrs.get(BOX_TILT_ATTR)
+    tilt = optional_attr(snapshot, BOX_TILT_ATTR)
     return None if tilt is None else np.asarray(tilt, dtype=float).reshape(-1)
 
 
@@ -37,7 +37,7 @@ def periodic_vectors(snapshot: xr.Dataset) -> np.ndarray | None:
     """The edge vector of each periodic axis of a snapshot's box (`PERIODIC_AXES_ATTR`, tilted by `box_tilt`) as rows,
     zero rows on the bounded axes, (d, d) [d_ave]; None for a bounded box (our engine's snapshots, whose boxes have
     walls), as `forcenet.boxes` takes it."""
-    axes = str(snapshot.attrs.get(PERIODIC_AXES_ATTR, ""))
+    axes = str(optional_attr(snapshot, PERIODIC_AXES_ATTR))
     return (box_periods(axes, snapshot["box_lo"].values, snapshot["box_hi"].values, box_tilt(snapshot)) if axes
             else None)
 

@@ -49,7 +49,7 @@ def network_movie(snapshots: Sequence[xr.Dataset], output: str | os.PathLike, *,
     study's, as in the analysis). Returns the number of frames."""
     if not snapshots:
         raise ValueError("a network movie needs at least one snapshot")
-    frames = [networks.prepare_p1_fig01_networks({str(s.attrs.get("system", "system")): s}, rattler_rule=rattler_rule)
+    frames = [networks.prepare_p1_fig01_networks({str(s.attrs["system"]): s}, rattler_rule=rattler_rule)
               for s in snapshots]
     norm = networks.network_color_scale(concat([f.table for f in frames]))
     dimension = int(snapshots[0].sizes["spatial"])

@@ -154,7 +154,7 @@ def prepare_p2_fig01_snapshots_differences(snapshots: Sequence[xr.Dataset], *, r
     return FigureData(concat(blocks), {
         "box": [(s["box_lo"].values[:2], s["box_hi"].values[:2], box_tilt(s)) for s in snapshots],
         "states": [(float(s["rho"]), float(s["Z"])) for s in snapshots], "kind": kind, "system": system,
-        "realization": snapshots[0].attrs.get("realization", "?")})
+        "realization": snapshots[0].attrs["realization"]})
 
 
 def draw_p2_fig01_snapshots_differences(data: FigureData) -> Figure:

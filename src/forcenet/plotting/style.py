@@ -47,12 +47,13 @@ COORDINATE_LABELS = {"strain": r"strain $\gamma$", "time": r"time $t$", "frame":
 def use_state_axes(datasets) -> None:
     """Record the state axis of every sequence among `datasets` (stacked files, snapshots or analyses, whose global
     attributes name their system and coordinate, `forcenet.datasets.schema.STATE_COORDINATE_ATTR`)."""
+    from forcenet.datasets import optional_attr
     from forcenet.datasets.schema import STATE_COORDINATE_ATTR, STATE_UNITS_ATTR
 
     for ds in datasets:
-        coordinate = ds.attrs.get(STATE_COORDINATE_ATTR)
-        if coordinate not in (None, "rho"):
-            STATE_AXES[str(ds.attrs["system"])] = (str(coordinate), str(ds.attrs.get(STATE_UNITS_ATTR, "1")))
+        coordinate = optional_attr(ds, STATE_COORDINATE_ATTR)  # absent: a compression
+        if coordinate != "rho":
+            STATE_AXES[str(ds.attrs["system"])] = (str(coordinate), str(optional_attr(ds, STATE_UNITS_ATTR)))
 
 
 def is_sequence(name: str) -> bool:

@@ -118,51 +118,52 @@ def file_role(ds: xr.Dataset) -> tuple[int, str] | None:
 
 
 def system_dimension(ds: xr.Dataset, name: str = "") -> int:
-    """Spatial dimension of a system's file: its global attribute ``dimension`` (every stacked file records it;
-    nothing is guessed from the system's name)."""
-    return int(_recorded(ds, "dimension", name))
+    """Spatial dimension of a system's file: its global attribute ``dimension`` (required of every stacked kind,
+    `forcenet.datasets.schema.KIND_GLOBAL_ATTRS`; nothing is guessed from the system's name). `name` is unused: the
+    validated read names the file that lacks it."""
+    return int(ds.attrs["dimension"])
 
 
 def system_force_law(ds: xr.Dataset, name: str = "") -> str:
-    """The force law a system's file records (global attribute ``force_law``: ``"linear"``, ``"hertz"``, or
-    ``"imported"`` for states imported from another code or an experiment)."""
-    return str(_recorded(ds, "force_law", name)).lower()
+    """The force law a system's file records (global attribute ``force_law``, required of every stacked kind:
+    ``"linear"``, ``"hertz"``, or ``"imported"`` for states imported from another code or an experiment)."""
+    return str(ds.attrs["force_law"]).lower()
 
 
-def _system_setting(ds: xr.Dataset, name: str, attr: str, *config_keys: str, default=None):
-    """A setting the system's file records: global attribute `attr`, else its config entry's value at the path
-    `config_keys`, else `default`."""
+def _system_setting(ds: xr.Dataset, name: str, *config_keys: str, default=None):
+    """A setting of the system's runs: its entry's value at the path `config_keys` in the config the file records
+    (global attribute ``config``, required of every kind), `default` where the entry does not set it."""
     value = _config_system(ds, name)
     for key in config_keys:
         value = value.get(key) if isinstance(value, dict) else None
-    return ds.attrs.get(attr, default if value is None else value)
+    return default if value is None else value
 
 
-def _system_number(ds: xr.Dataset, name: str, attr: str, *config_keys: str) -> float:
-    """A number the system's file records (`_system_setting`); NaN when neither says (or it is not a number)."""
+def _system_number(ds: xr.Dataset, name: str, *config_keys: str) -> float:
+    """A number of the system's recorded config (`_system_setting`); NaN when it does not say (or it is not a
+    number)."""
     try:
-        return float(_system_setting(ds, name, attr, *config_keys, default=math.nan))
+        return float(_system_setting(ds, name, *config_keys, default=math.nan))
     except (TypeError, ValueError):
         return math.nan
 
 
 def system_friction(ds: xr.Dataset, name: str = "") -> float:
-    """The friction coefficient μ of the system's runs (global attr ``friction``, else the config's; NaN when
-    neither says)."""
-    return _system_number(ds, name, "friction", "friction")
+    """The friction coefficient μ of the system's runs (the recorded config's ``friction``; NaN where it has none:
+    an imported system)."""
+    return _system_number(ds, name, "friction")
 
 
 def system_relaxation_tolerance(ds: xr.Dataset, name: str = "") -> float:
-    """The kinetic-energy fluctuation tolerance the system's runs relaxed to (P1 §3's 0.1; global attr
-    ``relaxation_tolerance``, else the config's ``relaxation.tolerance``; NaN when neither says)."""
-    return _system_number(ds, name, "relaxation_tolerance", "relaxation", "tolerance")
+    """The kinetic-energy fluctuation tolerance the system's runs relaxed to (P1 §3's 0.1; the recorded config's
+    ``relaxation.tolerance``; NaN where it has none)."""
+    return _system_number(ds, name, "relaxation", "tolerance")
 
 
 def system_relaxation_criterion(ds: xr.Dataset, name: str = "") -> str:
-    """The criterion the system's runs relaxed by (`forcenet.systems.RELAXATION_CRITERIA`; global attr
-    ``relaxation_criterion``, else the config's ``relaxation.criterion``, else P1's kinetic-energy fluctuation)."""
-    return str(_system_setting(ds, name, "relaxation_criterion", "relaxation", "criterion",
-                               default=KINETIC_ENERGY_FLUCTUATION))
+    """The criterion the system's runs relaxed by (`forcenet.systems.RELAXATION_CRITERIA`; the recorded config's
+    ``relaxation.criterion``, else P1's kinetic-energy fluctuation, the config's default)."""
+    return str(_system_setting(ds, name, "relaxation", "criterion", default=KINETIC_ENERGY_FLUCTUATION))
 
 
 def system_particles(ds: xr.Dataset) -> int:
@@ -191,20 +192,13 @@ def largest_relative_overlap(snapshot: xr.Dataset) -> float:
 
 
 def _config_system(ds: xr.Dataset, name: str) -> dict:
-    """The system's entry of the config recorded in the dataset's ``config`` attribute ({} when absent)."""
+    """The system's entry ({} where it has none) of the config recorded in the dataset's ``config`` attribute
+    (required of every kind, `forcenet.datasets.schema.REQUIRED_GLOBAL_ATTRS`)."""
     try:
-        config = json.loads(ds.attrs.get("config", "{}"))
-        return dict(config.get("systems", {}).get(name or ds.attrs.get("system", ""), {}))
+        config = json.loads(ds.attrs["config"])
+        return dict(config.get("systems", {}).get(name or ds.attrs["system"], {}))
     except (TypeError, ValueError, AttributeError):
         return {}
-
-
-def _recorded(ds: xr.Dataset, attr: str, name: str):
-    """A global attribute the file must have (ValueError naming the system and the attribute otherwise)."""
-    if attr not in ds.attrs:
-        raise ValueError(f"{name or ds.attrs.get('system', 'a system')}: global attribute '{attr}' missing from its "
-                         "file (written by forcenet.pipeline.aggregate)")
-    return ds.attrs[attr]
 
 
 def rho_values(ds: xr.Dataset) -> np.ndarray:
@@ -244,17 +238,18 @@ def force_scale(ds: xr.Dataset, unit: str = DEFAULT_P1_FORCE_UNIT, name: str = "
     """The factor taking the stored ⟨F⟩ (reduced units m̄ d_ave τ_c⁻²) to `unit` (a key of `P1_FORCE_UNITS`):
     ``force_unit_dyn`` for dyn, 1 for reduced, 1 / ``stiffness_scale_reduced`` for k_n d_ave^(1+β).
 
-    Raises ValueError when the dataset lacks the attribute (or it is NaN: a system without a material has no
-    dyn), naming the system and the attribute."""
+    Raises ValueError when the attribute is NaN (a system without a material has no dyn), naming the system and the
+    attribute; a file without it (required of network measures, `schema.FORCE_CONSTANT_ATTRS`) is refused by its
+    validated read."""
     if unit not in P1_FORCE_UNITS:
         raise ValueError(f"unknown P1 force unit {unit!r}; known: {', '.join(P1_FORCE_UNITS)}")
     attr = _UNIT_ATTRS[unit]
     if attr is None:
         return 1.0
-    value = float(ds.attrs.get(attr, math.nan))
+    value = float(ds.attrs[attr])
     if not np.isfinite(value) or value <= 0:
-        raise ValueError(f"{name or ds.attrs.get('system', 'a system')}: attribute {attr} missing or NaN in its "
-                         f"network measures: <F> cannot be compared in {unit!r} (analysis.p1_force_unit)")
+        raise ValueError(f"{name or ds.attrs['system']}: attribute {attr} is NaN in its network measures: <F> cannot "
+                         f"be compared in {unit!r} (analysis.p1_force_unit)")
     return value if unit == "dyn" else 1.0 / value
 
 

@@ -201,7 +201,7 @@ def stack_distances(per_realization: Sequence[xr.Dataset], realizations: Sequenc
     sizes = {ds.sizes["rho"] for ds in per_realization}
     if len(sizes) != 1:
         raise ValueError(f"realizations have different numbers of snapshot pairs: {sorted(sizes)}")
-    conventions = {ds.attrs.get("essential_convention") for ds in per_realization}
+    conventions = {ds.attrs["essential_convention"] for ds in per_realization}
     if len(conventions) != 1:
         raise ValueError(f"realizations use different never-dying conventions: {conventions}")
     rho = np.stack([ds["rho"].values for ds in per_realization])

@@ -61,7 +61,7 @@ def p2_tables(snapshots: Sequence[xr.Dataset], *, kind: str = "normal", remove_r
     table2 = pd.DataFrame([row(parts[0][q], parts[1][q]) for q in QUADRANTS], index=quadrants)
     table3 = pd.DataFrame([row(parts[0][q], parts[2][q]) for q in QUADRANTS], index=quadrants)
     meta = {**dict(zip(TABLE_RHO_KEYS, rho)), "force_kind": kind, "essential_convention": essential_convention,
-            "rattler_rule": networks[0].rattler_rule, "realization": int(snapshots[0].attrs.get("realization", -1))}
+            "rattler_rule": networks[0].rattler_rule, "realization": int(snapshots[0].attrs["realization"])}
     captions = {
         "table1": "Table I: distances between the persistence diagrams of the force networks of snapshots a, b, c",
         "table2": "Table II: distances (PD^a, PD^b) between corresponding quarters of the box",
@@ -163,7 +163,7 @@ def chosen_states(datasets: Sequence[xr.Dataset], candidates: pd.DataFrame) -> l
         raise ValueError(f"{len(chosen)} chosen realizations in the table-state candidates, need one")
     realization = int(chosen["realization"].iloc[0])
     expected = chosen[list(TABLE_RHO_KEYS)].to_numpy(dtype=float)[0]
-    picked = sorted((ds for ds in datasets if int(ds.attrs.get("realization", -1)) == realization),
+    picked = sorted((ds for ds in datasets if int(ds.attrs["realization"]) == realization),
                     key=lambda ds: float(ds["rho"]))
     if len(picked) > len(expected):  # candidates beyond a, b, c (the jammed rule reads every state >= table_rho)
         picked = [ds for ds in picked if np.isclose(float(ds["rho"]), expected, atol=1e-9).any()]

@@ -96,7 +96,7 @@ def p2_validation(distances: Mapping[str, xr.Dataset], tables: Mapping[str, pd.D
     # P2's claims are about its compression (wall speed, sampling step, the regimes around ρ_J): not judged on
     # imported states, whose protocol is not recorded
     imported = sorted(name for name, ds in distances.items() if name in (frictional, frictionless)
-                      and ds.attrs.get("force_law") == IMPORTED_FORCE_LAW)
+                      and ds.attrs["force_law"] == IMPORTED_FORCE_LAW)
     judged = []
     for claim in CLAIMS:
         def judge(within: Context, claim=claim) -> Judgement:
@@ -128,8 +128,8 @@ def p2_validation(distances: Mapping[str, xr.Dataset], tables: Mapping[str, pd.D
     table.attrs["systems"] = {name: {"rho_J": c.rho_j, "realizations": c.n_realizations,
                                      "rho_range": (float(c.ds["rho"].min()), float(c.ds["rho"].max())),
                                      "snapshot_pairs": int(c.ds.sizes["rho"]),
-                                     "essential_convention": c.ds.attrs.get("essential_convention", ""),
-                                     "rattler_rule": c.ds.attrs.get("rattler_rule", "")}
+                                     "essential_convention": c.ds.attrs["essential_convention"],
+                                     "rattler_rule": c.ds.attrs["rattler_rule"]}
                               for name, c in curves.items()}
     table.attrs["tolerances"] = tol
     return table
