@@ -219,3 +219,20 @@ def test_diagram_points_names_a_selection_the_file_cannot_answer(call, message):
     stacked = stack_diagrams([analysis], [0], [0.80], attrs())
     with pytest.raises(ValueError, match=message):
         call(analysis, stacked)
+
+
+def test_an_optional_global_attribute_reads_as_its_declared_meaning_and_no_other_has_a_default():
+    """Issue 55: the attributes a file may lack are declared with what their absence means
+    (`schema.OPTIONAL_GLOBAL_ATTRS`) and read by `optional_attr`; a kind's required attribute has no default there."""
+    from forcenet.datasets import optional_attr
+    from forcenet.datasets.schema import KIND_GLOBAL_ATTRS, OPTIONAL_GLOBAL_ATTRS, REQUIRED_GLOBAL_ATTRS
+
+    required = {*REQUIRED_GLOBAL_ATTRS, *(name for names in KIND_GLOBAL_ATTRS.values() for name in names)}
+    assert not required & set(OPTIONAL_GLOBAL_ATTRS)
+    compression = xr.Dataset()
+    assert optional_attr(compression, "state_coordinate") == "rho"
+    assert optional_attr(compression, "periodic_axes") == "" and optional_attr(compression, "box_tilt") is None
+    assert optional_attr(xr.Dataset(attrs={"state_coordinate": "strain"}), "state_coordinate") == "strain"
+    for name in required:
+        with pytest.raises(KeyError, match=f"'{name}' is not optional"):
+            optional_attr(compression, name)
