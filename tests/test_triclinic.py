@@ -316,7 +316,9 @@ def test_the_image_forcenet_joins_is_the_one_lammps_used_in_its_sheared_run():
         np.testing.assert_array_equal(wrong, through_y)
 
 
-def test_a_shear_at_constant_volume_is_imported_one_state_per_system(tmp_path):
+def test_a_shear_at_constant_volume_is_not_a_compression(tmp_path):
+    """Two states at one ρ are refused as a compression's (keyed by ρ), naming the option that makes them one run
+    (a sequence, tests/test_sequence.py); one of them alone imports."""
     from forcenet.systems import ConfigError, imported_system
 
     atoms, pairs = ring_dumps(tmp_path)
@@ -325,7 +327,7 @@ def test_a_shear_at_constant_volume_is_imported_one_state_per_system(tmp_path):
         dump.write_text(text + text.replace("ITEM: TIMESTEP\n7\n", "ITEM: TIMESTEP\n8\n").replace("0 5 1\n", "0 5.5 1.5\n"))
     entry = {"dimension": 2, "source": {"format": "lammps", "runs": [{"atoms": str(atoms), "pairs": str(pairs)}]}}
     with pytest.raises(ConfigError, match=r"'systems.s.source.runs\[0\]': states with the same ρ at 3 decimals "
-                                          r"\(\[0.212, 0.212\]\).*imported one per system \(source.timesteps"):
+                                          r"\(\[0.212, 0.212\]\).*one run with source.sequence"):
         imported_system("s", entry)
     later = imported_system("s", {**entry, "source": {**entry["source"], "timesteps": [8]}})
     assert later.rho_grid == (0.212,)
