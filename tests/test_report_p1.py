@@ -1387,3 +1387,52 @@ def test_claims_whose_judge_did_not_change_leave_the_column_empty(p1_table):
     assert (claims[~claims["id"].isin(list(P1_CHANGES))]["judge_changed_after_reading"] == "").all()
     assert marked["judge_changed_after_reading"].str.startswith("2026-12-05: ").all()
     assert set(P1_CHANGES) <= {c.id for c in validation.CLAIMS}  # no stale id
+
+
+def _imported(name: str, force_units: str = "N", **kwargs) -> xr.Dataset:
+    """A 2D system's measures as an import records them: force law "imported", no material, ⟨F⟩ in `force_units`."""
+    ds = make_measures(name, force_unit_dyn=None, **kwargs)
+    ds.attrs["force_law"] = "imported"
+    ds["mean_force"].attrs.update(units=force_units, long_name="mean contact force <F> of the network")
+    return ds
+
+
+def test_an_imported_studys_table_lists_only_the_claims_that_apply_and_says_which_it_leaves_out(tmp_path):
+    """Issue 56 item 5: a study of imported systems leaves out the claims about P1's compression protocol (ρ_J), those
+    comparing P1's systems or needing its counterpart runs, the rows of P1's systems it lacks and F_max in dyn and
+    k_n d_ave^(1+β); its first row (kind "note") and the Markdown's head say which and why; ⟨F⟩ in the source's unit."""
+    measures = {"exp_a": _imported("exp_a"), "exp_b": _imported("exp_b")}
+    table = validation.p1_validation(measures, force_unit="reduced")
+    note = table[table["kind"] == validation.NOTE_KIND]
+    assert len(note) == 1 and note.index[0] == 0 and note["id"].iloc[0] == validation.LEFT_OUT_ID
+    line = note["item"].iloc[0]
+    assert "exp_a, exp_b" in line and framework.IMPORTED_NOT_EVALUATED in line and "comparing P1's systems" in line
+    assert not table["evidence"].str.contains("imported states|not in the results", na=False).any()
+    assert set(table["system"]) == {"all", "exp_a", "exp_b"}
+    claims = table[table["kind"] == "claim"]
+    per_system = {c.id for c in validation.CLAIMS if c.per_system and not c.needs_rho_j and c.scope is None}
+    assert set(claims["id"]) == per_system and (claims["system"] != "all").all()
+    assert set(table.loc[table["id"].str.startswith(("f_max", "rho_max")), "id"]) == {"f_max.reduced",
+                                                                                        "rho_max.reduced"}
+    assert "[N]" in rows(table, "f_max.reduced")["evidence"].iloc[0]  # the source's force unit, not the engine's
+    markdown = validation.p1_validation_markdown(table)
+    assert line in markdown.splitlines()[2]
+    validation.write_p1_validation(table, tmp_path / "p1.csv", tmp_path / "p1.md")
+    assert pd.read_csv(tmp_path / "p1.csv")["kind"].iloc[0] == "note"
+
+
+def test_an_imported_system_beside_p1s_loses_only_its_protocol_rows(p1_table):
+    """Beside P1's systems an import loses the rows of the claims that need ρ_J, the note row says so; P1's systems'
+    rows are those of the table without it, and a table without imports has no note row."""
+    assert not (p1_table["kind"] == validation.NOTE_KIND).any()
+    table = validation.p1_validation({**make_p1_measures(), "exp_a": _imported("exp_a")})
+    note = table[table["kind"] == validation.NOTE_KIND]["item"]
+    assert len(note) == 1 and "exp_a" in note.iloc[0] and "comparing P1's systems" not in note.iloc[0]
+    imported = table[(table["system"] == "exp_a") & (table["kind"] == "claim")]
+    applying = {c.id for c in validation.CLAIMS if c.per_system and not c.needs_rho_j and c.scope is None}
+    assert set(imported["id"]) == applying
+    assert not table["evidence"].str.contains("imported states", na=False).any()
+    def own(t):
+        return t[t["system"].isin(P1_LIKE) & (t["kind"] == "claim") & (t["reading"].fillna("") == "")]
+
+    assert list(own(table)["id"]) == list(own(p1_table)["id"])

@@ -156,7 +156,49 @@ def test_the_shipped_sequence_builds_as_one_run(tmp_path):
         assert on_disk["strain"].attrs["long_name"] == "strain of the state (source.sequence)"
     with xr.open_dataset(paths.snapshot(results, "table_shear_2d", "r00", "state000")) as snapshot:
         assert snapshot["position"].attrs["units"] == "mm" and snapshot["force_normal"].attrs["units"] == "N"
+    # the source's units downstream (issue 56 item 4), the stacked file's seed −1 as its snapshots'
+    assert measures["mean_force"].attrs["units"] == "N" and measures.attrs["seed"] == -1
+    assert "x_i [mm]" in pd.read_csv(paths.figure(results, "p1_fig01_networks", "csv")).columns
     assert "strain" in pd.read_csv(paths.figure(results, "p1_fig06_betti0", "csv")).columns
     assert not list(tmp_path.glob("results/example_sequence/movies/*.mp4"))
     assert "No claim applies" in (results / "tables/p1_validation.md").read_text(encoding="utf-8")
     assert "p2_table1, p2_table2, p2_table3: not made" in (results / "tables/skipped.md").read_text(encoding="utf-8")
+
+
+def test_an_imported_systems_units_reach_its_analysis_and_network_figures(tmp_path):
+    """Issue 56 item 4: the shipped sequence (mm, N) keeps its units downstream: the analysis' ⟨F⟩ in N, the network
+    figures' axes and CSV columns in mm; a figure drawing snapshots of two units names each row's."""
+    import logging
+
+    import matplotlib.pyplot as plt
+
+    from forcenet.catalog import expand_config
+    from forcenet.datasets import read_snapshot
+    from forcenet.importers import import_run
+    from forcenet.pipeline import analyze_snapshot, snapshot_analysis_params
+    from forcenet.plotting import networks
+
+    config = expand_config(read_config_file(SEQUENCE_CONFIG))
+    outputs = [str(tmp_path / f"{label}.nc") for label in state_labels(12)]
+    import_run(config=config, system="table_shear_2d", realization=0, outputs=outputs)
+    analyze_snapshot(outputs[0], str(tmp_path / "analysis.nc"), snapshot_analysis_params(config, "table_shear_2d"),
+                     logging.getLogger("test"))
+    analysis = read_dataset(str(tmp_path / "analysis.nc"), "analysis")
+    assert analysis["mean_force"].attrs["units"] == "N" and analysis["threshold"].attrs["units"] == "<F>"
+    snapshot = read_snapshot(outputs[0])
+    data = networks.prepare_p1_fig01_networks({"table_shear_2d": snapshot}, rattler_rule=True)
+    assert {"x_i [mm]", "y_j [mm]", "x [mm]", "radius [mm]"} <= set(data.table.columns)
+    assert not any("d_ave" in column for column in data.table.columns)
+    figure = networks.draw_p1_fig01_networks(data)
+    assert (figure.axes[0].get_xlabel(), figure.axes[0].get_ylabel()) == ("$x$ [mm]", "$y$ [mm]")
+    plt.close(figure)
+    # beside a snapshot in d_ave (our engine's unit), each row names its own unit and each panel's axes say it
+    engine = snapshot.copy()
+    for name in ("position", "radius", "box_lo", "box_hi"):
+        engine[name].attrs["units"] = "d_ave"
+    mixed = networks.prepare_p1_fig01_networks({"table_shear_2d": snapshot, "engine": engine}, rattler_rule=True)
+    assert "x_i [length_unit]" in mixed.table and set(mixed.table["length_unit"]) == {"mm", "d_ave"}
+    figure = networks.draw_p1_fig01_networks(mixed)
+    labels = {figure.axes[k].get_xlabel() for k in range(2)}
+    assert labels == {"$x$ [mm]", networks.POSITION_LABELS[0]}
+    plt.close(figure)

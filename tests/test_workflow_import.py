@@ -54,12 +54,25 @@ def test_the_example_config_imports_analyses_and_draws_its_systems(example_run):
     read_dataset(paths.distances(results, "lammps_2d_p2"), "distances")
     for name in ("p1_fig01_networks", "p1_fig06_betti0", "p2_fig06_distances_normal_mu05"):
         assert (Path(paths.figure(results, name, "pdf"))).stat().st_size > 0
+    # issue 56 item 5: no claim of P2 applies to imports: one row says why instead of a "not evaluated" row per claim
     p2 = pd.read_csv(paths.p2_validation_table(results, "csv"))
-    assert (p2["verdict"] == "not evaluated").all() and p2["evidence"].str.contains("imported states", na=False).all()
+    assert len(p2) == 1 and p2["claim_id"].iloc[0] == "left_out" and "imported states" in p2["claim"].iloc[0]
+    assert "imported states" in Path(paths.p2_validation_table(results, "md")).read_text().splitlines()[2]
+    # P1: the claims about its compression protocol, the comparisons of its systems and the rows of its systems the
+    # study lacks are left out, the first row saying so; the claims without ρ_J are judged
     p1 = pd.read_csv(paths.p1_validation_table(results, "csv"))
-    imported = p1[(p1["system"] == "lammps_2d") & p1["evidence"].str.contains("imported states", na=False)]
-    assert len(imported) > 5
+    note = p1[p1["kind"] == "note"]
+    assert len(note) == 1 and note.index[0] == 0 and "Left out for the imported systems" in note["item"].iloc[0]
+    assert not p1["evidence"].str.contains("imported states|not in the results", na=False).any()
+    assert set(p1["system"]) == {"all", "lammps_2d", "lammps_sheared_2d"} and len(p1) < 40
     assert (p1[p1["system"] == "lammps_2d"]["verdict"] == "holds").any()  # claims without ρ_J are judged
+    assert note["item"].iloc[0] in Path(paths.p1_validation_table(results, "md")).read_text()
+    # issue 56 item 4: the source's units downstream (no `units:` here: the source's own, unnamed), and seed −1
+    measures = read_dataset(paths.network_measures(results, "lammps_2d"), "network_measures")
+    assert measures["mean_force"].attrs["units"] == "source force unit" and measures.attrs["seed"] == -1
+    networks = pd.read_csv(Path(paths.figure(results, "p1_fig01_networks", "csv")))
+    assert "x_i [source length unit]" in networks and "radius [source length unit]" in networks
+    assert not any("d_ave" in column for column in networks)
 
 
 def test_a_snapshot_copied_from_another_system_is_refused_by_the_analysis(example_run, tmp_path):

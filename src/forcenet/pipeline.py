@@ -371,10 +371,21 @@ def analyze_snapshot(snapshot: str, output: str, analysis: Mapping[str, Any], lo
     start = time.perf_counter()
     snap = read_snapshot(snapshot) if snap is None else snap
     ds = analysis_dataset(snapshot_measures(snap, analysis), rho=float(snap.rho),
-                          attrs=analysis_attrs(snap, snapshot, analysis))
+                          attrs=analysis_attrs(snap, snapshot, analysis), force_units=imported_force_units(snap))
     write_netcdf(ds, output, kind="analysis")
     log.info("%s: rho %.3f, Z %.3f, %d diagram points, %.2f s", snapshot, float(snap.rho), float(snap.Z),
              ds.sizes["point"], time.perf_counter() - start)
+
+
+def imported_force_units(snap) -> str | None:
+    """The force unit of an imported snapshot (its forces' `units`: the source's, ``systems.<name>.units.force``),
+    which its analysis' ⟨F⟩ keeps; None for our engine's (the schema's reduced unit, files unchanged)."""
+    from forcenet.datasets.io import optional_attr
+    from forcenet.datasets.schema import ENGINE_SOURCE_FORMAT, SOURCE_FORMAT_ATTR
+
+    if optional_attr(snap, SOURCE_FORMAT_ATTR) == ENGINE_SOURCE_FORMAT:
+        return None
+    return str(snap["force_normal"].attrs["units"])
 
 
 def snapshot_measures(snap, analysis: Mapping[str, Any]) -> dict[str, Any]:

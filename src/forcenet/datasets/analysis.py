@@ -15,8 +15,11 @@ PER_KIND = ("betti", "cluster_count", "cluster_mean_size", "percolating_size", "
             "essential_count")
 
 
-def analysis_dataset(measures: Mapping[str, Any], *, rho: float, attrs: Mapping[str, Any]) -> xr.Dataset:
-    """Build the dataset from `SnapshotMeasures` per force kind (keys of FORCE_KINDS, all required)."""
+def analysis_dataset(measures: Mapping[str, Any], *, rho: float, attrs: Mapping[str, Any],
+                     force_units: str | None = None) -> xr.Dataset:
+    """Build the dataset from `SnapshotMeasures` per force kind (keys of FORCE_KINDS, all required). `force_units`:
+    the unit of the snapshot's forces, which ``mean_force`` keeps (an imported state's source unit, ``units.force``);
+    None, the engine's reduced unit of the schema."""
     kinds = list(FORCE_KINDS)
     first = measures[kinds[0]]
     values = {name: np.stack([np.asarray(getattr(measures[k], name)) for k in kinds]) for name in PER_KIND}
@@ -52,4 +55,6 @@ def analysis_dataset(measures: Mapping[str, Any], *, rho: float, attrs: Mapping[
     # CF flags: `ncdump -h` shows what each index of diagram_force_kind means without the force_kind values
     ds["diagram_force_kind"].attrs.update(flag_values=np.arange(len(kinds), dtype=np.int8),
                                           flag_meanings=" ".join(kinds))
+    if force_units is not None:  # forces in <F> need no unit; ⟨F⟩ itself is in the snapshot's
+        ds["mean_force"].attrs["units"] = force_units
     return ds

@@ -5,7 +5,8 @@ threshold, homology_dim, point, force_bin, plus a few for aggregated products. E
 forcenet has `units` and `long_name`; every file has the global attributes in `REQUIRED_GLOBAL_ATTRS`.
 
 Units are reduced (P1 §2): length d_ave, mass m̄, time τ_c, force m̄ d_ave τ_c⁻². Network forces are in
-units of that network's mean force ⟨F⟩ ("<F>").
+units of that network's mean force ⟨F⟩ ("<F>"). An imported snapshot's lengths and forces, and its analyses'
+``mean_force``, carry its source's units instead (``systems.<name>.units``, `forcenet.importers.sequence.unit`).
 """
 from __future__ import annotations
 

@@ -277,8 +277,20 @@ def f_max_cut(measures: Mapping[str, xr.Dataset], unit: str = DEFAULT_P1_FORCE_U
         rho = rho_values(curve)
         below = np.asarray(curve.values <= f_max)  # NaN (no contacts) compares False
         rho_max[name] = float(rho[below].max()) if below.any() else math.nan
-    return FMaxCut(f_max=f_max, f_prime_max=f_prime, rho_max=rho_max, unit=unit, force_units=P1_FORCE_UNITS[unit],
-                   mean_force=curves)
+    return FMaxCut(f_max=f_max, f_prime_max=f_prime, rho_max=rho_max, unit=unit,
+                   force_units=force_units_label(measures, unit), mean_force=curves)
+
+
+def force_units_label(measures: Mapping[str, xr.Dataset], unit: str) -> str:
+    """The label of ⟨F⟩ compared in `unit` (`P1_FORCE_UNITS`); under "reduced" (⟨F⟩ as stored) the systems' own unit
+    where they share one other than the engine's (imported systems' source unit, ``units.force``: their
+    ``mean_force`` says it), the engine's reduced label otherwise."""
+    from forcenet.datasets.schema import FORCE_UNITS
+
+    stored = {str(ds["mean_force"].attrs.get("units", FORCE_UNITS)) for ds in measures.values()}
+    if unit == "reduced" and len(stored) == 1 and FORCE_UNITS not in stored:
+        return stored.pop()
+    return P1_FORCE_UNITS[unit]
 
 
 def up_to_rho_max(rho: np.ndarray, rho_max: float) -> np.ndarray:

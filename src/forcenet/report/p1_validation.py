@@ -133,9 +133,16 @@ def p1_validation(measures: Mapping[str, xr.Dataset], *, force_unit: str = DEFAU
                   for name, sets in beside.items()}
         beside = {NEVER_DYING_LEFT_OUT: present, **beside}
         present = at_minus_one(present, diagrams)
+    # imported systems (another code's or an experiment's states): the claims about P1's compression protocol apply
+    # to none of them, and a study of imports only has no P1 role nor counterpart to compare: such rows are left out,
+    # the table's note row says which and why (`imported_left_out_note`)
+    imported = [name for name in system_order(present) if name not in counterparts
+                and system_force_law(present[name], name) == IMPORTED_FORCE_LAW]
+    imported_study = bool(imported) and all(name in imported for name in present if name not in counterparts)
     # every P1 role gets rows: a role that no system of the results plays is listed under its shipped name
     played = {file_role(ds) for name, ds in present.items() if name not in counterparts}
-    missing = {name: None for name, role in P1_ROLES.items() if role not in played and name not in present}
+    missing = {} if imported_study else {name: None for name, role in P1_ROLES.items()
+                                         if role not in played and name not in present}
     names = {name: ds for name, ds in {**missing, **present}.items() if name not in counterparts}
     cuts = _cuts(present, counterparts)
     context = _context(present, tolerances_, force_unit, judge_up_to_rho_max, cuts, overlaps, counterparts)
@@ -146,6 +153,9 @@ def p1_validation(measures: Mapping[str, xr.Dataset], *, force_unit: str = DEFAU
     rows = _force_rows(cuts, force_unit, counterparts)
     for name in system_order(names):
         rows.extend(_value_rows(name, context.systems.get(name), cuts, force_unit))
+    if imported_study:  # dyn and k_n d_ave^(1+beta) need P1's material and stiffness, which an import has not
+        rows = [row for row in rows if row.id.split(".")[0] not in ("f_max", "rho_max")
+                or row.id.split(".", 1)[1] in ("reduced", force_unit)]
     others = [(reading.name, _context(reading.measures(present) if reading.measures else present,
                                       replace(tolerances_, **reading.tolerances), force_unit, judge_up_to_rho_max,
                                       overlaps=overlaps, counterparts=counterparts))
@@ -153,13 +163,36 @@ def p1_validation(measures: Mapping[str, xr.Dataset], *, force_unit: str = DEFAU
     others += [(name, _context(sets, tolerances_, force_unit, judge_up_to_rho_max, overlaps=overlaps,
                                counterparts=counterparts)) for name, sets in beside.items()]
     for claim_ in sorted(CLAIMS, key=lambda c: tuple(int(part) for part in c.section.split("."))):
-        primary = _claim_rows(claim_, context, names, resampled)
+        if imported_study and not claim_.per_system:
+            continue  # it compares P1's systems or needs a counterpart run of P1's protocol
+        primary = _claim_rows(claim_, context, names, resampled, left_out=imported)
         rows.extend(primary)
         for name, other in others:
-            rows.extend(rows_beside(primary, _claim_rows(claim_, other, names, (), reading=name)))
+            rows.extend(rows_beside(primary, _claim_rows(claim_, other, names, (), reading=name, left_out=imported)))
+    note = imported_left_out_note(imported, imported_study) if imported else ""
+    if note:
+        rows.insert(0, JudgedClaim(id=LEFT_OUT_ID, section="", statement=note, system="all", paper=math.nan,
+                                   criterion="", measured=math.nan, evidence="", verdict="", kind=NOTE_KIND))
     table = claims_frame(rows, P1_LAYOUT)
     table.attrs["force_unit"] = force_unit
+    table.attrs["left_out"] = note
     return table
+
+
+#: the row (kind `NOTE_KIND`, id `LEFT_OUT_ID`) of a table with imported systems saying which rows it leaves out
+NOTE_KIND, LEFT_OUT_ID = "note", "left_out"
+
+
+def imported_left_out_note(imported: Sequence[str], imported_study: bool) -> str:
+    """The one line saying which rows a P1 table leaves out for its `imported` systems and why (`imported_study`:
+    every system of the study is imported)."""
+    line = (f"Left out for the imported systems ({', '.join(imported)}): the claims that need rho_J and the regimes "
+            f"around it ({IMPORTED_NOT_EVALUATED})")
+    if imported_study:
+        line += ("; and, as the study imports every system, the claims comparing P1's systems or needing counterpart "
+                 "runs of its protocol, the rows of P1's systems that it does not have, and F_max and rho_max in dyn "
+                 "and k_n d_ave^(1+beta), which need P1's material and stiffness")
+    return line + "."
 
 
 def _context(present: Mapping[str, xr.Dataset], tolerances: ClaimTolerances, force_unit: str, up_to_rho_max: bool,
@@ -236,10 +269,12 @@ def system_data(name: str, ds: xr.Dataset, cut: FMaxCut | None = None, tolerance
 
 
 def _claim_rows(claim_: Claim, context: ClaimContext, names: Mapping[str, xr.Dataset | None],
-                resampled: Sequence[ClaimContext] = (), reading: str = "") -> list[JudgedClaim]:
+                resampled: Sequence[ClaimContext] = (), reading: str = "",
+                left_out: Sequence[str] = ()) -> list[JudgedClaim]:
     """The rows of one claim: one across systems (``per_system=False``), else one per system of its scope among
     `names` (a system of P1 missing from the results is "not evaluated"); its robustness from the same claim
-    judged in each of the `resampled` contexts; `reading` names the reading of `context`."""
+    judged in each of the `resampled` contexts; `reading` names the reading of `context`. A claim that needs ρ_J
+    (P1's compression protocol) has no row for the imported systems `left_out`."""
     criterion = claim_.criterion_text(context.tolerances)
     changed = P1_CHANGES.get(claim_.id)
     if not claim_.per_system:
@@ -253,6 +288,8 @@ def _claim_rows(claim_: Claim, context: ClaimContext, names: Mapping[str, xr.Dat
         role = system.role if system else P1_ROLES.get(name)
         if claim_.scope is not None and role not in claim_.scope:
             continue
+        if claim_.needs_rho_j and name in left_out:
+            continue  # the note row of the table says why
 
         def judge(within: ClaimContext, name=name) -> Judgement:
             """The claim judged on this system of `within`, after the checks every per-system claim shares."""
@@ -367,9 +404,12 @@ def _value(id_: str, section: str, item: str, system: str, measured: float, pape
                        measured=measured, evidence=evidence, verdict=verdict, kind="value")
 
 
-def _markdown_head(force_unit: str) -> list[str]:
-    """The lines above the tables: what is compared, and which force unit the figures use."""
-    return ["# P1 validation", "",
+def _markdown_head(force_unit: str, table: pd.DataFrame | None = None) -> list[str]:
+    """The lines above the tables: what is compared, which force unit the figures use, and the note row of a table
+    with imported systems (which rows it leaves out and why, `imported_left_out_note`)."""
+    notes = ([str(note) for note in table.loc[table["kind"] == NOTE_KIND, "item"]]
+             if table is not None and "kind" in table else [])
+    return ["# P1 validation", "", *[line for note in notes for line in (note, "")],
             "Measured from the aggregated network measures; paper values from P1 "
             "(compressed 2D/3D interaction networks). difference = measured − paper.", "",
             f"The figures mark rho_max of the F_max rule with <F> compared in {force_unit} "
@@ -392,7 +432,7 @@ def p1_validation_markdown(table: pd.DataFrame) -> str:
     """The validation table as Markdown: one table of values, one of claims, with the verdict counts; the force
     unit of the figures is the table's own (``table.attrs["force_unit"]``)."""
     force_unit = table.attrs.get("force_unit", DEFAULT_P1_FORCE_UNIT)
-    return validation_markdown(table, P1_LAYOUT, _markdown_head(force_unit), _markdown_sections(table))
+    return validation_markdown(table, P1_LAYOUT, _markdown_head(force_unit, table), _markdown_sections(table))
 
 
 def write_p1_validation(table: pd.DataFrame, csv_path: str | os.PathLike | None, md_path: str | os.PathLike, *,
@@ -403,4 +443,5 @@ def write_p1_validation(table: pd.DataFrame, csv_path: str | os.PathLike | None,
     force_unit = table.attrs.get("force_unit", DEFAULT_P1_FORCE_UNIT)
     if paper_size is not None:
         table = with_paper_size(table, P1_LAYOUT, paper_size)
-    write_validation_table(table, P1_LAYOUT, csv_path, md_path, _markdown_head(force_unit), _markdown_sections(table))
+    write_validation_table(table, P1_LAYOUT, csv_path, md_path, _markdown_head(force_unit, table),
+                           _markdown_sections(table))

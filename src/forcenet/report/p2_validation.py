@@ -6,14 +6,15 @@ default build a column beside P2's values gives our value at P2's size from the 
 """
 from __future__ import annotations
 
+import math
 import os
-from typing import Any, Mapping
+from typing import Any, Mapping, Sequence
 
 import pandas as pd
 import xarray as xr
 
-from forcenet.report.claims import (HOLDS, IMPORTED_NOT_EVALUATED, NotEvaluated, ClaimTolerances, Explanation,
-                                    Judgement, judge_claim, rows_beside, verdict_summary)
+from forcenet.report.claims import (HOLDS, IMPORTED_NOT_EVALUATED, ClaimTolerances, Explanation, JudgedClaim,
+                                    Judgement, NotEvaluated, judge_claim, rows_beside, verdict_summary)
 from forcenet.report.claims_table import (VERDICT_COLUMNS, TableLayout, TableSection, claims_frame,
                                           validation_markdown, with_paper_size, write_validation_table)
 from forcenet.report.p1 import system_dimension
@@ -98,7 +99,10 @@ def p2_validation(distances: Mapping[str, xr.Dataset], tables: Mapping[str, pd.D
     imported = sorted(name for name, ds in distances.items() if name in (frictional, frictionless)
                       and ds.attrs["force_law"] == IMPORTED_FORCE_LAW)
     judged = []
-    for claim in CLAIMS:
+    if imported:  # no claim of P2 applies: one row says so instead of a "not evaluated" row per claim
+        judged.append(JudgedClaim(id=LEFT_OUT_ID, section="", statement=imported_note(imported), system="all",
+                                  paper="", criterion="", measured=math.nan, evidence="", verdict=""))
+    for claim in CLAIMS if not imported else ():
         def judge(within: Context, claim=claim) -> Judgement:
             """The claim judged on the data of `within` (not on imported states: their protocol is not recorded)."""
             if imported:
@@ -140,9 +144,22 @@ def _dimension(ds: xr.Dataset) -> int:
     return system_dimension(ds)
 
 
+#: the `claim_id` of the one row of a table of imported systems, saying why it lists no claim (`imported_note`)
+LEFT_OUT_ID = "left_out"
+
+
+def imported_note(imported: Sequence[str]) -> str:
+    """Why a P2 table of the `imported` systems lists no claim."""
+    return (f"No claim listed: the judged systems ({', '.join(imported)}) are imported, and every claim of P2 is "
+            f"about its compression (wall speed, sampling step, the regimes around rho_J): {IMPORTED_NOT_EVALUATED}.")
+
+
 def _markdown_head(table: pd.DataFrame) -> list[str]:
-    """The lines above the claims: what is judged, the systems measured and the tolerances."""
-    lines = ["# P2 validation", "",
+    """The lines above the claims: what is judged, the systems measured and the tolerances; the row of a table of
+    imported systems saying why it lists no claim (`imported_note`)."""
+    notes = ([str(note) for note in table.loc[table["claim_id"] == LEFT_OUT_ID, "claim"]]
+             if "claim_id" in table else [])
+    lines = ["# P2 validation", "", *[line for note in notes for line in (note, "")],
              "Each claim of P2 (evolution of force networks) §III D–§IV, judged on the measured distances between "
              "consecutive persistence diagrams (realization means) and on Tables I–III. rho_J is where the mean "
              "Z(rho) first reaches d + 1 (P2 §IV A). The reference column is P2's statement; verdicts are computed "
