@@ -9,7 +9,7 @@ import pytest
 import yaml
 
 from conftest import REPO, snakemake, load_config
-from forcenet.pipeline import FIGURE_INPUT_READERS
+from forcenet.pipeline_figures import FIGURE_INPUT_READERS
 from forcenet.plotting import registry
 
 

@@ -24,7 +24,7 @@ LAYERS = (
     ("measures", {"measures"}),
     ("report", {"report"}),
     ("plotting", {"plotting"}),
-    ("workflow", {"pipeline", "pipeline_p2", "campaign", "campaign_cli"}),
+    ("workflow", {"pipeline", "pipeline_figures", "pipeline_p2", "campaign", "campaign_cli"}),
     ("research", {"research"}),
 )
 #: a config is judged by the engine's own formulas: the initial lattice (dem.packing) and the damping bound

@@ -120,7 +120,7 @@ def test_figures_that_need_several_states_or_a_compression_leave_the_others_out_
 
 
 def test_a_figure_csv_names_a_sequences_axis_after_its_coordinate():
-    from forcenet.pipeline import with_state_columns
+    from forcenet.pipeline_figures import with_state_columns
     from forcenet.plotting.figure_data import FigureData
     from forcenet.plotting.style import STATE_AXES, state_axis_label
 
@@ -188,6 +188,8 @@ def test_an_imported_systems_units_reach_its_analysis_and_network_figures(tmp_pa
     snapshot = read_snapshot(outputs[0])
     data = networks.prepare_p1_fig01_networks({"table_shear_2d": snapshot}, rattler_rule=True)
     assert {"x_i [mm]", "y_j [mm]", "x [mm]", "radius [mm]"} <= set(data.table.columns)
+    # the state's place on the run's axis is its strain, not its ρ (the CSV names that column after the strain)
+    assert set(data.table["rho"]) == {float(snapshot.attrs["state_coordinate_value"])} != {float(snapshot["rho"])}
     assert not any("d_ave" in column for column in data.table.columns)
     figure = networks.draw_p1_fig01_networks(data)
     assert (figure.axes[0].get_xlabel(), figure.axes[0].get_ylabel()) == ("$x$ [mm]", "$y$ [mm]")

@@ -13,7 +13,7 @@ import pytest
 import xarray as xr
 
 from conftest import load_config
-from forcenet import pipeline, pipeline_p2
+from forcenet import pipeline, pipeline_figures, pipeline_p2
 from forcenet.datasets import (DatasetError, open_dataset, provenance_attrs, read_dataset, run_expectation,
                                write_netcdf, write_snapshot)
 from forcenet.datasets.aggregate import distances_on_grid
@@ -120,7 +120,7 @@ def reading_job(kind: str, inputs: list[str], good, out: Path, log: Path, tmp_pa
         return lambda: pipeline.p1_validation_table(measures=inputs, systems=["2d_linear"], force_unit="dyn",
                                                     csv=str(out / "t.csv"), md=str(out / "t.md"), log_path=str(log))
     if kind == "diagrams":
-        return lambda: pipeline.figure(name="p1_fig10_persistence_diagram", systems=["2d_linear"],
+        return lambda: pipeline_figures.figure(name="p1_fig10_persistence_diagram", systems=["2d_linear"],
                                        inputs={"measures": [str(p) for p in good["network_measures"]],
                                                "diagrams": inputs},
                                        pdf=str(out / "f.pdf"), png=str(out / "f.png"), csv=str(out / "f.csv"),

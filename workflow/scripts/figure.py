@@ -1,5 +1,5 @@
-"""Draw one figure of forcenet.plotting.registry: thin wrapper around forcenet.pipeline.figure."""
-from forcenet.pipeline import figure
+"""Draw one figure of forcenet.plotting.registry: thin wrapper around forcenet.pipeline_figures.figure."""
+from forcenet.pipeline_figures import figure
 
 figure(  # noqa: F821 — `snakemake` is injected by Snakemake
     name=snakemake.params.figure, systems=snakemake.params.systems, inputs=dict(snakemake.input.items()),

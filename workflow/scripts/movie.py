@@ -1,5 +1,5 @@
-"""Write one compression movie: thin wrapper around forcenet.pipeline.movie."""
-from forcenet.pipeline import movie
+"""Write one compression movie: thin wrapper around forcenet.pipeline_figures.movie."""
+from forcenet.pipeline_figures import movie
 
 movie(  # noqa: F821 — `snakemake` is injected by Snakemake
     kind=snakemake.params.kind, system=snakemake.params.system, inputs=list(snakemake.input),

@@ -130,6 +130,7 @@ OPTIONAL_GLOBAL_ATTRS: dict[str, object] = {
     BOX_TILT_ATTR: None,  # an orthogonal box
     STATE_COORDINATE_ATTR: "rho",  # a compression: its states ordered by ρ
     STATE_UNITS_ATTR: DIMENSIONLESS,  # ρ's unit
+    STATE_VALUE_ATTR: None,  # a compression's state: its coordinate is its ρ
 }
 
 #: variables that must hold finite values (issue 27: a NaN position or force is refused, never analysed)

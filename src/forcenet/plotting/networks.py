@@ -15,12 +15,14 @@ import pandas as pd
 import xarray as xr
 
 from forcenet.boxes import box_corners, image_shifts
+from forcenet.datasets.io import optional_attr
+from forcenet.datasets.schema import STATE_VALUE_ATTR
 from forcenet.datasets.snapshot import box_tilt, periodic_vectors
 from forcenet.network import snapshot_network
 from forcenet.plotting import figure_data as cols
 from forcenet.plotting.figure_data import FigureData, concat
-from forcenet.plotting.style import (FORCE_KIND_WORDS, LABELS, apply_style, panel_figure, system_label,
-                                     system_title)
+from forcenet.plotting.style import (FORCE_KIND_WORDS, LABELS, apply_style, is_sequence, panel_figure,
+                                     state_axis_label, system_label, system_title)
 from forcenet.report import p2 as report
 from forcenet.report.p1 import system_order
 from forcenet.report.p2_distances import contact_forces, edge_differences
@@ -100,8 +102,10 @@ def prepare_p1_fig01_networks(snapshots: Mapping[str, xr.Dataset], *, rattler_ru
         i, j = network.edge_i, network.edge_j
         position = network.position
         end_j = position[j] + image_shifts(position, i, j, periodic_vectors(ds))  # across a periodic face: out of it
-        rho = float(ds["rho"]) if "rho" in ds else float("nan")
-        common = {cols.PANEL: panel, cols.SYSTEM: name, "dimension": dim, cols.RHO: rho,
+        # the state on the run's axis: ρ, or a sequence state's coordinate (the CSV names that column after it)
+        value = optional_attr(ds, STATE_VALUE_ATTR)
+        state = float(value) if value is not None else float(ds["rho"]) if "rho" in ds else float("nan")
+        common = {cols.PANEL: panel, cols.SYSTEM: name, "dimension": dim, cols.RHO: state,
                   **({} if shared else {LENGTH_UNIT_COLUMN: units[name]})}
         contacts = pd.DataFrame({**common, "element": "contact", "i": i, "j": j, cols.FORCE: network.force})
         particles = pd.DataFrame({**common, "element": "particle", "i": np.arange(len(position)),
@@ -172,7 +176,10 @@ def draw_network_panel(ax, rows: pd.DataFrame, box, norm: Normalize) -> None:
     ax.set_ylim(lo[1], hi[1])
     ax.set_xlabel(labels[0])
     ax.set_ylabel(labels[1])
-    system_title(ax, rows[cols.SYSTEM].iloc[0], rf", $\rho$ = {float(rows[cols.RHO].iloc[0]):.3f}")
+    name = rows[cols.SYSTEM].iloc[0]
+    state = float(rows[cols.RHO].iloc[0])
+    system_title(ax, name, f", {state_axis_label(name)} = {state:.4g}" if is_sequence(name) else
+                 rf", $\rho$ = {state:.3f}")
 
 
 # --- P2 Fig. 1: three nearby snapshots and |ΔF| between them ------------------------------------------------------
