@@ -305,3 +305,18 @@ def test_a_variant_without_runs_is_estimated_from_its_base_of_the_same_size(conf
     assert statuses[variant].cpu_hours_to_go == 0.2
     assert statuses[variant].detail == f"estimate: mean of the recorded runs of {SYSTEM} (same size and grid)"
     assert statuses[resized].detail.startswith("estimate: cost model")
+
+
+def test_a_run_recorded_again_keeps_its_record(config):
+    """Recording a run that already has an intact record of the same settings rewrites nothing (the same run with
+    another date would be a new file in git); `replace` records it again."""
+    fake_run(config, "r00", cpu_seconds=360.0)
+    first = campaign.record_run(config, SYSTEM, "r00", results="results")
+    path = Path("records", first["file"])
+    written = path.stat().st_mtime_ns
+    assert campaign.record_run(config, SYSTEM, "r00", results="results") == first
+    assert path.stat().st_mtime_ns == written
+    path.write_bytes(path.read_bytes()[:-10])  # a damaged record is not kept
+    assert campaign.recorded_row(config, "records", SYSTEM, "r00") is None
+    again = campaign.record_run(config, SYSTEM, "r00", results="results")
+    assert again["sha256"] == campaign.file_sha256(path)

@@ -116,9 +116,10 @@ def test_a_p2_record_lacking_a_convention_the_config_reads_is_refused_by_name(co
     with pytest.raises(CampaignError, match=r"p2_run.nc: .*never-dying conventions \['minus_one', 'apart', 'drop'\], "
                                             r"not under \['zero'\]"):
         restore(other, FRICTIONAL, tmp_path, campaign.p2_kept_labels(other, FRICTIONAL))
-    # nor is a summary lacking one recorded
+    # nor is a summary lacking one recorded (again: the run has an intact record, kept unless replaced)
+    assert campaign.record_run(other, FRICTIONAL, "r00", results="results")["realization"] == "r00"
     with pytest.raises(CampaignError, match=r"no distances under the never-dying conventions \['zero'\]"):
-        campaign.record_run(other, FRICTIONAL, "r00", results="results")
+        campaign.record_run(other, FRICTIONAL, "r00", results="results", replace=True)
 
 
 def test_a_p2_run_without_its_summary_is_not_recorded_and_the_runner_makes_it_with_its_summary(config):

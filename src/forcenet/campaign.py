@@ -111,6 +111,17 @@ def realizations_except(names: Sequence[str]) -> str:
     return rf"(?!(?:{'|'.join(names)})(?!\d))r\d\d+" if names else r"r\d\d+"
 
 
+def recorded_row(config: Mapping[str, Any], records: str | os.PathLike, system: str,
+                 realization: str) -> dict[str, str] | None:
+    """The manifest row of a run recorded under the config's settings of its system whose file is intact (its
+    sha256 the manifest's), else None."""
+    rows = [row for row in read_manifest(records) if (row["system"], row["realization"]) == (system, realization)]
+    if not rows or rows[0]["simulation_sha256"] != simulation_sha256(config, system):
+        return None
+    path = Path(records) / rows[0]["file"]
+    return rows[0] if path.exists() and file_sha256(path) == rows[0]["sha256"] else None
+
+
 def manifest_row(records: str, system: str, realization: str) -> dict[str, str]:
     rows = [row for row in read_manifest(records) if row["system"] == system and row["realization"] == realization]
     if not rows:
@@ -126,12 +137,13 @@ def p2_system(config: Mapping[str, Any], system: str) -> bool:
 
 def p2_kept_labels(config: Mapping[str, Any], system: str) -> list[str]:
     """The grid labels of the states a P2 run record of `system` keeps: those P2's Tables I-III and their state
-    choice can read (`forcenet.pipeline_p2.p2_read_state_indices`) for the frictional system (the P2 study's first),
-    none for the frictionless one."""
+    choice can read (`forcenet.pipeline_p2.p2_read_state_indices`) for the frictional system (its catalog role,
+    `forcenet.catalog.p2_roles`), none for the frictionless one."""
+    from forcenet.catalog import p2_roles
     from forcenet.pipeline_p2 import p2_read_state_indices
 
     p2 = config["studies"]["p2"]
-    if system != p2["systems"][0]:
+    if system != p2_roles(config, p2["systems"])[0]:
         return []
     spec = system_from_config(system, config)
     return [spec.rho_labels[i] for i in p2_read_state_indices(spec.rho_grid, p2.get("table_rho", 0.79),
@@ -197,10 +209,12 @@ def restore_run(*, config: Mapping[str, Any], system: str, realization: str, out
 
 
 def record_run(config: Mapping[str, Any], system: str, realization: str, *, results: str | os.PathLike,
-               records: str | None = None) -> dict[str, str]:
+               records: str | None = None, replace: bool = False) -> dict[str, str]:
     """Record one finished run of `results` (its published snapshots and run_cost.json) in `records` (default: the
     config's ``records_dir``): the record file, checked to give back every kept value of every snapshot, and its
-    manifest row (returned). Refuses a run that has not finished or whose snapshots are of other settings."""
+    manifest row (returned). Refuses a run that has not finished or whose snapshots are of other settings. A run
+    already recorded under the same settings, its file intact, keeps its record (its row is returned) unless
+    `replace`: the same run recorded again would only rewrite the file with another date."""
     from forcenet.datasets import read_snapshot, run_expectation, write_netcdf
     from forcenet.datasets.records import record_dataset, record_differences, record_encoding
     from forcenet.datasets.runs import state_expectation
@@ -211,6 +225,9 @@ def record_run(config: Mapping[str, Any], system: str, realization: str, *, resu
     spec = system_from_config(system, config)
     if isinstance(spec, ImportedSystem):
         raise CampaignError(f"{system} is imported, not simulated: its sources are its record")
+    kept = recorded_row(config, records, system, realization)
+    if kept is not None and not replace:
+        return kept
     outputs = [Path(paths.snapshot(results, system, realization, label)) for label in spec.rho_labels]
     cost_path = Path(paths.run_cost(results, system, realization))
     missing = [str(p) for p in [*outputs, cost_path] if not p.exists()]

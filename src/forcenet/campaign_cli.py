@@ -21,7 +21,7 @@ from pathlib import Path
 from typing import Any, Callable, Mapping, Sequence
 
 from forcenet.campaign import (DEFAULT_CAMPAIGN_CONFIG, RunStatus, campaign_status, drop_record, p2_system, record_run,
-                               records_folder, size_table, status_table, verify_records,
+                               recorded_row, records_folder, size_table, status_table, verify_records,
                                write_size_table)
 from forcenet.datasets import paths
 from forcenet.errors import ForcenetError
@@ -84,6 +84,9 @@ def run_missing(config: Mapping[str, Any], *, configfile: str, results: str, job
     rows = []
 
     def land(system: str, realization: str) -> None:
+        if recorded_row(config, records_folder(config), system, realization) is not None:
+            say(f"already recorded: {system} {realization} (its record kept)")
+            return
         row = record_run(config, system, realization, results=results)
         write_size_table(config)
         if commit:
@@ -157,6 +160,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     record.add_argument("run", nargs="*", help="SYSTEM REALIZATION (e.g. 2d_linear r00)")
     record.add_argument("--finished", action="store_true", help="every finished run without a record")
     record.add_argument("--commit", action="store_true", help="git-commit the records and the manifest")
+    record.add_argument("--replace", action="store_true",
+                        help="record a run again that already has an intact record of the same settings")
     run = commands.add_parser("run", help="make the missing runs, each recorded as it finishes")
     run.add_argument("--jobs", type=int, default=2, help="runs side by side, one core each (%(default)s)")
     run.add_argument("--hours", type=float, help="time budget: start no run that would not finish within it")
@@ -198,7 +203,10 @@ def main(argv: Sequence[str] | None = None) -> int:
                      if s.state == "finished"] if args.finished else [tuple(args.run)])
             rows = []
             for system, realization in runs:
-                row = record_run(config, system, realization, results=results)
+                if not args.replace and recorded_row(config, records_folder(config), system, realization):
+                    print(f"already recorded: {system} {realization} (--replace records it again)")
+                    continue
+                row = record_run(config, system, realization, results=results, replace=args.replace)
                 print(f"recorded {system} {realization}: {row['file']} ({int(row['bytes']) / 1e6:.2f} MB, "
                       f"{row['cpu_hours']} CPU-hours)")
                 rows.append(row)

@@ -232,7 +232,8 @@ def restore_p2_run(record_path: str | Path, summary_output: str | Path, outputs:
     missing = [c for c in conventions if c not in held]
     if missing:
         raise RecordError(record_path, f"holds distances under the never-dying conventions {held}, not under "
-                                       f"{missing}: the run must be analysed again (its states are not kept)")
+                                       f"{missing}: the run must be made again, its states not being kept (forcenet-campaign drop, then "
+                                       "run)")
     labels = p2_record_labels(record)
     written = []
     for output in outputs:
