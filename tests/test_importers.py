@@ -318,7 +318,8 @@ def test_a_periodic_import_records_its_axes_and_its_overlaps_go_through_the_face
     np.testing.assert_allclose(overlaps, [(1.0 - 0.8) / 1.0])  # 0.8 apart through the face, not 9.2
     # P1 Fig. 1 draws the contact from atom 1 to atom 2's image beyond the x_lo face, not across the box
     edge = drawn[drawn["element"] == "contact"].iloc[0]
-    assert (edge["x_i [d_ave]"], edge["x_j [d_ave]"]) == pytest.approx((0.2, -0.6))
+    # an import without a units block: its lengths in the source's unit, named so (issue 56)
+    assert (edge["x_i [source length unit]"], edge["x_j [source length unit]"]) == pytest.approx((0.2, -0.6))
     atoms, pairs = periodic_dumps(tmp_path, "ff ff pp")
     import_run(config={"systems": {"p": entry}}, system="p", realization=0, outputs=[str(out)])
     with read_snapshot(out) as snapshot:

@@ -268,7 +268,8 @@ def test_a_triclinic_import_records_its_tilt_winds_around_the_box_and_is_drawn_t
     np.testing.assert_array_equal(curves.percolates, [True, True, False])
     edges = drawn.table[drawn.table["element"] == "contact"]
     through = edges[(edges["i"] == 0) & (edges["j"] == 3)].iloc[0]
-    assert (through["x_j [d_ave]"], through["y_j [d_ave]"]) == pytest.approx(tuple(RING[0] - [0.25, 1.0]))
+    assert (through["x_j [source length unit]"], through["y_j [source length unit]"]) == pytest.approx(
+        tuple(RING[0] - [0.25, 1.0]))  # an import without a units block: the source's unit
     np.testing.assert_allclose(drawn.layout["box"][0][2], [1.0])
 
 
