@@ -29,8 +29,8 @@ from forcenet.datasets.compare import compare_trees  # noqa: E402
 
 
 def build(folder: Path, config: Path, cores: int) -> subprocess.Popen:
-    """`snakemake` on `config` in `folder`, in a session of its own (so one SIGINT reaches every process of it, as a
-    terminal's Ctrl-C does); SIGINT restored to its default in the child (a background shell starts it ignored)."""
+    """`snakemake` on `config` in `folder`, in a process group of its own (so one SIGINT reaches every process of it,
+    as a terminal's Ctrl-C does); SIGINT restored to its default in the child (a background shell starts it ignored)."""
     folder.mkdir(parents=True, exist_ok=True)
     command = [str(REPO / ".venv/bin/snakemake"), "--snakefile", str(REPO / "Snakefile"), "--directory", str(folder),
                "--cores", str(cores), "--configfile", str(config)]
