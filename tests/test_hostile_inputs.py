@@ -206,7 +206,17 @@ def test_a_hostile_table_is_refused_naming_its_file_and_line(tmp_path, case):
 
 
 # --- interrupted writes ------------------------------------------------------------------------------------------
-def test_a_ctrl_c_during_a_netcdf_write_ends_it_cleanly_with_no_lock_held(tmp_path, monkeypatch):
+@pytest.fixture
+def ctrl_c_raises():
+    """SIGINT handled as in an interactive Python (KeyboardInterrupt) for the test, and the inherited disposition
+    restored after it: a shell that starts the suite in the background (`nohup ... &`) starts it with SIGINT
+    ignored, and Python keeps it ignored, so without this no Ctrl-C would reach the code under test."""
+    inherited = signal.signal(signal.SIGINT, signal.default_int_handler)
+    yield
+    signal.signal(signal.SIGINT, signal.SIG_DFL if inherited is None else inherited)
+
+
+def test_a_ctrl_c_during_a_netcdf_write_ends_it_cleanly_with_no_lock_held(tmp_path, monkeypatch, ctrl_c_raises):
     """Issue 57: one Ctrl-C that arrived inside xarray's write deadlocked 5 of 20 jobs on its file lock. Now the
     signal waits until the file is renamed into place, then raises KeyboardInterrupt; the lock is free after."""
     import xarray as xr
@@ -234,7 +244,7 @@ def test_a_ctrl_c_during_a_netcdf_write_ends_it_cleanly_with_no_lock_held(tmp_pa
     np.testing.assert_array_equal(open_dataset(target)["x"].values, np.arange(5.0))
 
 
-def test_a_write_that_fails_leaves_no_partial_file_and_restores_ctrl_c(tmp_path, monkeypatch):
+def test_a_write_that_fails_leaves_no_partial_file_and_restores_ctrl_c(tmp_path, monkeypatch, ctrl_c_raises):
     import xarray as xr
 
     from forcenet.datasets import provenance_attrs, write_netcdf
@@ -251,6 +261,32 @@ def test_a_write_that_fails_leaves_no_partial_file_and_restores_ctrl_c(tmp_path,
     assert list(tmp_path.iterdir()) == []
     assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
 
+
+
+def test_a_ctrl_c_to_a_process_that_ignores_it_is_dropped_after_the_write(tmp_path, monkeypatch):
+    """A process started with SIGINT ignored (a background job of a non-interactive shell) keeps ignoring it: the
+    Ctrl-C held back during the write is not delivered after it, and the write completes."""
+    import xarray as xr
+
+    from forcenet.datasets import open_dataset, provenance_attrs, write_netcdf
+
+    ds = xr.Dataset({"x": xr.Variable(("n",), np.arange(3.0), attrs={"units": "1", "long_name": "x"})},
+                    attrs=provenance_attrs(system="s", realization=0, seed=0, config={}, title="t"))
+    original = xr.Dataset.to_netcdf
+
+    def interrupted(self, *args, **kwargs):
+        os.kill(os.getpid(), signal.SIGINT)
+        return original(self, *args, **kwargs)
+
+    inherited = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        monkeypatch.setattr(xr.Dataset, "to_netcdf", interrupted)
+        write_netcdf(ds, tmp_path / "out.nc")
+        assert signal.getsignal(signal.SIGINT) == signal.SIG_IGN
+    finally:
+        signal.signal(signal.SIGINT, signal.SIG_DFL if inherited is None else inherited)
+    monkeypatch.setattr(xr.Dataset, "to_netcdf", original)
+    np.testing.assert_array_equal(open_dataset(tmp_path / "out.nc")["x"].values, np.arange(3.0))
 
 # --- reading a source: once per content, at the import job --------------------------------------------------------
 @pytest.fixture
