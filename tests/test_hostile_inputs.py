@@ -180,6 +180,9 @@ def test_a_gzipped_dump_named_without_gz_is_said_to_be_one(tmp_path):
 
 TABLE_PARTICLES = "id,x,y,radius\n1,1.0,1.0,0.5\n2,1.9,1.0,0.5\n3,1.0,1.9,0.5\n"
 TABLE_CONTACTS = "i,j,fn,ft\n1,2,1.0,0.1\n1,3,0.5,0.0\n"
+#: written by a fixed-format writer (%.6f): every value of a column has 6 digits after the decimal point
+FIXED_PARTICLES = "id,x,y,radius\n" + "".join(f"{k},{x:.6f},{y:.6f},0.500000\n" for k, x, y in
+                                              [(1, 1.0, 1.0), (2, 1.9, 1.0), (3, 1.0, 1.9), (4, 3.0, 3.0)])
 TABLE_CASES = {
     "a byte-order mark is no part of the header": ("\ufeff" + TABLE_PARTICLES.replace("2,1.9", "2,x"), None, "p.csv",
                                                    "line 3, column 'x': 'x' is not a number"),
@@ -191,6 +194,18 @@ TABLE_CASES = {
                               "line 3, column 'fn': a force magnitude must be ≥ 0, got -0.5"),
     "fractional particle id": (TABLE_PARTICLES.replace("\n2,1.9", "\n1.5,1.9"), None, "p.csv",
                                "line 3, column 'id': '1.5' is not an integer id"),
+    "no final newline, the last row cut before its last cell": (TABLE_PARTICLES[:-9], None, "p.csv",
+                                                                "line 4: the file ends inside this line ('3,1.0'), "
+                                                                "without its final newline, and 2 of the header's 4 "
+                                                                "cells: cut short"),
+    "no final newline, the last cell empty": (None, TABLE_CONTACTS[:-4], "c.csv",
+                                              "line 3: the file ends inside this line ('1,3,0.5,'), without its final "
+                                              "newline, and 3 of the header's 4 cells"),
+    "no final newline, the last value shorter than the fixed-format ones above": (
+        FIXED_PARTICLES[:-6], None, "p.csv", "line 5: the file ends inside this line ('4,3.000000,3.000000,0.5'), "
+        "without its final newline, and its last value '0.5' is shorter than the 3 above it (6 characters after the "
+        "decimal point each): cut short while it was being written? If the line is complete, end the file with a "
+        "newline"),
 }
 
 
@@ -204,6 +219,22 @@ def test_a_hostile_table_is_refused_naming_its_file_and_line(tmp_path, case):
     message = refused(tmp_path, entry)
     assert message.startswith(f"{tmp_path / bad}, {expected}"), message
 
+
+
+@pytest.mark.parametrize("particles", [
+    FIXED_PARTICLES[:-1], "id,x,y,radius\n1,1,1,0.5\n2,1.9,1,0.45\n3,1,1.9,0.5\n4,3,3,0.4", TABLE_PARTICLES[:-1]],
+    ids=["fixed-format, the last value whole", "values of varying length", "two rows above the last"])
+def test_a_table_without_a_final_newline_whose_last_row_is_whole_reads(tmp_path, particles):
+    """A spreadsheet's CSV download or an editor may omit the final newline: a last row with every cell, and no
+    value shorter than a fixed-format column's (≥ 3 rows above it, all alike), is read as it is."""
+    (tmp_path / "p.csv").write_text(particles)
+    (tmp_path / "c.csv").write_text(TABLE_CONTACTS[:-1])
+    entry = {"dimension": 2, "source": {"format": "table", "forces": "magnitudes", "runs": [[
+        {"particles": str(tmp_path / "p.csv"), "contacts": str(tmp_path / "c.csv")}]]}}
+    (state,) = source_states(entry, 0)
+    assert state.radius[-1] == float(particles.rpartition(",")[2])
+    assert state.contact_i.tolist() == [0, 0] and state.contact_j.tolist() == [1, 2]
+    np.testing.assert_allclose(np.linalg.norm(state.force_normal, axis=1), [1.0, 0.5])
 
 # --- interrupted writes ------------------------------------------------------------------------------------------
 @pytest.fixture
