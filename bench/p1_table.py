@@ -65,7 +65,7 @@ def describe_input(measures: dict) -> dict:
     config/ whose hash the measures record, where one matches; else its SHA-256)."""
     import yaml
 
-    from forcenet.systems import config_sha256
+    from forcenet.datasets.runs import config_sha256
 
     shipped = {config_sha256(yaml.safe_load(path.read_text())): f"config/{path.name}"
                for path in sorted((records.REPO / "config").glob("*.yaml"))}

@@ -103,7 +103,7 @@ def test_the_lammps_examples_give_the_network_our_engine_evaluates_on_the_same_s
 def test_imported_and_engine_snapshots_pass_the_same_contract_and_record_their_source(tmp_path):
     outputs = [str(tmp_path / f"rho{label}.nc") for label in ("0.820", "0.840", "0.860")]
     import_run(config=EXAMPLE, system="lammps_2d", realization=0, outputs=outputs)
-    ds = read_snapshot(outputs[1], expect=run_expectation(EXAMPLE, "lammps_2d"))
+    ds = read_snapshot(outputs[1], expect=run_expectation(system_from_config("lammps_2d", EXAMPLE), EXAMPLE))
     assert ds.attrs["source_format"] == "lammps" and ds.attrs["source_timestep"] == 2000
     assert json.loads(ds.attrs["source_files"]) == ["data/examples/lammps_2d/atoms.dump",
                                                     "data/examples/lammps_2d/pairs.dump"]
@@ -513,7 +513,7 @@ def test_a_3d_lammps_state_is_imported_and_analysed(tmp_path):
     import_run(config=config, system="lammps_3d", realization=0, outputs=outputs)
     pipeline.analyze_run(snapshots=[str(snapshot)], outputs=[str(analysis)],
                          analysis=pipeline.snapshot_analysis_params(config, "lammps_3d"),
-                         expect=run_expectation(config, "lammps_3d"))
+                         expect=run_expectation(system_from_config("lammps_3d", config), config))
     ds = read_dataset(analysis, "analysis")
     assert list(ds["homology_dim"].values) == [0, 1, 2] and ds.attrs["source_format"] == "lammps"
     assert int(ds["betti"].sel(force_kind="total", homology_dim=0, threshold=0.0)) >= 1

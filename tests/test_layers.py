@@ -16,8 +16,9 @@ PACKAGE = Path(__file__).resolve().parents[1] / "src" / "forcenet"
 #: docs/architecture.md, "Layers", top to bottom: the top-level modules and packages of each layer
 LAYERS = (
     ("foundations", {"__init__", "errors", "_numba", "_lazy", "units", "boxes"}),
+    ("data model", {"datasets"}),
     ("configuration", {"catalog", "systems", "checks", "cost", "workflow_io"}),
-    ("data model", {"datasets", "importers"}),
+    ("importers", {"importers"}),
     ("DEM engine", {"dem"}),
     ("network", {"network"}),
     ("topology", {"topology"}),

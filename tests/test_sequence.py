@@ -10,7 +10,8 @@ import xarray as xr
 
 from forcenet.datasets import paths
 from forcenet.datasets.io import read_dataset, sequence_in_memory, sequence_on_disk, write_netcdf
-from forcenet.importers.sequence import coordinate_values, state_labels
+from forcenet.datasets.paths import state_labels
+from forcenet.importers.sequence import coordinate_values
 from forcenet.plotting.registry import FIGURES_BY_ID, figure_fit
 from forcenet.systems import ConfigError, ImportedSystem, system_from_config
 from forcenet.workflow_io import read_config_file

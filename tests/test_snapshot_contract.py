@@ -36,7 +36,7 @@ def test_an_engine_snapshot_without_the_new_attributes_still_reads(tmp_path):
     assert run_attrs()["source_format"] == "forcenet-dem"
     old = {key: value for key, value in run_attrs().items() if key != "source_format"}
     path = write_snapshot(tmp_path / "rho0.800.nc", attrs=old, **two_triangles_snapshot())
-    ds = read_snapshot(path, expect=run_expectation(CONFIG, "2d_hertz"))
+    ds = read_snapshot(path, expect=run_expectation(system_from_config("2d_hertz", CONFIG), CONFIG))
     assert "source_format" not in ds.attrs and int(ds.attrs["dimension"]) == 2
 
 
@@ -118,7 +118,7 @@ def test_an_analysis_file_with_a_nan_force_is_refused(tmp_path):
 
 def test_a_snapshot_of_another_run_is_refused_naming_the_attribute(tmp_path):
     """A 2d_linear snapshot copied over a 2d_hertz one, a 3D one under a 2D system, one made under other settings."""
-    expect = run_expectation(CONFIG, "2d_hertz")
+    expect = run_expectation(system_from_config("2d_hertz", CONFIG), CONFIG)
     linear = write(tmp_path / "linear.nc", system="2d_linear")
     with pytest.raises(DatasetError, match=f"^{linear}: not of this run: global attribute 'system' is '2d_linear', "
                                            "but this run is '2d_hertz'$"):
@@ -146,7 +146,7 @@ def test_a_snapshot_of_another_realization_or_state_copied_in_place_is_refused(t
     state at ρ = 0.80 copied to r01/rho0.800.nc or to r00/rho0.840.nc is refused, in its own place it is read."""
     from forcenet.datasets.runs import state_expectation
 
-    expect = run_expectation(CONFIG, "2d_hertz")
+    expect = run_expectation(system_from_config("2d_hertz", CONFIG), CONFIG)
     grid = system_from_config("2d_hertz", CONFIG).rho_grid
     assert expect["rho_tolerance"] == pytest.approx(0.5 * min(b - a for a, b in zip(grid, grid[1:])))
     (tmp_path / "r00").mkdir()
@@ -170,7 +170,7 @@ def test_the_analysis_job_refuses_a_snapshot_of_another_run_and_writes_nothing(t
     with pytest.raises(SystemExit):
         pipeline.analyze_run(snapshots=[str(hertz), str(linear)], outputs=[str(out / "a.nc"), str(out / "b.nc")],
                              analysis=pipeline.snapshot_analysis_params(CONFIG, "2d_hertz"),
-                             log_path=str(tmp_path / "log"), expect=run_expectation(CONFIG, "2d_hertz"))
+                             log_path=str(tmp_path / "log"), expect=run_expectation(system_from_config("2d_hertz", CONFIG), CONFIG))
     errors = [line for line in (tmp_path / "log").read_text().splitlines() if " ERROR " in line]
     assert len(errors) == 1 and f"{linear}: not of this run: global attribute 'system'" in errors[0]
     assert not out.exists()

@@ -14,9 +14,10 @@ import xarray as xr
 
 from conftest import load_config
 from forcenet import pipeline, pipeline_figures, pipeline_p2
-from forcenet.datasets import (DatasetError, open_dataset, provenance_attrs, read_dataset, run_expectation,
-                               write_netcdf, write_snapshot)
+from forcenet.datasets import (DatasetError, open_dataset, provenance_attrs, read_dataset, write_netcdf,
+                               write_snapshot)
 from forcenet.datasets.aggregate import distances_on_grid
+from forcenet.datasets.runs import simulation_sha256
 from forcenet.report import p2_distances
 from test_datasets import attrs, two_triangles_snapshot
 from test_report_p2 import worked_example_analyses
@@ -50,7 +51,7 @@ def good(tmp_path_factory) -> dict[str, list[Path]]:
     distances = write_netcdf(distances_on_grid(stacked, [0.71, 0.72]), root / "distances.nc", kind="distances")
     opened = [read_dataset(path, "analysis") for path in analyses]
     summary_attrs = {**pipeline.run_attrs(CONFIG, "2d_linear", 0, title="P2 run summary"), "dimension": 2,
-                     "simulation_sha256": run_expectation(CONFIG, "2d_linear")["simulation_sha256"],
+                     "simulation_sha256": simulation_sha256(CONFIG, "2d_linear"),
                      **pipeline.common_analysis_attrs(opened)}
     run = write_netcdf(p2_distances.run_summary(opened, ["minus_one"], [0.80, 0.84, 0.88], summary_attrs),
                        root / "p2_runs" / "r00.nc", kind="p2_run")

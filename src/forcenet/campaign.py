@@ -234,7 +234,7 @@ def record_run(config: Mapping[str, Any], system: str, realization: str, *, resu
     if missing:
         raise CampaignError(f"{system} {realization} has not finished in {results}: {len(missing)} of its files are "
                             f"missing (first: {missing[0]})")
-    expect = run_expectation(config, system)
+    expect = run_expectation(spec, config)
     snapshots = [read_snapshot(path, expect=state_expectation(expect, path)) for path in outputs]
     cost = json.loads(cost_path.read_text())
     title = f"forcenet campaign record, {system} {realization}"

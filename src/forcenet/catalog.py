@@ -8,7 +8,7 @@ may change only their scale keys (`SCALE_KEYS`: box, start, ρ grid, relaxation 
 system (``source:``) is described in the run config itself, since its source files are its description.
 
 `expand_config` turns a run config into the config every other module reads: ``systems.<name>`` the full entry
-(physics, protocol and scale, exactly the keys a simulation depends on: `forcenet.systems.simulation_params`),
+(physics, protocol and scale, exactly the keys a simulation depends on: `forcenet.datasets.runs.simulation_params`),
 ``system_info.<name>`` its role, label and colour (and the system it is a variant of, ``like``), and
 ``systems_from`` the catalog files it came from. A config
 with ``systems_from`` is full already (the config every output records): it is read as it is, so an output's

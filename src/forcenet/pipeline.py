@@ -138,7 +138,7 @@ def sequence_attrs(spec) -> dict[str, str]:
 def prepare_stage(stage: Path, config: Mapping[str, Any], system: str) -> Path:
     """Create (or keep) the staging folder of a run. A stage written under other simulation settings is
     discarded (its checkpoint must not be resumed); one whose config differs only in what the run does not depend
-    on (`forcenet.systems.simulation_params`: analysis keys, other systems, studies) is kept, so long runs survive
+    on (`forcenet.datasets.runs.simulation_params`: analysis keys, other systems, studies) is kept, so long runs survive
     such edits."""
     from forcenet.datasets.runs import simulation_sha256
 
@@ -264,7 +264,7 @@ def aggregate(*, analyses: Sequence[str], realizations: Sequence[int], rhos: Seq
 
     spec = system_from_config(system, config)
     with job_logger(log_path, f"aggregate.{system}") as log:
-        expect = run_expectation(config, system)
+        expect = run_expectation(spec, config)
         datasets = [read_dataset(path, "analysis", expect=expect) for path in analyses]
         attrs = provenance_attrs(system=system, realization=-1, seed=stacked_seed(config, spec), config=config,
                                  title=f"forcenet network measures, {system}, stacked over realization and rho")

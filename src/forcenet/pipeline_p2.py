@@ -56,9 +56,9 @@ def p2_run_summary(*, analyses: Sequence[str], output: str, config: Mapping[str,
     from forcenet.report.p2_distances import run_summary
 
     with job_logger(log_path, f"p2_run.{system}.{realization}") as log:
-        expect = run_expectation(config, system)
-        datasets = [read_dataset(path, "analysis", expect=expect) for path in analyses]
         spec = system_from_config(system, config)
+        expect = run_expectation(spec, config)
+        datasets = [read_dataset(path, "analysis", expect=expect) for path in analyses]
         attrs = run_attrs(config, system, realization_index(realization),
                           title=f"forcenet P2 run summary, {system} {realization}")
         attrs.update(dimension=spec.dimension, simulation_sha256=expect["simulation_sha256"],

@@ -8,8 +8,6 @@ time τ_c; see `forcenet.units`).
 """
 from __future__ import annotations
 
-import hashlib
-import json
 import math
 import zlib
 from dataclasses import dataclass, field
@@ -18,6 +16,7 @@ from typing import Any, Mapping
 import numpy as np
 
 from forcenet import units
+from forcenet.datasets.paths import RHO_DECIMALS, format_rho, state_labels
 from forcenet.errors import ForcenetError
 
 
@@ -28,9 +27,6 @@ class ConfigError(ForcenetError, ValueError):
         super().__init__(f"config key '{key}': {message}")
         self.key = key
 
-
-#: ρ values are written into file names with this many decimals (results/sim/…/rho0.842.nc)
-RHO_DECIMALS = 3
 
 #: rattler rules of the force networks (`study_rattler_rule`; `forcenet.network` applies them)
 RATTLER_RULES = ("once", "iterative", "none")
@@ -192,8 +188,6 @@ class ImportedSystem:
     def rho_labels(self) -> list[str]:
         """The states' labels in file names: ρ at `RHO_DECIMALS` (a compression), ``state000``, … (a sequence)."""
         if self.is_sequence:
-            from forcenet.importers.sequence import state_labels
-
             return state_labels(len(self.rho_grid))
         return [format_rho(rho) for rho in self.rho_grid]
 
@@ -247,10 +241,6 @@ def read_all_sources(config: Mapping[str, Any], systems: Mapping[str, Any]) -> N
         if isinstance(spec, ImportedSystem):
             for realization in realization_indices(config, name):
                 source_states(config["systems"][name], realization, where=f"systems.{name}.source")
-
-
-def format_rho(rho: float) -> str:
-    return f"{rho:.{RHO_DECIMALS}f}"
 
 
 def rho_grid(spec: Any, key: str) -> tuple[float, ...]:
@@ -465,17 +455,6 @@ def validate_config(config: Mapping[str, Any]) -> dict[str, SystemSpec | Importe
     return systems
 
 
-def simulation_params(config: Mapping[str, Any], system: str) -> dict[str, Any]:
-    """What a compression run depends on: its own system entry, the seed and (P1 units) the material — not the
-    analysis keys or other systems. Snakemake reruns a simulation when these change; a staged run resumes only
-    under the same ones."""
-    entry = config["systems"][system]
-    params = {"system": entry, "seed": config["seed"]}
-    if entry.get("stiffness") == "material":
-        params["material"] = config["material"]
-    return params
-
-
 def realization_count(config: Mapping[str, Any], system: str) -> int:
     """How many realizations (compression runs with their own seeds) `system` gets: ``realizations`` is one integer
     for every system or a mapping {system: integer} (e.g. more for the cheap 2D systems than for 3D)."""
@@ -487,11 +466,6 @@ def realization_indices(config: Mapping[str, Any], system: str) -> list[int]:
     """The realization indices of `system`: 0 … count − 1. Realization k keeps its name (``r{k:02d}``), its seed
     (`realization_seed`) and so its files whatever the count, so raising a count adds runs and restarts none."""
     return list(range(realization_count(config, system)))
-
-
-def config_sha256(config: Mapping[str, Any]) -> str:
-    """A stable hash of the whole config (sorted JSON), stored in every output file."""
-    return hashlib.sha256(json.dumps(config, sort_keys=True, default=str).encode()).hexdigest()
 
 
 def realization_seed(base_seed: int, system_name: str, realization: int) -> int:

@@ -12,7 +12,8 @@ import yaml
 
 from forcenet.catalog import ConfigFileError, expanded, read_config_file  # noqa: F401 (the readers' home)
 from forcenet.errors import ForcenetError
-from forcenet.systems import ConfigError, config_sha256, non_finite_number, read_all_sources, validate_config
+from forcenet.datasets.runs import config_sha256
+from forcenet.systems import ConfigError, non_finite_number, read_all_sources, validate_config
 
 
 def write_resolved_config(config: Mapping[str, Any], path: str | Path, results_dir: str | Path) -> None:

@@ -11,9 +11,10 @@ sys.path.insert(0, str(Path(workflow.basedir) / "src"))  # works before `pip ins
 
 from forcenet.datasets import paths  # every file name of the build (standard library only)
 from forcenet.datasets.paths import realization_index
+from forcenet.datasets.runs import simulation_params
 from forcenet.errors import ForcenetError
 from forcenet.pipeline import readings_beside, snapshot_analysis_params
-from forcenet.systems import realization_indices, simulation_params
+from forcenet.systems import realization_indices
 from forcenet.workflow_io import CONFIG_SCHEMA, DEFAULT_CONFIG, checked_config, read_config_file, resolve_results_dir
 
 # A config given with --configfile stands alone: the default is read only when none is given (Snakemake's

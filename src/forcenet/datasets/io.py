@@ -16,6 +16,7 @@ import numpy as np
 import xarray as xr
 
 from forcenet.boxes import tilt_problem
+from forcenet.datasets.runs import config_sha256, run_mismatch
 from forcenet.datasets.schema import (ANALYSIS_FINITE_VARIABLES, BOX_TILT_ATTR, DTYPE_KINDS, ENGINE_SOURCE_FORMAT,
                                       FILE_KINDS, KIND_GLOBAL_ATTRS, OPTIONAL_GLOBAL_ATTRS, OPTIONAL_VARIABLES,
                                       PERIODIC_AXES_ATTR, REQUIRED_GLOBAL_ATTRS, SNAPSHOT_FINITE_VARIABLES,
@@ -58,7 +59,6 @@ def provenance_attrs(*, system: str, realization: int, seed: int, config: Mappin
     """Global attributes every forcenet file carries (`schema.REQUIRED_GLOBAL_ATTRS`): its config, seed, version
     and commit."""
     from forcenet import __version__
-    from forcenet.systems import config_sha256
 
     config = dict(config or {})
     return {
@@ -336,8 +336,6 @@ def read_dataset(path: str | os.PathLike, kind: str, expect: Mapping[str, Any] |
     if problems:
         raise DatasetError(path, f"not a valid {kind} file: " + "; ".join(problems))
     if expect is not None:
-        from forcenet.datasets.runs import run_mismatch
-
         problem = run_mismatch(ds, expect)
         if problem:
             raise DatasetError(path, f"not of this run: {problem}")

@@ -35,10 +35,9 @@ campaign's finished runs there, in the repository (`forcenet.campaign`)::
     {system}/{realization}/states.nc         the run's snapshots, kind "run_record" (`forcenet.datasets.records`)
     {system}/{realization}/p2_run.nc         a P2 run's summary and the states Tables I-III read, kind "p2_run_record"
 
-A state of an imported sequence (`forcenet.importers.sequence`) is ``state{k}.nc`` (k = 000, 001, …) where a
-compression's is ``rho{ρ}.nc`` (`rho_file`). A realization is named ``r{NN}`` (`realization_name`,
-`realization_index`); a ρ label has
-`forcenet.systems.RHO_DECIMALS` decimals (`forcenet.systems.format_rho`).
+A state of an imported sequence (`forcenet.importers.sequence`) is ``state{k}.nc`` (k = 000, 001, …,
+`state_labels`) where a compression's is ``rho{ρ}.nc`` (`rho_file`). A realization is named ``r{NN}``
+(`realization_name`, `realization_index`); a ρ label has `RHO_DECIMALS` decimals (`format_rho`).
 """
 from __future__ import annotations
 
@@ -47,6 +46,9 @@ from pathlib import Path
 
 #: a results folder: "results", or a Path
 Folder = str | os.PathLike
+
+#: ρ values are written into file names with this many decimals (results/sim/…/rho0.842.nc)
+RHO_DECIMALS = 3
 
 #: the folder (below the results folder) that holds the DEM runs
 SIM_DIR = "sim"
@@ -83,10 +85,22 @@ def realization_index(name: str) -> int:
     return int(str(name).lstrip("r"))
 
 
+def format_rho(rho: float) -> str:
+    """The label of the state at packing fraction `rho` [-] in file names: `RHO_DECIMALS` decimals (``"0.842"``)."""
+    return f"{rho:.{RHO_DECIMALS}f}"
+
+
+def state_labels(count: int) -> list[str]:
+    """The labels of a sequence's `count` states in file names: ``state000``, ``state001``, … (at least three
+    digits)."""
+    width = max(3, len(str(max(count - 1, 0))))
+    return [f"state{k:0{width}d}" for k in range(count)]
+
+
 def rho_file(rho_label: str) -> str:
     """The file name of one state of a run (snapshot or analysis): ``rho{ρ}.nc`` for the state at one ρ of a
-    compression, ``{label}.nc`` for a state of an imported sequence (its label ``state000``, ``state001``, …:
-    `forcenet.importers.sequence.state_labels`)."""
+    compression (`format_rho`), ``{label}.nc`` for a state of an imported sequence (its label ``state000``,
+    ``state001``, …: `state_labels`)."""
     return f"{rho_label}.nc" if rho_label[:1].isalpha() else f"rho{rho_label}.nc"
 
 

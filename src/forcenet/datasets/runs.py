@@ -4,13 +4,14 @@ from it) records, compared with those of the run it is read for (issue 27: a 2d_
 too: the fingerprint is computed from the `config` attribute every file records."""
 from __future__ import annotations
 
+import hashlib
 import json
 import os
 import re
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Mapping
 
-from forcenet.datasets.paths import realization_index
+from forcenet.datasets.paths import RHO_DECIMALS, realization_index
 
 if TYPE_CHECKING:  # annotations only: the workflow imports this module when it is parsed (no xarray there)
     import xarray as xr
@@ -22,25 +23,38 @@ RHO_FILE = re.compile(r"rho(\d+\.\d+)\.nc")
 REALIZATION_DIR = re.compile(r"r\d\d+")
 
 
-def simulation_sha256(config: Mapping[str, Any], system: str) -> str:
-    """The fingerprint of what a system's snapshots depend on (`forcenet.systems.simulation_params`: its own
-    entry, the seed and the material it uses; not the analysis keys or other systems)."""
-    from forcenet.systems import config_sha256, simulation_params
+def config_sha256(config: Mapping[str, Any]) -> str:
+    """A stable hash of the whole config (sorted JSON), stored in every output file."""
+    return hashlib.sha256(json.dumps(config, sort_keys=True, default=str).encode()).hexdigest()
 
+
+def simulation_params(config: Mapping[str, Any], system: str) -> dict[str, Any]:
+    """What a compression run depends on: its own system entry, the seed and (P1 units) the material — not the
+    analysis keys or other systems. Snakemake reruns a simulation when these change; a staged run resumes only
+    under the same ones."""
+    entry = config["systems"][system]
+    params = {"system": entry, "seed": config["seed"]}
+    if entry.get("stiffness") == "material":
+        params["material"] = config["material"]
+    return params
+
+
+def simulation_sha256(config: Mapping[str, Any], system: str) -> str:
+    """The fingerprint of what a system's snapshots depend on (`simulation_params`: its own entry, the seed and the
+    material it uses; not the analysis keys or other systems)."""
     return config_sha256(simulation_params(config, system))
 
 
-def run_expectation(config: Mapping[str, Any], system: str) -> dict[str, Any]:
-    """What a snapshot of `system` under `config` must record: its system, dimension and `simulation_sha256`; and
-    how far a state's measured ρ may lie from the grid ρ in its file name (`rho_tolerance`: half the smallest step
-    of the system's grid, at least the rounding of a file label; `state_expectation`)."""
-    from forcenet.systems import RHO_DECIMALS, system_from_config
-
-    grid = sorted(system_from_config(system, config).rho_grid)
+def run_expectation(spec: Any, config: Mapping[str, Any]) -> dict[str, Any]:
+    """What a snapshot of the system `spec` (a `forcenet.systems.SystemSpec` or `ImportedSystem`: its `name`,
+    `dimension` and `rho_grid`) under `config` must record: its system, dimension and `simulation_sha256`; and how
+    far a state's measured ρ may lie from the grid ρ in its file name (`rho_tolerance`: half the smallest step of
+    the system's grid, at least the rounding of a file label; `state_expectation`)."""
+    grid = sorted(spec.rho_grid)
     steps = [b - a for a, b in zip(grid, grid[1:]) if b > a]
     rounding = 0.5 * 10.0 ** -RHO_DECIMALS
-    return {"system": system, "dimension": int(config["systems"][system]["dimension"]),
-            "simulation_sha256": simulation_sha256(config, system),
+    return {"system": spec.name, "dimension": int(spec.dimension),
+            "simulation_sha256": simulation_sha256(config, spec.name),
             "rho_tolerance": max(0.5 * min(steps), rounding) + 1e-12 if steps else 1.0}
 
 

@@ -9,6 +9,7 @@ from typing import Any, Mapping, Sequence
 import numpy as np
 
 from forcenet.boxes import P1_OVERLAP_BOUND
+from forcenet.datasets.paths import format_rho
 from forcenet.importers.common import SourceError, file_sha256, largest_relative_overlap
 from forcenet.importers.sources import source_states
 
@@ -41,7 +42,6 @@ def import_run(*, config: Mapping[str, Any], system: str, realization: int, outp
         raise SourceError(f"systems.{system}.source.runs[{realization}]", "",
                           f"{len(states)} states, but run 0 has {len(outputs)}: every run of a system needs the same "
                           "number of states")
-    from forcenet.systems import format_rho
 
     hashes: dict[str, str] = {}
     datasets = []

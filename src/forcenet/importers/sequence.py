@@ -5,8 +5,8 @@ An imported run is an ordered sequence of states. By default (``sequence`` absen
 compression: its states are keyed by their packing fraction ρ, which must increase along the run, and they are
 labelled by ρ in their file names (``rho0.842.nc``), as a DEM run's. Any other coordinate makes the run a sequence
 whose ρ is one measured variable of each state, equal or not from state to state (a shear at constant volume, a
-cyclic or a time series), the states labelled by their position (``state000.nc``, ``state001.nc``, …) and every
-per-state measure stored and drawn against the coordinate:
+cyclic or a time series), the states labelled by their position (``state000.nc``, ``state001.nc``, …:
+`forcenet.datasets.paths.state_labels`) and every per-state measure stored and drawn against the coordinate:
 
 - ``frame``: the states' order, 0, 1, 2, … (a table run's file order, a dump's timesteps in their order);
 - ``timestep``: the LAMMPS timestep of each state (a table run: its index, as ``frame``);
@@ -51,12 +51,6 @@ def coordinate(entry: Mapping[str, Any]) -> str:
 def is_sequence(entry: Mapping[str, Any]) -> bool:
     """Whether an imported system's runs are sequences keyed by a coordinate other than ρ."""
     return "source" in entry and coordinate(entry) != DEFAULT_COORDINATE
-
-
-def state_labels(count: int) -> list[str]:
-    """The labels of a sequence's states in file names: ``state000``, ``state001``, … (at least three digits)."""
-    width = max(3, len(str(max(count - 1, 0))))
-    return [f"state{k:0{width}d}" for k in range(count)]
 
 
 def unit(entry: Mapping[str, Any], quantity: str) -> str:

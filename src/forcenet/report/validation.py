@@ -36,7 +36,7 @@ def provenance(*, study: str, config: Mapping[str, Any], systems: Sequence[str],
                commit: str, date: str | None = None) -> dict[str, Any]:
     """What the tables were generated from: study, commit, config sha256, date (UTC, ISO), and per system the
     particle count N, the realizations and the CPU-hours of its compression runs."""
-    from forcenet.systems import config_sha256
+    from forcenet.datasets.runs import config_sha256
 
     per_system = {}
     for name in systems:
