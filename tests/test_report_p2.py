@@ -10,7 +10,7 @@ import xarray as xr
 
 from contract import contract_attrs
 from forcenet.datasets import provenance_attrs, validate_dataset, write_netcdf, open_dataset
-from forcenet.datasets.schema import FORCE_KINDS
+from forcenet.datasets.schema import FORCE_KINDS, FORCE_UNITS
 from forcenet.datasets.snapshot import snapshot_dataset
 from forcenet.report import claims, p2, p2_claims, p2_distances, p2_explanations, p2_judging, p2_tables, p2_validation
 from forcenet import systems
@@ -688,11 +688,33 @@ def test_p2_reference_tables_have_our_layout():
 
 
 # --- which realization gives a, b, c ------------------------------------------------------------------------------
-def state_analysis(realization, rho, z, mean_normal_force):
+def state_analysis(realization, rho, z, mean_normal_force, units=FORCE_UNITS):
     ds = analysis_factory(rho, z, {})
-    ds["mean_force"] = ("force_kind", np.array([2.0, mean_normal_force, 0.5]))
+    ds["mean_force"] = ("force_kind", np.array([2.0, mean_normal_force, 0.5]), {"units": units})
     ds.attrs["realization"] = realization
     return ds
+
+
+def test_the_table_states_name_the_unit_of_their_mean_forces(tmp_path):
+    """The mean normal forces of a, b, c carry their analyses' unit in their column names: the reduced unit of a DEM
+    run, the source's (its `units:` block) for an import; the CSV read back gives the same ratios."""
+    rhos = (0.788, 0.791, 0.794)
+    dem = p2_tables.table_state_candidates([state_analysis(0, r, 3.0, f) for r, f in zip(rhos, (1.0, 1.5, 2.0))])
+    assert list(dem.columns) == ["realization", "rho_a", "rho_b", "rho_c", "Z_a", "Z_b", "Z_c",
+                                 "mean_normal_force_a [m_mean d_ave tau_c-2]",
+                                 "mean_normal_force_b [m_mean d_ave tau_c-2]",
+                                 "mean_normal_force_c [m_mean d_ave tau_c-2]", "Z_change", "force_change", "score",
+                                 "chosen"]
+    imported = p2_tables.table_state_candidates([state_analysis(0, r, 3.0, f, units="N")
+                                                 for r, f in zip(rhos, (1.0, 1.5, 2.0))])
+    assert [c for c in imported.columns if c.startswith("mean_normal")] == [
+        "mean_normal_force_a [N]", "mean_normal_force_b [N]", "mean_normal_force_c [N]"]
+    imported.to_csv(tmp_path / "states.csv", index=False)
+    row = pd.read_csv(tmp_path / "states.csv").iloc[0]
+    assert [p2_tables.state_mean_force(row, x) for x in "abc"] == [1.0, 1.5, 2.0]
+    with pytest.raises(ValueError, match=r"mean forces are in 2 units \(N, m_mean d_ave tau_c-2\), need one"):
+        p2_tables.table_state_candidates([state_analysis(0, r, 3.0, 1.0, units=u)
+                                          for r, u in zip(rhos, ("N", "N", FORCE_UNITS))])
 
 
 def test_table_states_pick_the_realization_whose_z_and_force_change_least():

@@ -191,6 +191,7 @@ def test_each_study_uses_its_rattler_rule_and_p2_products_show_p2(smoke_run):
     assert "(a,b), P2 | 0.089" in table1 and "ours / P2" in table1 and "rattler rule 'none'" in table1
     states = Path(paths.p2_table_states(results)).read_text().splitlines()
     assert states[0].startswith("realization,rho_a") and len(states) == 1 + config["realizations"]
+    assert "mean_normal_force_a [m_mean d_ave tau_c-2]" in states[0].split(",")  # DEM runs: the reduced unit
 
 
 def test_changing_fill_tetrahedra_reruns_the_3d_analyses_only(smoke_run):

@@ -13,6 +13,7 @@ import numpy as np
 from forcenet.report.claims import Explanation, NotEvaluated
 from forcenet.report.p2 import METRIC_SYMBOLS, jamming_density_per_realization
 from forcenet.report.p2_judging import B, NORMAL, W1, Context, fmt
+from forcenet.report.p2_tables import state_mean_force
 
 
 # --- why a claim does not hold: diagnostics measured on the same data ------------------------------------------
@@ -77,7 +78,7 @@ def _table_state_diagnostic(ctx: Context) -> str:
     rho_j = rho_js[realizations.index(int(row["realization"]))] if int(row["realization"]) in realizations else np.nan
     return (f"states a, b, c of realization {int(row['realization'])} (the quietest of {len(ctx.states)} by P2 Fig. 1's "
             f"criterion) at rho {row['rho_a']:.4f}-{row['rho_c']:.4f}, its rho_J = {fmt(rho_j)}: Z {row['Z_a']:.2f} -> "
-            f"{row['Z_c']:.2f}, <F_n> x {row['mean_normal_force_c'] / row['mean_normal_force_a']:.2f} from a to c "
+            f"{row['Z_c']:.2f}, <F_n> x {state_mean_force(row, 'c') / state_mean_force(row, 'a'):.2f} from a to c "
             "(P2: Z and <F> almost identical)")
 
 

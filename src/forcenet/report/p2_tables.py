@@ -79,8 +79,37 @@ TABLE_STATE_CRITERION = (
     "identical'. Among the realizations, the one whose states a, b, c (consecutive samples around table_rho) change "
     "Z and the mean normal force <F_n> least: score = the larger of max(|Z_x - Z_a|)/Z_a and "
     "max(|<F_n>_x - <F_n>_a|)/<F_n>_a over x = b, c; the lowest score is chosen, the lowest index on ties")
-TABLE_STATE_COLUMNS = ("realization", *TABLE_RHO_KEYS, "Z_a", "Z_b", "Z_c", "mean_normal_force_a",
-                       "mean_normal_force_b", "mean_normal_force_c", "Z_change", "force_change", "score", "chosen")
+TABLE_STATES = ("a", "b", "c")
+
+
+def mean_force_column(state: str, unit: str) -> str:
+    """The column of state `state`'s (a, b or c) mean normal force ⟨F_n⟩ in `unit`, named with it as the project's
+    CSV columns are (``mean_normal_force_a [m_mean d_ave tau_c-2]`` for a DEM run, ``… [N]`` for an import whose
+    ``units:`` block says newtons)."""
+    return f"mean_normal_force_{state} [{unit}]"
+
+
+def table_state_columns(force_unit: str) -> tuple[str, ...]:
+    """The columns of `table_state_candidates`' table whose mean forces are in `force_unit`."""
+    return ("realization", *TABLE_RHO_KEYS, *(f"Z_{x}" for x in TABLE_STATES),
+            *(mean_force_column(x, force_unit) for x in TABLE_STATES), "Z_change", "force_change", "score", "chosen")
+
+
+def state_mean_force(row: Mapping[str, float] | pd.Series, state: str) -> float:
+    """State `state`'s mean normal force in a row of the table-state candidates (the p2_table_states CSV), in the
+    unit its column names."""
+    (column,) = [c for c in (row.index if isinstance(row, pd.Series) else row)
+                 if str(c).startswith(f"mean_normal_force_{state} [")]
+    return float(row[column])
+
+
+def mean_force_unit(analyses: Sequence[xr.Dataset]) -> str:
+    """The one unit of the analyses' mean forces ⟨F⟩ (their `units`: the schema's reduced unit for a DEM run, the
+    source's force unit for an import)."""
+    units = sorted({str(ds["mean_force"].attrs["units"]) for ds in analyses})
+    if len(units) != 1:
+        raise ValueError(f"the analyses' mean forces are in {len(units)} units ({', '.join(units)}), need one")
+    return units[0]
 
 
 #: which states a, b, c Tables I–III and Figs 1, 3 use (config key ``studies.p2.table_states``, issue 25):
@@ -110,13 +139,14 @@ def table_state_candidates(analyses: Sequence[xr.Dataset], rule: str = "literal"
     Parameters
     ----------
     analyses : per-snapshot analysis files of every realization (told apart by their ``realization``
-        attribute): Z and the mean normal force ⟨F_n⟩ [m̄ d_ave τ_c⁻²] are read. With `rule` "literal" the three
+        attribute): Z and the mean normal force ⟨F_n⟩ (in its `units`) are read. With `rule` "literal" the three
         states a, b, c of each realization; with "jammed" its states at and above `table_rho`, among which
         `jammed_table_states` picks a, b, c (a realization with no such three is no candidate).
 
     Returns
     -------
-    DataFrame with ρ, Z, ⟨F_n⟩ of a, b, c, the relative changes, the score and ``chosen`` (one True row) by
+    DataFrame (`table_state_columns`) with ρ, Z, ⟨F_n⟩ of a, b, c (its columns name the analyses' force unit,
+    `mean_force_column`), the relative changes, the score and ``chosen`` (one True row) by
     `TABLE_STATE_CRITERION`; ``attrs["rule"]`` the rule.
     """
     if rule not in TABLE_STATE_RULES:
@@ -125,6 +155,7 @@ def table_state_candidates(analyses: Sequence[xr.Dataset], rule: str = "literal"
     for ds in analyses:
         by_realization.setdefault(int(ds.attrs["realization"]), []).append(ds)
     normal = FORCE_KINDS.index("normal")
+    unit = mean_force_unit(analyses)
     rows = []
     for realization, states in sorted(by_realization.items()):
         states = sorted(states, key=lambda ds: float(ds["rho"]))
@@ -141,14 +172,14 @@ def table_state_candidates(analyses: Sequence[xr.Dataset], rule: str = "literal"
         z_change = max(abs(z[1] - z[0]), abs(z[2] - z[0])) / z[0] if z[0] > 0 else math.inf
         force_change = max(abs(force[1] - force[0]), abs(force[2] - force[0])) / force[0] if force[0] > 0 else math.inf
         rows.append({"realization": realization, **{k: float(ds["rho"]) for k, ds in zip(TABLE_RHO_KEYS, states)},
-                     "Z_a": z[0], "Z_b": z[1], "Z_c": z[2], "mean_normal_force_a": force[0],
-                     "mean_normal_force_b": force[1], "mean_normal_force_c": force[2], "Z_change": z_change,
+                     **{f"Z_{x}": v for x, v in zip(TABLE_STATES, z)},
+                     **{mean_force_column(x, unit): v for x, v in zip(TABLE_STATES, force)}, "Z_change": z_change,
                      "force_change": force_change, "score": max(z_change, force_change)})
     if not rows:
         raise ValueError(f"no candidate states a, b, c ({rule} rule"
                          + (f": no three consecutive samples at rho >= {table_rho} with mean Z >= {dimension + 1}"
                             if rule == "jammed" else "") + ")")
-    table = pd.DataFrame(rows, columns=list(TABLE_STATE_COLUMNS[:-1]))
+    table = pd.DataFrame(rows, columns=list(table_state_columns(unit)[:-1]))
     table["chosen"] = False
     table.loc[table["score"].idxmin(), "chosen"] = True  # idxmin: first (lowest realization) on ties
     table.attrs["criterion"] = TABLE_STATE_CRITERION
