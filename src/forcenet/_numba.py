@@ -16,7 +16,47 @@ about 15 % faster contact loops (measured, bench/dem_vs_lammps.py).
 NJIT_DEM_INLINE also inlines the function into its callers in numba's own IR, before LLVM sees it, so each
 contact loop is optimised as one piece, as if the law were written out in it (LLVM inlines the separately
 optimised function too: measured 0 to 1 % slower on the 3D step, bench/dem_vs_lammps.py's state).
+
+Where compiled kernels are cached: numba's on-disk cache checks only the source file of the function it compiled,
+but a kernel compiles in the kernels it calls from other files (`stepping.advance` holds the wall and pair loops of
+`contacts.py` and the law of `law.py`). Edit a callee's file and the caller's cache would keep running the old
+callee: a kernel change that some runs did not see. So every cache lives in a folder named after a digest of all
+kernel sources (`KERNEL_SOURCES`, `kernel_cache_dir`): a change to any of them compiles everything afresh. The
+folder sits under `NUMBA_CACHE_DIR` when that is set, else under the user's cache folder
+(`$XDG_CACHE_HOME/forcenet/numba`, `~/.cache/forcenet/numba`).
 """
+import hashlib
+import os
+from pathlib import Path
+
+import numba
+
+#: the files of every numba kernel and of the argument types in their signatures, relative to the package (globs)
+KERNEL_SOURCES = ("_numba.py", "dem/_kernels/*.py", "dem/kernel_arguments.py", "measures/_kernels.py",
+                  "topology/_matching.py")
+
+
+def kernel_sources_digest(package: Path, patterns=KERNEL_SOURCES) -> str:
+    """sha256 (16 hex digits) of the files matching `patterns` under `package`, names and contents."""
+    digest = hashlib.sha256()
+    for path in sorted({path for pattern in patterns for path in package.glob(pattern)}):
+        digest.update(path.relative_to(package).as_posix().encode() + b"\0" + path.read_bytes() + b"\0")
+    return digest.hexdigest()[:16]
+
+
+def kernel_cache_dir(package: Path = Path(__file__).resolve().parent, patterns=KERNEL_SOURCES,
+                     base: str | os.PathLike | None = None) -> Path:
+    """The folder of the compiled kernels of `package` as its kernel sources are now: `base` (default
+    `NUMBA_CACHE_DIR`, else the user's cache folder) / ``kernels-<digest>``."""
+    if base is None:
+        base = os.environ.get("NUMBA_CACHE_DIR") or Path(
+            os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "forcenet" / "numba"
+    return Path(base) / f"kernels-{kernel_sources_digest(package, patterns)}"
+
+
+# before any kernel module decorates its functions: numba picks a function's cache folder when it is decorated
+numba.config.CACHE_DIR = str(kernel_cache_dir())
+
 NJIT = dict(cache=True, fastmath=False)
 NJIT_DEM = dict(cache=True, fastmath={"contract"}, error_model="numpy")
 NJIT_DEM_INLINE = dict(NJIT_DEM, inline="always")

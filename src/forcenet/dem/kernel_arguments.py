@@ -5,8 +5,8 @@ numba passes a named tuple's fields as separate arguments, so grouping costs not
 Everything is in reduced units: length d_ave, mass m̄, time τ_c. N counts every slot (mobile particles first,
 then rough-wall particles), d is the dimension, P the number of listed pairs.
 
-numba's on-disk cache refers to these classes by module and name: after renaming or moving one, delete the DEM
-kernels' cached index files (`src/forcenet/dem/_kernels/__pycache__/*.nbi`), which numba cannot read any more.
+numba's on-disk cache refers to these classes by module and name; this file is one of the kernel sources that name
+the cache's folder (`forcenet._numba.KERNEL_SOURCES`), so renaming or moving one compiles the kernels afresh.
 """
 from __future__ import annotations
 
