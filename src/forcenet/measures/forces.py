@@ -46,3 +46,36 @@ def coordination_number(network: ForceNetwork, *, include_rattlers: bool = True)
         return 2.0 * network.n_contacts / network.n_particles if network.n_particles else 0.0
     n_non_rattlers = int(np.count_nonzero(network.non_rattler))
     return 2.0 * network.n_contacts_without_rattlers / n_non_rattlers if n_non_rattlers else 0.0
+
+
+def net_contact_forces(n_particles: int, contact_i, contact_j, contact_force, wall_particle=(), wall_force=()):
+    """The sum of the contact forces on each particle (n_particles, d) [force unit]: contact_force (C, d) acts on
+    particle contact_i from contact_j and, by Newton's third law, its opposite on contact_j; wall_force (W, d) acts
+    on wall_particle."""
+    contact_force = np.asarray(contact_force, dtype=float)
+    dimension = contact_force.shape[1] if contact_force.ndim == 2 else np.asarray(wall_force).shape[-1]
+    net = np.zeros((n_particles, dimension))
+    np.add.at(net, np.asarray(contact_i, dtype=int), contact_force)
+    np.add.at(net, np.asarray(contact_j, dtype=int), -contact_force)
+    if len(wall_particle):
+        np.add.at(net, np.asarray(wall_particle, dtype=int), np.asarray(wall_force, dtype=float))
+    return net
+
+
+def force_imbalance(snapshot) -> tuple[float, int]:
+    """(largest |net contact force| of a particle in contact over the mean normal force magnitude, that particle;
+    NaN and −1 without contacts) of one snapshot (its arrays, `forcenet.datasets` snapshot contract). A state relaxed
+    to rest is in mechanical equilibrium, so this is ~0 (the campaign's jammed states: ≤ 3·10⁻⁴); forces that
+    moved the particles other than the recorded ones show up here."""
+    contact_i = np.asarray(snapshot["contact_i"], dtype=int)
+    contact_j = np.asarray(snapshot["contact_j"], dtype=int)
+    if contact_i.size == 0:
+        return float("nan"), -1
+    normal = np.asarray(snapshot["force_normal"], dtype=float)
+    net = net_contact_forces(len(snapshot["radius"]), contact_i, contact_j,
+                             normal + np.asarray(snapshot["force_tangential"], dtype=float),
+                             snapshot["wall_contact_particle"], snapshot["wall_contact_force"])
+    touched = np.unique(np.concatenate([contact_i, contact_j, np.asarray(snapshot["wall_contact_particle"], int)]))
+    relative = np.linalg.norm(net[touched], axis=1) / np.linalg.norm(normal, axis=1).mean()
+    worst = int(np.argmax(relative))
+    return float(relative[worst]), int(touched[worst])
