@@ -5,6 +5,8 @@ config's analysis keys and P1's rattler rule), stacked over (realization, ρ) an
 `forcenet.report.p1_validation.p1_validation` with every state's overlaps (`overlaps_by_state`).
 
     .venv/bin/python scripts/judge_records.py --systems 2d_linear 2d_hertz --csv /tmp/p1_records.csv
+    .venv/bin/python scripts/judge_records.py --systems 2d_linear_plexiglass 2d_hertz_plexiglass --realizations 0 \
+        --csv /tmp/plexiglass.csv
 
 Reads the records, writes only `--csv` (and `--md`): a check that the judges run on real data before the tables
 are regenerated (docs/validation/README.md). Systems left out, counterparts and readings beside are not judged;
@@ -34,12 +36,16 @@ from forcenet.report.p1_validation import overlaps_by_state, p1_validation, writ
 ROOT = Path(__file__).resolve().parents[1]
 
 
-def system_measures(config: dict, system: str, records: Path, folder: Path) -> tuple[object, dict]:
-    """(network measures stacked over the system's recorded runs, {ρ: largest overlap})."""
+def system_measures(config: dict, system: str, records: Path, folder: Path,
+                    only: list[int] | None = None) -> tuple[object, dict]:
+    """(network measures stacked over the system's recorded runs — those numbered in `only` where given — and
+    {ρ: largest overlap})."""
     analysis = pipeline.snapshot_analysis_params(config, system)
     analyses, realizations, snaps, grid = [], [], [], []
     for record in sorted((records / system).glob("r*/states.nc")):
         realization = int(record.parent.name[1:])
+        if only is not None and realization not in only:
+            continue
         labels = [str(label) for label in read_dataset(record, "run_record")["state"].values]
         outputs = [folder / system / record.parent.name / f"rho{label}.nc" for label in labels]
         for output in outputs:
@@ -68,6 +74,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--config", default=str(ROOT / "config" / "validation.yaml"))
     parser.add_argument("--records", default=str(ROOT / "data" / "validation"))
     parser.add_argument("--systems", nargs="+", default=["2d_linear", "2d_hertz"])
+    parser.add_argument("--realizations", type=int, nargs="+", default=None,
+                        help="judge these recorded realizations alone (e.g. 0: a one-run control beside its base's r00)")
     parser.add_argument("--resamples", type=int, default=20)
     parser.add_argument("--csv", required=True)
     parser.add_argument("--md", default=None)
@@ -76,7 +84,8 @@ def main(argv: list[str] | None = None) -> int:
     measures, overlaps = {}, {}
     with tempfile.TemporaryDirectory() as folder:
         for system in args.systems:
-            measures[system], overlaps[system] = system_measures(config, system, Path(args.records), Path(folder))
+            measures[system], overlaps[system] = system_measures(config, system, Path(args.records), Path(folder),
+                                                                  args.realizations)
     table = p1_validation(measures, resamples=args.resamples, overlaps=overlaps)
     write_p1_validation(table, args.csv, args.md or str(Path(args.csv).with_suffix(".md")))
     rows = read_validation_csv(args.csv)

@@ -1436,3 +1436,17 @@ def test_an_imported_system_beside_p1s_loses_only_its_protocol_rows(p1_table):
         return t[t["system"].isin(P1_LIKE) & (t["kind"] == "claim") & (t["reading"].fillna("") == "")]
 
     assert list(own(table)["id"]) == list(own(p1_table)["id"])
+
+
+def test_wall_overlaps_relative_to_the_diameter_by_hand():
+    from forcenet.report.p1 import relative_wall_overlaps
+
+    # a disk of radius 0.5 at x = 0.4 from the lower x wall (overlap 0.1), one at y = 9.7 below the upper y wall at 10
+    # (overlap 0.2), pushed with 3 and 5 along the walls' normals
+    snapshot = {"position": np.array([[0.4, 5.0], [5.0, 9.7]]), "radius": np.array([0.5, 0.5]),
+                "box_lo": np.array([0.0, 0.0]), "box_hi": np.array([10.0, 10.0]),
+                "wall_contact_particle": np.array([0, 1]), "wall_contact_wall": np.array([0, 3]),
+                "wall_contact_force": np.array([[3.0, 0.2], [0.1, -5.0]])}
+    overlap, normal = relative_wall_overlaps(snapshot)
+    np.testing.assert_allclose(overlap, [0.1, 0.2])
+    np.testing.assert_array_equal(normal, [3.0, 5.0])

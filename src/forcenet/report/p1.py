@@ -184,6 +184,22 @@ def relative_overlaps(snapshot: xr.Dataset) -> tuple[np.ndarray, np.ndarray]:
     return overlaps, np.isin(i, touching) | np.isin(j, touching)
 
 
+def relative_wall_overlaps(snapshot) -> tuple[np.ndarray, np.ndarray]:
+    """Per wall contact of one snapshot of a flat-walled box: (its overlap relative to the particle's diameter,
+    (r_i − gap) / d_i, and the magnitude of the wall's normal force [force unit]), shapes (n_wall_contacts,). Wall id
+    w is the lower (even w) or upper (odd w) wall of axis w // 2 (``wall_contact_wall``), at box_lo / box_hi of
+    that axis. `snapshot`: a snapshot's arrays (an xarray Dataset or a mapping of arrays)."""
+    particle = np.asarray(snapshot["wall_contact_particle"], dtype=int)
+    wall = np.asarray(snapshot["wall_contact_wall"], dtype=int)
+    axis, upper = wall // 2, wall % 2 == 1
+    coordinate = np.asarray(snapshot["position"])[particle, axis]
+    gap = np.where(upper, np.asarray(snapshot["box_hi"])[axis] - coordinate,
+                   coordinate - np.asarray(snapshot["box_lo"])[axis])
+    radius = np.asarray(snapshot["radius"])[particle]
+    normal = np.abs(np.asarray(snapshot["wall_contact_force"]).reshape(len(wall), -1)[np.arange(len(wall)), axis])
+    return (radius - gap) / (2.0 * radius), normal
+
+
 def largest_relative_overlap(snapshot: xr.Dataset) -> float:
     """The largest overlap of two particles in contact relative to the sum of their radii (`relative_overlaps`) in
     one snapshot (P1 §3: "up to 10 %" at the largest ρ); 0 without contacts."""
