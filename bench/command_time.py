@@ -5,8 +5,9 @@ usage: python bench/command_time.py NAME [--no-record]        (NAME: one of COMM
 
 Runs the command with bash, from the repository root or, for the commands a newcomer runs first, in a fresh clone
 of this checkout's HEAD in a temporary folder (deleted afterwards); {scratch} in a command is an empty temporary
-folder, {venv} this checkout's venv (for a fresh clone that needs no install of its own; numba's cache starts
-empty there, as the clone's source files are new to it). Measures the wall time and the CPU time of the command
+folder, {venv} this checkout's venv (for a fresh clone that needs no install of its own). numba's cache starts
+empty for a fresh clone: it gets a cache folder of its own (NUMBA_CACHE_DIR in the temporary folder), as compiled
+kernels are otherwise shared by every checkout of the same kernel sources (`forcenet._numba.kernel_cache_dir`). Measures the wall time and the CPU time of the command
 and its children, keeps pytest's or Snakemake's summary line, and leaves the record in
 bench/results/command_time-NAME.json (bench/records.py); a command that fails leaves a record that says so. Run it
 on a machine that is otherwise idle: the record notes the load average before and after.
@@ -14,6 +15,7 @@ on a machine that is otherwise idle: the record notes the load average before an
 from __future__ import annotations
 
 import argparse
+import os
 import re
 import resource
 import shutil
@@ -38,7 +40,11 @@ COMMANDS = {
                             "first on the path, this checkout's venv)", fresh_clone=True,
                        command="PYTHONPATH=$PWD/src {venv}/bin/python -m pytest -q -p no:cacheprovider"),
     "example_import": dict(what="the shipped imports (config/example_import.yaml)", fresh_clone=True,
-                           command="{venv}/bin/snakemake --cores 2 --configfile config/example_import.yaml"),
+                           command="PYTHONPATH=$PWD/src {venv}/bin/snakemake --cores 2 "
+                                   "--configfile config/example_import.yaml"),
+    "example_sequence": dict(what="the shipped imported sequence (config/example_sequence.yaml)", fresh_clone=True,
+                             command="PYTHONPATH=$PWD/src {venv}/bin/snakemake --cores 2 "
+                                     "--configfile config/example_sequence.yaml"),
     "smoke_build": dict(what="smoke config, full build in an empty folder", fresh_clone=False,
                         command=".venv/bin/snakemake --cores 2 --configfile config/smoke.yaml --directory {scratch}"),
 }
@@ -71,8 +77,9 @@ def run_command(name: str, repo: Path = records.REPO) -> dict:
             cwd = tmp / "clone"
             subprocess.run(["git", "clone", "-q", str(repo), str(cwd)], check=True)
         command = spec["command"].format(scratch=scratch, venv=repo / ".venv")
+        env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp / "numba")) if spec["fresh_clone"] else None
         cpu0, wall0 = cpu_children(), time.perf_counter()
-        result = subprocess.run(["bash", "-c", command], cwd=cwd, capture_output=True, text=True)
+        result = subprocess.run(["bash", "-c", command], cwd=cwd, capture_output=True, text=True, env=env)
         wall, cpu = time.perf_counter() - wall0, cpu_children() - cpu0
         shutil.rmtree(tmp, ignore_errors=True)
     output = result.stdout + result.stderr
