@@ -18,14 +18,15 @@ import math
 import os
 import time
 
+from forcenet.checks import checked_system
 from forcenet.dem import packing, protocol
-from forcenet.systems import Relaxation, system_from_config
+from forcenet.systems import Relaxation
 
 import records  # bench/records.py
 
 
 def system_for(dim: int, n: int, config: dict):
-    base = system_from_config("2d_linear" if dim == 2 else "3d_hertz", config)
+    base = checked_system("2d_linear" if dim == 2 else "3d_hertz", config)
     spacing = packing.largest_diameter(base) + packing.LATTICE_GAP
     side = math.ceil(n ** (1.0 / dim)) * spacing + 1e-6
     return dataclasses.replace(base, box_length=side, relaxation=Relaxation(1000, 0.1, 1000))

@@ -62,9 +62,9 @@ from pathlib import Path
 import numpy as np
 
 from forcenet.catalog import load_run_config
+from forcenet.checks import checked_system
 from forcenet.dem.engine import ContactLaw, Simulation
 from forcenet.dem.protocol import build_simulation, contact_law_for_system, wall_shift_for
-from forcenet.systems import system_from_config
 
 HERE = Path(__file__).resolve().parent
 REPO = HERE.parent
@@ -105,7 +105,7 @@ def make_state(case: str, seed: int = 7) -> dict:
     source, law, box, rho = CASES[case]
     config = load_run_config(REPO / "config" / "smoke.yaml")
     entry = dict(config["systems"][source], box_length=box, rho=[rho])
-    spec = system_from_config(source, dict(config, systems={source: entry}))
+    spec = checked_system(source, dict(config, systems={source: entry}))
     sim, _ = build_simulation(spec, seed)
     shift = wall_shift_for(sim, rho)
     sim.set_walls(COMPRESSION_SPEED, shift)
@@ -115,7 +115,7 @@ def make_state(case: str, seed: int = 7) -> dict:
     # the relaxed packing barely moves: random velocities make the damping, the slip and the springs matter
     velocities = sim.velocities() + PROBE_SPEED * np.random.default_rng(seed).normal(size=sim.velocities().shape)
     law_entry = dict(entry, force_law=law)
-    law_spec = system_from_config(case, dict(config, systems={case: law_entry}))
+    law_spec = checked_system(case, dict(config, systems={case: law_entry}))
     return dict(case=case, dim=spec.dimension, positions=sim.positions(), radii=sim.radii(),
                 masses=sim.mass[np.argsort(sim.particle_id)], velocities=velocities,
                 box_lo=sim.walls_lo.copy(), box_hi=sim.walls_hi.copy(), dt=spec.time_step,

@@ -158,9 +158,9 @@ def main(argv=None) -> None:
             print(f"dry-run {name}: {seconds:.1f} s, {jobs} jobs", flush=True)
 
     # (b) inputs: paper-size snapshots through the workflow's own simulate job
+    from forcenet.checks import validate_config
     from forcenet.cost import simulation_cost
     from forcenet.datasets import paths
-    from forcenet.systems import validate_config
 
     local = root / "local"
     local.mkdir(exist_ok=True)

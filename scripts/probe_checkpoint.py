@@ -21,8 +21,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "src"))
 
 import numpy as np  # noqa: E402
 
+from forcenet.checks import checked_system  # noqa: E402
 from forcenet.dem.protocol import continue_with_damping  # noqa: E402
-from forcenet.systems import system_from_config  # noqa: E402
 from forcenet.workflow_io import read_config_file  # noqa: E402
 
 
@@ -35,7 +35,7 @@ def main() -> None:
     parser.add_argument("--grid-steps", type=int, default=2)
     args = parser.parse_args()
     logging.basicConfig(level=logging.WARNING, format="%(asctime)s %(levelname)s %(message)s")
-    system = system_from_config(args.system, read_config_file(args.config))
+    system = checked_system(args.system, read_config_file(args.config))
     with np.load(args.checkpoint, allow_pickle=False) as data:
         state = {key: data[key] for key in data.files}
     print(f"{args.system}: from step {int(state['step'])}, next grid value "

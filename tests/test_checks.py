@@ -11,7 +11,8 @@ import pytest
 from conftest import load_config
 from forcenet import checks, units
 from forcenet.dem import packing
-from forcenet.systems import ConfigError, system_from_config, validate_config
+from forcenet.checks import validate_config
+from forcenet.systems import ConfigError, system_from_config
 
 
 def spec(name="2d_linear", **changes):

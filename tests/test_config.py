@@ -13,10 +13,10 @@ import pytest
 import yaml
 
 from conftest import REPO, load_config
+from forcenet.checks import validate_config
 from forcenet.datasets.runs import simulation_params
 from forcenet.pipeline import snapshot_analysis_params
-from forcenet.systems import (ConfigError, realization_indices, realization_seed, rho_grid, study_rattler_rule,
-                              validate_config)
+from forcenet.systems import ConfigError, realization_indices, realization_seed, rho_grid, study_rattler_rule
 
 SCHEMA = yaml.safe_load((REPO / "workflow/schemas/config.schema.yaml").read_text())
 CONFIGS = ["config.yaml", "paper.yaml", "smoke.yaml"]

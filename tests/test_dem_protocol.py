@@ -16,6 +16,7 @@ import pytest
 import xarray as xr
 
 from conftest import load_config
+from forcenet.checks import check_system
 from forcenet.dem import protocol
 from forcenet.dem.engine import ContactLaw, Simulation
 from forcenet.dem.protocol import SimulationBlowUp, run_compression
@@ -204,11 +205,21 @@ def test_resume_after_sigkill_gives_identical_snapshots(tmp_path):
     (dict(time_step=0.0), "time_step"),
     (dict(wall_speed=0.0), "wall_speed"),
 ])
-def test_bad_input_fails_before_running(tmp_path, changes, key):
-    system = tiny(**changes)
+def test_bad_input_fails_before_running(changes, key):
+    """The checks a run's system passes before any work (`forcenet.checks.check_system`) name the key."""
     with pytest.raises(ConfigError) as err:
-        run(system, tmp_path)
+        check_system(tiny(**changes), "systems.2d_linear")
     assert err.value.key == f"systems.2d_linear.{key}"
+
+
+def test_the_simulate_job_checks_its_system_before_writing_anything(tmp_path):
+    from forcenet.pipeline import simulate
+
+    config = load_config()
+    config["systems"]["2d_linear"]["time_step"] = 0.0
+    with pytest.raises(ConfigError) as err:
+        simulate(config=config, system="2d_linear", realization="r00", outputs=[str(tmp_path / "r00" / "rho0.700.nc")])
+    assert err.value.key == "systems.2d_linear.time_step"
     assert not any(tmp_path.iterdir())
 
 
@@ -312,9 +323,9 @@ def test_an_unreadable_written_snapshot_leaves_the_estimate_to_the_window_and_th
     (dict(time_step=0.8), "time_step"),                         # a particle jumps out of the box
     (dict(rho_grid=(0.75, 0.90, 0.95, 0.99)), "rho"),           # the overlap grows with the compression
 ])
-def test_a_blow_up_names_the_setting_that_most_likely_caused_it(tmp_path, monkeypatch, changes, key):
-    """With the pre-run checks bypassed (they refuse these settings), the engine's own blow-up names the key."""
-    monkeypatch.setattr(protocol, "validate_system", lambda system: None)
+def test_a_blow_up_names_the_setting_that_most_likely_caused_it(tmp_path, changes, key):
+    """Run without the pre-run checks (`forcenet.checks`, which refuse these settings), the engine's own blow-up
+    names the key."""
     with pytest.raises(SimulationBlowUp) as err:
         run(tiny(**changes), tmp_path)
     assert f"most likely systems.2d_linear.{key}" in str(err.value)
@@ -497,8 +508,6 @@ def test_p1_start_spreads_the_lattice_over_the_box():
 
 
 def test_p1_start_refuses_a_lattice_that_starts_past_the_blow_up_limit():
-    from forcenet.systems import check_system
-
     check_system(p1_start(sites=5, box=5.6, rho_grid=(0.75, 0.8)), "systems.2d_hertz")  # 9 % overlap: accepted
     with pytest.raises(ConfigError, match=r"systems\.2d_hertz\.initial_state\.sites_per_axis.*overlap by 2\d%"):
         check_system(p1_start(sites=6, box=5.6, rho_grid=(0.9,)), "systems.2d_hertz")

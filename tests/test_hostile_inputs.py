@@ -161,7 +161,7 @@ def test_a_byte_order_mark_and_a_frame_without_pairs_read(tmp_path):
 
 
 def test_particles_that_do_not_fit_their_box_are_named_when_the_config_is_parsed(tmp_path, records):
-    from forcenet.systems import imported_system
+    from forcenet.importers import imported_system
 
     atoms, pairs = dumps(tmp_path, atom_rows=["1 1 1.0 1.0 0 0.5", "2 1 1.9 1.0 0 50", "3 1 1.0 1.9 0 0.5"])
     with pytest.raises(SourceError) as caught:
@@ -332,7 +332,7 @@ def records(tmp_path, monkeypatch) -> Path:
 def test_parsing_reads_the_atoms_once_per_content_and_never_the_pairs(tmp_path, records, monkeypatch):
     from forcenet.importers import scan
     from forcenet.importers.scan import record_path
-    from forcenet.systems import imported_system
+    from forcenet.importers import imported_system
 
     atoms, pairs = dumps(tmp_path)
     entry = lammps_entry(atoms, pairs)
@@ -362,7 +362,7 @@ def test_parsing_reads_the_atoms_once_per_content_and_never_the_pairs(tmp_path, 
 @pytest.mark.parametrize("content, expected", [(None, "cannot be read (No such file or directory)"),
                                                ("", "empty (0 bytes)"), ("/", "not a file (a folder?)")])
 def test_a_missing_or_empty_pairs_file_is_named_when_the_config_is_parsed(tmp_path, records, content, expected):
-    from forcenet.systems import imported_system
+    from forcenet.importers import imported_system
 
     atoms, pairs = dumps(tmp_path)
     pairs.unlink()

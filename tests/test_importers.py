@@ -12,6 +12,7 @@ import pytest
 import yaml
 
 from forcenet import pipeline
+from forcenet.checks import checked_system
 from forcenet.datasets import read_dataset, read_snapshot
 from forcenet.datasets.diagrams import diagram_points
 from forcenet.datasets.runs import run_expectation
@@ -20,7 +21,7 @@ from forcenet.importers import lammps, table
 from forcenet.network import snapshot_network
 from forcenet.topology import betti_curves, persistence_diagrams
 from forcenet.plotting.networks import prepare_p1_fig01_networks
-from forcenet.systems import ConfigError, ImportedSystem, system_from_config
+from forcenet.systems import ConfigError, ImportedSystem
 from conftest import load_config
 from naive_topology import components, pd0_elder_rule
 
@@ -103,14 +104,14 @@ def test_the_lammps_examples_give_the_network_our_engine_evaluates_on_the_same_s
 def test_imported_and_engine_snapshots_pass_the_same_contract_and_record_their_source(tmp_path):
     outputs = [str(tmp_path / f"rho{label}.nc") for label in ("0.820", "0.840", "0.860")]
     import_run(config=EXAMPLE, system="lammps_2d", realization=0, outputs=outputs)
-    ds = read_snapshot(outputs[1], expect=run_expectation(system_from_config("lammps_2d", EXAMPLE), EXAMPLE))
+    ds = read_snapshot(outputs[1], expect=run_expectation(checked_system("lammps_2d", EXAMPLE), EXAMPLE))
     assert ds.attrs["source_format"] == "lammps" and ds.attrs["source_timestep"] == 2000
     assert json.loads(ds.attrs["source_files"]) == ["data/examples/lammps_2d/atoms.dump",
                                                     "data/examples/lammps_2d/pairs.dump"]
     from forcenet.importers import file_sha256
     assert json.loads(ds.attrs["source_sha256"])[0] == file_sha256(LAMMPS_DIR / "atoms.dump")
     assert ds.attrs["seed"] == -1 and "velocity" not in ds and float(ds.rho) == pytest.approx(0.84, abs=1e-6)
-    spec = system_from_config("lammps_2d", EXAMPLE)
+    spec = checked_system("lammps_2d", EXAMPLE)
     assert isinstance(spec, ImportedSystem) and spec.rho_labels == ["0.820", "0.840", "0.860"]
     assert spec.particles == 324 and spec.dimension == 2
 
@@ -118,7 +119,7 @@ def test_imported_and_engine_snapshots_pass_the_same_contract_and_record_their_s
 # --- the hand-made table: hand-countable clusters and Betti numbers --------------------------------------------
 def analysed_table(tmp_path, rule):
     """The first state of the table example, imported and analysed with rattler rule `rule`."""
-    outputs = [str(tmp_path / f"rho{label}.nc") for label in system_from_config("table_2d", EXAMPLE).rho_labels]
+    outputs = [str(tmp_path / f"rho{label}.nc") for label in checked_system("table_2d", EXAMPLE).rho_labels]
     import_run(config=EXAMPLE, system="table_2d", realization=0, outputs=outputs)
     analysis = {**pipeline.snapshot_analysis_params(EXAMPLE, "table_2d"), "remove_rattlers": rule}
     out = str(tmp_path / "analysis.nc")
@@ -183,9 +184,9 @@ def test_a_malformed_table_stops_with_one_line_and_writes_nothing(tmp_path, case
     assert not out.parent.exists()
     if bad == "p.csv":
         with pytest.raises(SourceError, match=expected.split(":")[0]):
-            system_from_config("t", config)  # the workflow reads the particles when it parses: before any job
+            checked_system("t", config)  # the workflow reads the particles when it parses: before any job
     else:  # the contacts are read by the import job alone (issue 57: reading paid once per job, not per call)
-        system_from_config("t", config)
+        checked_system("t", config)
 
 
 def test_a_good_table_with_vectors_reads(tmp_path):
@@ -506,14 +507,14 @@ def euler_characteristic(edges, fill_tetrahedra: bool) -> int:
 
 def test_a_3d_lammps_state_is_imported_and_analysed(tmp_path):
     config = {**EXAMPLE, "systems": {"lammps_3d": lammps_entry("lammps_3d", 3)}, "studies": {}}
-    spec = system_from_config("lammps_3d", config)
+    spec = checked_system("lammps_3d", config)
     assert spec.rho_labels == ["0.580", "0.600", "0.620"] and spec.dimension == 3
     snapshot, analysis = tmp_path / "rho0.620.nc", tmp_path / "a.nc"
     outputs = [str(tmp_path / f"rho{label}.nc") for label in spec.rho_labels]
     import_run(config=config, system="lammps_3d", realization=0, outputs=outputs)
     pipeline.analyze_run(snapshots=[str(snapshot)], outputs=[str(analysis)],
                          analysis=pipeline.snapshot_analysis_params(config, "lammps_3d"),
-                         expect=run_expectation(system_from_config("lammps_3d", config), config))
+                         expect=run_expectation(checked_system("lammps_3d", config), config))
     ds = read_dataset(analysis, "analysis")
     assert list(ds["homology_dim"].values) == [0, 1, 2] and ds.attrs["source_format"] == "lammps"
     assert int(ds["betti"].sel(force_kind="total", homology_dim=0, threshold=0.0)) >= 1
@@ -584,4 +585,4 @@ def test_a_stacked_file_of_an_imported_system_records_no_seed_as_its_snapshots()
     config = load_config("smoke.yaml")
     imported = ImportedSystem(name="my_table", dimension=2, rho_grid=(0.8,), source={})
     assert pipeline.stacked_seed(config, imported) == -1
-    assert pipeline.stacked_seed(config, system_from_config("2d_linear", config)) == config["seed"]
+    assert pipeline.stacked_seed(config, checked_system("2d_linear", config)) == config["seed"]

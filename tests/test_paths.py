@@ -11,10 +11,10 @@ from pathlib import Path
 import pytest
 
 from conftest import load_config, snakemake
+from forcenet.checks import validate_config
 from forcenet.datasets import paths
 from forcenet.pipeline import readings_beside
 from forcenet.plotting.registry import FIGURES
-from forcenet.systems import validate_config
 
 #: (function, arguments, the path the docstring of forcenet.datasets.paths documents)
 EXAMPLES = [

@@ -8,12 +8,13 @@ import pandas as pd
 import pytest
 import xarray as xr
 
+from forcenet.checks import checked_system
 from forcenet.datasets import paths
 from forcenet.datasets.io import read_dataset, sequence_in_memory, sequence_on_disk, write_netcdf
 from forcenet.datasets.paths import state_labels
 from forcenet.importers.sequence import coordinate_values
 from forcenet.plotting.registry import FIGURES_BY_ID, figure_fit
-from forcenet.systems import ConfigError, ImportedSystem, system_from_config
+from forcenet.systems import ConfigError, ImportedSystem
 from forcenet.workflow_io import read_config_file
 
 SEQUENCE_CONFIG = "config/example_sequence.yaml"
@@ -57,7 +58,7 @@ def test_the_shipped_sequence_is_one_run_at_constant_rho_keyed_by_its_strain():
     from forcenet.catalog import expand_config
 
     config = expand_config(config)
-    spec = system_from_config("table_shear_2d", config)
+    spec = checked_system("table_shear_2d", config)
     assert isinstance(spec, ImportedSystem) and spec.is_sequence and spec.coordinate == "strain"
     assert len(spec.rho_grid) == 12 and spec.rho_grid[:3] == (0.0, 0.002, 0.004)
     assert len(set(np.round(spec.measured_rho, 9))) == 1  # every state at one ρ
@@ -68,7 +69,7 @@ def test_the_shipped_sequence_is_one_run_at_constant_rho_keyed_by_its_strain():
     entry = {**config["systems"]["table_shear_2d"]}
     entry["source"] = {k: v for k, v in entry["source"].items() if k != "sequence"}
     with pytest.raises(ConfigError, match=r"states with the same ρ .* is one run with source.sequence"):
-        system_from_config("flat", {**config, "systems": {"flat": entry}})
+        checked_system("flat", {**config, "systems": {"flat": entry}})
 
 
 def stacked(coordinate=None):

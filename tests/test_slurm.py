@@ -25,7 +25,7 @@ import yaml
 
 from conftest import REAL_PATH, REPO, SCONTROL_STUB_PREFIX, load_config
 from forcenet.datasets import open_dataset, paths
-from forcenet.systems import validate_config
+from forcenet.checks import validate_config
 
 pytestmark = [pytest.mark.slurm, pytest.mark.workflow, pytest.mark.slow]
 

@@ -320,7 +320,8 @@ def test_the_image_forcenet_joins_is_the_one_lammps_used_in_its_sheared_run():
 def test_a_shear_at_constant_volume_is_not_a_compression(tmp_path):
     """Two states at one ρ are refused as a compression's (keyed by ρ), naming the option that makes them one run
     (a sequence, tests/test_sequence.py); one of them alone imports."""
-    from forcenet.systems import ConfigError, imported_system
+    from forcenet.importers import imported_system
+    from forcenet.systems import ConfigError
 
     atoms, pairs = ring_dumps(tmp_path)
     for dump in (atoms, pairs):  # a second timestep, sheared further in the same box: the same ρ

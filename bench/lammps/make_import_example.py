@@ -51,13 +51,12 @@ TIMESTEP_STRIDE = 1000
 def make_states(system: str, box: float, rhos, seed: int = SEED) -> list[dict]:
     """Our engine's states at each ρ of `rhos` (module docstring)."""
     from forcenet.catalog import load_run_config
-
+    from forcenet.checks import checked_system
     from forcenet.dem.protocol import build_simulation, contact_law_for_system, wall_shift_for
-    from forcenet.systems import system_from_config
 
     config = load_run_config(REPO / "config" / "smoke.yaml")
     entry = dict(config["systems"][system], box_length=box, rho=list(rhos))
-    spec = system_from_config(system, dict(config, systems={system: entry}))
+    spec = checked_system(system, dict(config, systems={system: entry}))
     sim, _ = build_simulation(spec, seed)
     rng = np.random.default_rng(seed)
     law = contact_law_for_system(spec)

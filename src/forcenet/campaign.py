@@ -32,7 +32,7 @@ from typing import Any, Mapping, Sequence
 from forcenet.datasets import paths
 from forcenet.datasets.runs import simulation_sha256
 from forcenet.errors import ForcenetError
-from forcenet.systems import ImportedSystem, realization_indices, system_from_config
+from forcenet.systems import ImportedSystem, realization_indices
 
 #: the columns of manifest.csv, one row per recorded run
 MANIFEST_COLUMNS = ("system", "realization", "simulation_sha256", "git_commit", "cpu_hours", "particles", "states",
@@ -140,12 +140,13 @@ def p2_kept_labels(config: Mapping[str, Any], system: str) -> list[str]:
     choice can read (`forcenet.pipeline_p2.p2_read_state_indices`) for the frictional system (its catalog role,
     `forcenet.catalog.p2_roles`), none for the frictionless one."""
     from forcenet.catalog import p2_roles
+    from forcenet.checks import checked_system
     from forcenet.pipeline_p2 import p2_read_state_indices
 
     p2 = config["studies"]["p2"]
     if system != p2_roles(config, p2["systems"])[0]:
         return []
-    spec = system_from_config(system, config)
+    spec = checked_system(system, config)
     return [spec.rho_labels[i] for i in p2_read_state_indices(spec.rho_grid, p2.get("table_rho", 0.79),
                                                                p2.get("table_states", "jammed"))]
 
@@ -215,6 +216,7 @@ def record_run(config: Mapping[str, Any], system: str, realization: str, *, resu
     manifest row (returned). Refuses a run that has not finished or whose snapshots are of other settings. A run
     already recorded under the same settings, its file intact, keeps its record (its row is returned) unless
     `replace`: the same run recorded again would only rewrite the file with another date."""
+    from forcenet.checks import checked_system
     from forcenet.datasets import read_snapshot, run_expectation, write_netcdf
     from forcenet.datasets.records import record_dataset, record_differences, record_encoding
     from forcenet.datasets.runs import state_expectation
@@ -222,7 +224,7 @@ def record_run(config: Mapping[str, Any], system: str, realization: str, *, resu
     records = records or records_folder(config)
     if records is None:
         raise CampaignError("the config has no records_dir: name the folder with --records")
-    spec = system_from_config(system, config)
+    spec = checked_system(system, config)
     if isinstance(spec, ImportedSystem):
         raise CampaignError(f"{system} is imported, not simulated: its sources are its record")
     kept = recorded_row(config, records, system, realization)
@@ -271,11 +273,12 @@ def _p2_record(config: Mapping[str, Any], system: str, realization: str, results
     """(the P2 run record, its kind) of a finished P2 run: the run's summary (results/{system}/p2_runs/, made by the
     workflow from its analyses) and the states `p2_kept_labels` names; refused when the summary is missing, of other
     settings, or lacks a never-dying convention the config's P2 products read."""
+    from forcenet.checks import checked_system
     from forcenet.datasets import read_dataset
     from forcenet.datasets.records import p2_record_dataset
     from forcenet.pipeline_p2 import p2_conventions
 
-    spec = system_from_config(system, config)
+    spec = checked_system(system, config)
     summary_path = Path(paths.p2_run(results, system, realization))
     if not summary_path.exists():
         raise CampaignError(f"{system} {realization}: its summary {summary_path} is missing (make it: snakemake "
@@ -359,6 +362,7 @@ def tabled_cpu_hours(folder: str | os.PathLike = paths.VALIDATION_DIR) -> dict[s
 
 def campaign_status(config: Mapping[str, Any], *, results: str | os.PathLike) -> list[RunStatus]:
     """Every compression run of `config`, in config order, with its `RunStatus`."""
+    from forcenet.checks import checked_system
     from forcenet.cost import simulation_cost
 
     records = records_folder(config)
@@ -366,7 +370,7 @@ def campaign_status(config: Mapping[str, Any], *, results: str | os.PathLike) ->
     tabled = tabled_cpu_hours()
     statuses = []
     for system in config["systems"]:
-        spec = system_from_config(system, config)
+        spec = checked_system(system, config)
         if isinstance(spec, ImportedSystem):
             continue
         fingerprint = simulation_sha256(config, system)
@@ -478,12 +482,14 @@ SIZE_TABLE_START, SIZE_TABLE_END = "<!-- size table: forcenet-campaign record wr
 def size_table(config: Mapping[str, Any]) -> str:
     """Markdown: per system of the config, its recorded runs of all, their bytes and the bytes all its runs would
     take at the mean of those recorded; then the totals."""
+    from forcenet.checks import checked_system
+
     records = records_folder(config)
     manifest = read_manifest(records) if records else []
     lines = ["| system | runs recorded | MB recorded | MB per run | MB when all are recorded |", "|---|---|---|---|---|"]
     total = projected_total = 0.0
     for system in config["systems"]:
-        if isinstance(system_from_config(system, config), ImportedSystem):
+        if isinstance(checked_system(system, config), ImportedSystem):
             continue
         rows = [row for row in manifest if row["system"] == system]
         count = len(realization_indices(config, system))

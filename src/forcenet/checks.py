@@ -1,7 +1,10 @@
-"""Physical checks of one system that need nothing but its config: run before any job, each naming its key.
+"""The checks of a config before any job, each naming its key: what a JSON schema cannot see, and the physical
+checks of one system that need nothing but its config.
 
-`forcenet.systems.check_system` calls `system_problems` for every system when the workflow reads its config
-(before any job, a dry run included) and again when a run starts. The margins:
+`validate_config` checks a whole config and builds every system with `checked_system`: a simulated system's
+`forcenet.systems.SystemSpec` must pass `check_system` (`system_problems`), when the workflow reads its config (before
+any job, a dry run included) and again when a run starts (`forcenet.pipeline.simulate`); an imported system's
+`ImportedSystem` is built from its source files (`forcenet.importers.imported_system_from_config`). The margins:
 
 * **ρ grid against the initial packing.** The first grid value must lie above the packing fraction of the initial
   lattice (`forcenet.dem.packing`): exact for bidisperse sizes (the counts are fixed); for polydisperse sizes,
@@ -35,9 +38,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from typing import Any, Mapping
+
 from forcenet import units
 from forcenet.dem import packing, stability
 from forcenet.dem._kernels.contacts import MAX_OVERLAP_FRACTION
+from forcenet.importers.system import imported_system_from_config
+from forcenet.systems import (TABLE_STATES, ConfigError, ImportedSystem, SystemSpec, non_finite_number,
+                              study_rattler_rule, system_from_config)
 
 #: random close packing of disks (bidisperse or polydisperse, ≈ P1's 2D jamming point) and of spheres: past it a
 #: disordered packing is held up by overlaps alone, which grow ≈ 0.7 % of a diameter per 0.01 in ρ (module docstring)
@@ -230,3 +238,69 @@ def _time_step_problems(system) -> list[Problem]:
                                      f"{stability.GEAR_DAMPING_BOUND}: Δt ≤ {stability.stable_time_step(rate):.4g} τ_c "
                                      "(a packing needs less still) or a larger restitution")]
     return []
+
+
+def check_system(system: SystemSpec, key: str) -> None:
+    """Every check that needs only the config (`system_problems`: positivity, the ρ grid against the initial and the
+    densest packing, Δt against the shortest collision and the contact damping); raise `ConfigError` naming the
+    key (``{key}.<setting>``) of the first that fails."""
+    problems = system_problems(system)
+    if problems:
+        raise ConfigError(f"{key}.{problems[0].key}", problems[0].message)
+
+
+def checked_system(name: str, config: Mapping[str, Any]) -> SystemSpec | ImportedSystem:
+    """The system ``config["systems"][name]`` of a schema-validated config: a simulated system's `SystemSpec`
+    (`forcenet.systems.system_from_config`) that passed `check_system`, or an imported system's `ImportedSystem`
+    (an entry with ``source:``, `forcenet.importers.imported_system_from_config`: its particles files read). Raises
+    `ConfigError` naming the key."""
+    key = f"systems.{name}"
+    if name not in config["systems"]:
+        raise ConfigError(key, "no such system")
+    if "source" in config["systems"][name]:
+        return imported_system_from_config(name, config)
+    system = system_from_config(name, config)
+    check_system(system, key)
+    return system
+
+
+def validate_config(config: Mapping[str, Any]) -> dict[str, SystemSpec | ImportedSystem]:
+    """Semantic validation after the JSON schema; returns every system by name (`checked_system`). Raises
+    `ConfigError`."""
+    problem = non_finite_number(config)
+    if problem is not None:
+        raise problem
+    for study, entry in config["studies"].items():
+        if "counterparts" in entry and study != "p1":
+            raise ConfigError(f"studies.{study}.counterparts", "only P1's friction and system-size claims judge "
+                                                               "counterpart runs; this study has none")
+        for key in ("systems", "counterparts"):
+            for i, name in enumerate(entry.get(key, ())):
+                if name not in config["systems"]:
+                    raise ConfigError(f"studies.{study}.{key}[{i}]", f"unknown system '{name}' "
+                                                                      f"(defined: {sorted(config['systems'])})")
+                if key == "counterparts" and name in entry["systems"]:
+                    raise ConfigError(f"studies.{study}.{key}[{i}]", f"'{name}' is one of the study's own systems; "
+                                                                      "a counterpart stands beside them")
+    thresholds = config["analysis"]["thresholds"]
+    if thresholds["stop"] <= thresholds["start"]:
+        raise ConfigError("analysis.thresholds", "stop must exceed start")
+    for name in config["systems"]:
+        study_rattler_rule(config, name)
+    realizations = config["realizations"]
+    if isinstance(realizations, Mapping):
+        for name in realizations:
+            if name not in config["systems"]:
+                raise ConfigError(f"realizations.{name}",
+                                  f"unknown system '{name}' (defined: {sorted(config['systems'])})")
+        missing = [name for name in config["systems"] if name not in realizations]
+        if missing:
+            raise ConfigError("realizations", f"no count for system(s) {missing}: a per-system mapping names every "
+                                              "system (or give one integer for all)")
+    systems = {name: checked_system(name, config) for name in config["systems"]}
+    for name in config["studies"].get("p2", {}).get("systems", []):
+        if len(systems[name].rho_grid) < TABLE_STATES:
+            raise ConfigError(f"systems.{name}.rho", f"has {len(systems[name].rho_grid)} snapshot(s), but a system of "
+                                                     f"study p2 needs at least {TABLE_STATES} (the consecutive states "
+                                                     "a, b, c of Tables I–III): extend the ρ grid")
+    return systems

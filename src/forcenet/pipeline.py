@@ -20,7 +20,7 @@ from typing import Any, Iterator, Mapping, Sequence
 
 from forcenet.datasets.paths import CHECKPOINT, STAGE_LOCK, realization_index, staging_dir
 from forcenet.errors import ForcenetError
-from forcenet.systems import material_from_config, run_seed, system_from_config
+from forcenet.systems import material_from_config, run_seed
 
 
 #: an error while the outputs' filesystem has fewer free bytes than this is reported as a full disk [bytes] (a failed
@@ -194,9 +194,10 @@ def simulate(*, config: Mapping[str, Any], system: str, realization: str, output
     cost_path: a JSON record of what the run cost (CPU seconds over every session that resumed it, particles,
     snapshots), written last; the validation report sums it into its provenance.
     """
+    from forcenet.checks import checked_system
     from forcenet.dem.protocol import run_compression
 
-    spec = system_from_config(system, config)
+    spec = checked_system(system, config)
     index = realization_index(realization)
     attrs = run_attrs(config, system, index, title=f"forcenet DEM snapshot, {system}")
     stage = staging_dir(outputs[0])
@@ -244,8 +245,9 @@ def force_constants(config: Mapping[str, Any], system: str) -> dict[str, float]:
     normal_stiffness_cgs : k_n in dyn/cm^(1+β), P1 Eq. 1 (NaN for a system without `material`)
     """
     from forcenet import units
+    from forcenet.checks import checked_system
 
-    spec = system_from_config(system, config)
+    spec = checked_system(system, config)
     constants = {"force_unit_dyn": float("nan"), "stiffness_scale_reduced": float(spec.normal_stiffness),
                  "normal_stiffness_cgs": float("nan")}
     if config["systems"][system].get("stiffness") == "material":
@@ -259,10 +261,11 @@ def aggregate(*, analyses: Sequence[str], realizations: Sequence[int], rhos: Seq
               diagrams_path: str, config: Mapping[str, Any], system: str, log_path: str | None = None) -> None:
     """Stack one system's per-snapshot analyses over (realization, ρ) into network_measures.nc and diagrams.nc; an
     analysis recorded for another run (system, dimension, simulation settings) is refused, naming the file."""
+    from forcenet.checks import checked_system
     from forcenet.datasets import provenance_attrs, read_dataset, run_expectation, write_netcdf
     from forcenet.datasets.aggregate import stack_diagrams, stack_network_measures
 
-    spec = system_from_config(system, config)
+    spec = checked_system(system, config)
     with job_logger(log_path, f"aggregate.{system}") as log:
         expect = run_expectation(spec, config)
         datasets = [read_dataset(path, "analysis", expect=expect) for path in analyses]

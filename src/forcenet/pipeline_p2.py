@@ -10,7 +10,7 @@ from typing import Any, Mapping, Sequence
 from forcenet.datasets.paths import rho_file
 from forcenet.pipeline import (chosen_datasets, common_analysis_attrs, job_logger, open_by_system, readings_beside,
                                run_attrs, sequence_attrs, simulate, stacked_seed)
-from forcenet.systems import select_table_snapshots, system_from_config
+from forcenet.systems import select_table_snapshots
 
 #: how many states of the grid, from the first at or above ``studies.p2.table_rho``, are the candidates for the states
 #: a, b, c of Tables I-III under the "jammed" rule (the first three consecutive ones among them with mean Z >= d + 1):
@@ -51,12 +51,13 @@ def p2_run_summary(*, analyses: Sequence[str], output: str, config: Mapping[str,
                    realization: str, conventions: Sequence[str], log_path: str | None = None) -> None:
     """What P2's products read from one run, its diagrams apart (`forcenet.report.p2_distances.run_summary`, kind
     "p2_run"): the run's analyses, in grid order, summed up under every never-dying convention of `conventions`."""
+    from forcenet.checks import checked_system
     from forcenet.datasets import read_dataset, run_expectation, write_netcdf
     from forcenet.datasets.paths import realization_index
     from forcenet.report.p2_distances import run_summary
 
     with job_logger(log_path, f"p2_run.{system}.{realization}") as log:
-        spec = system_from_config(system, config)
+        spec = checked_system(system, config)
         expect = run_expectation(spec, config)
         datasets = [read_dataset(path, "analysis", expect=expect) for path in analyses]
         attrs = run_attrs(config, system, realization_index(realization),
@@ -90,6 +91,7 @@ def p2_distances(*, runs: Sequence[str], realizations: Sequence[int], output: st
     config's ρ grid as the `rho` coordinate (`forcenet.datasets.aggregate.distances_on_grid`), from each run's
     summary (`runs`, kind "p2_run", in the order of `realizations`: made from its analyses or restored from its
     campaign record)."""
+    from forcenet.checks import checked_system
     from forcenet.datasets import DatasetError, provenance_attrs, write_netcdf
     from forcenet.datasets.aggregate import distances_on_grid
     from forcenet.report.p2_distances import stack_distances, summary_distances
@@ -108,7 +110,7 @@ def p2_distances(*, runs: Sequence[str], realizations: Sequence[int], output: st
             except KeyError as error:
                 raise DatasetError(path, error.args[0]) from None
             log.info("%s realization %d: %d consecutive pairs", system, realization, results[-1].sizes["rho"])
-        spec = system_from_config(system, config)
+        spec = checked_system(system, config)
         attrs = provenance_attrs(system=system, realization=-1, seed=stacked_seed(config, spec), config=config,
                                  title=f"forcenet distances between consecutive persistence diagrams, {system}")
         attrs.update(dimension=spec.dimension, force_law=spec.force_law)
@@ -208,6 +210,7 @@ def p2_sampling_study(*, config: Mapping[str, Any], system: str, wall_speeds: Se
     """
     import time
 
+    from forcenet.checks import checked_system
     from forcenet.datasets import read_snapshot
     from forcenet.report.p2_distances import lagged_distance_markdown, lagged_distance_summary, snapshot_diagrams
 
@@ -216,7 +219,7 @@ def p2_sampling_study(*, config: Mapping[str, Any], system: str, wall_speeds: Se
         entry = {**config["systems"][system], "wall_speed": float(speed),
                  "rho": {"start": 0.63, "stop": 0.90, "count": int(count)}}
         run_config = {**config, "realizations": 1, "systems": {system: entry}}
-        spec = system_from_config(system, run_config)
+        spec = checked_system(system, run_config)
         directory = Path(out) / f"v{speed:g}"
         files = [str(directory / rho_file(label)) for label in spec.rho_labels]
         seconds = float("nan")

@@ -1,10 +1,11 @@
 """Systems and configuration: frozen dataclasses built from the validated workflow config.
 
-The JSON schema (`workflow/schemas/config.schema.yaml`) checks types and shapes; this module checks what a
-schema cannot (a study naming an unknown system, ρ grids that are empty or out of order, and the physical checks
-of `forcenet.checks`: ρ against the initial and densest packing, Δt against the shortest collision and the
-damping) and turns each `systems.<name>` entry into a `SystemSpec` in reduced units (length d_ave, mass m̄,
-time τ_c; see `forcenet.units`).
+The JSON schema (`workflow/schemas/config.schema.yaml`) checks types and shapes. This module turns the
+``systems.<name>`` entry of a simulated system into a `SystemSpec` in reduced units (length d_ave, mass m̄, time τ_c;
+see `forcenet.units`), checking what the entry alone can get wrong that a schema cannot (a ρ grid that is empty or
+out of order, settings that exclude each other), and defines the `ImportedSystem` that `forcenet.importers` builds
+from a ``source:`` entry's files. It reads no data file and runs no physical check: `forcenet.checks` validates a
+whole config (`validate_config`) and builds each system checked (`checked_system`).
 """
 from __future__ import annotations
 
@@ -192,57 +193,6 @@ class ImportedSystem:
         return [format_rho(rho) for rho in self.rho_grid]
 
 
-def imported_system(name: str, entry: Mapping[str, Any]) -> ImportedSystem:
-    """The `ImportedSystem` of a ``source:`` entry: the ρ grid of run 0 from each state's particles and box
-    (`forcenet.importers.scan.run_scan`: the particles files read once per content, which stops at a malformed
-    one with its name and line; the other files are checked to exist here and read by the import job), or for a
-    sequence (``source.sequence``) the coordinate of each state, the same in every run."""
-    from forcenet.importers.scan import run_scan
-    from forcenet.importers.sequence import COORDINATES, SequenceError, coordinate, coordinate_values
-
-    key = f"systems.{name}.source"
-    runs = [run_scan(entry, run) for run in range(len(entry["source"]["runs"]))]
-    grids = [[rho for rho, _, _ in states] for states in runs]
-    if len({len(grid) for grid in grids}) != 1:
-        raise ConfigError(f"{key}.runs", f"every run needs the same number of states, got {[len(g) for g in grids]}")
-    common = dict(name=name, dimension=int(entry["dimension"]), source=dict(entry["source"]),
-                  particles=runs[0][0][1] if runs[0] else 0, units=dict(entry.get("units") or {}),
-                  movies=bool(entry.get("movies", False)), measured_rho=tuple(grids[0]))
-    name_of = coordinate(entry)
-    if name_of not in COORDINATES:
-        raise ConfigError(f"{key}.sequence.coordinate", f"{name_of!r} is not one of {', '.join(COORDINATES)}")
-    if name_of != "rho":
-        try:
-            values = [coordinate_values(entry, [step for _, _, step in states], key) for states in runs]
-        except SequenceError as error:
-            raise ConfigError(error.key, error.problem) from None
-        for run, other in enumerate(values[1:], start=1):
-            if other != values[0]:
-                raise ConfigError(f"{key}.runs[{run}]", f"its states' {name_of} differ from run 0's: every run of a "
-                                                        "sequence is stacked on run 0's coordinate")
-        return ImportedSystem(rho_grid=values[0], coordinate=name_of, **common)
-    rounded = np.round(grids[0], RHO_DECIMALS)
-    if np.any(np.diff(rounded) == 0):  # a shear at constant volume: its states share one ρ
-        raise ConfigError(f"{key}.runs[0]", f"states with the same ρ at {RHO_DECIMALS} decimals ({rounded.tolist()}): a "
-                                            "compression's states are keyed by ρ; a sequence at constant ρ (a shear, "
-                                            "a time series) is one run with source.sequence: {coordinate: strain, "
-                                            "time, frame or timestep}")
-    return ImportedSystem(rho_grid=rho_grid(grids[0], f"{key}.runs[0] (the states' packing fractions, in order)"),
-                          **common)
-
-
-def read_all_sources(config: Mapping[str, Any], systems: Mapping[str, Any]) -> None:
-    """Read every run of every imported system in `systems` in full, as its import job will
-    (`forcenet.importers.source_states`; parsing a config reads the particles files only): `forcenet-check-config`
-    finds a bad pairs or contacts file before any job. Raises the first `forcenet.importers.SourceError`."""
-    from forcenet.importers.sources import source_states
-
-    for name, spec in systems.items():
-        if isinstance(spec, ImportedSystem):
-            for realization in realization_indices(config, name):
-                source_states(config["systems"][name], realization, where=f"systems.{name}.source")
-
-
 def rho_grid(spec: Any, key: str) -> tuple[float, ...]:
     """Expand a ρ grid: ``{start, stop, step}`` (stop included when on the grid), ``{start, stop, count}``
     (both ends included) or an explicit list. Values are rounded to `RHO_DECIMALS` and must increase."""
@@ -271,19 +221,18 @@ def material_from_config(config: Mapping[str, Any]) -> units.Material:
     return units.Material(**config["material"])
 
 
-def system_from_config(name: str, config: Mapping[str, Any]) -> SystemSpec | ImportedSystem:
-    """Build the `SystemSpec` of ``config["systems"][name]`` (config already schema-validated), or its
-    `ImportedSystem` when the entry has ``source:``."""
+def system_from_config(name: str, config: Mapping[str, Any]) -> SystemSpec:
+    """Build the `SystemSpec` of the simulated system ``config["systems"][name]`` (config already schema-validated),
+    without the physical checks (`forcenet.checks.check_system`). An imported system (an entry with ``source:``) is
+    built from its files by `forcenet.importers.imported_system_from_config`; `forcenet.checks.checked_system` builds
+    either kind, checked."""
     key = f"systems.{name}"
     if name not in config["systems"]:
         raise ConfigError(key, "no such system")
     entry = config["systems"][name]
     if "source" in entry:
-        runs = len(entry["source"]["runs"])
-        if runs != config["realizations"]:
-            raise ConfigError(f"{key}.source.runs", f"lists {runs} run(s), but realizations is "
-                                                    f"{config['realizations']}: one run per realization")
-        return imported_system(name, entry)
+        raise ConfigError(f"{key}.source", "an imported system has no simulation settings: "
+                                           "forcenet.checks.checked_system builds it from its files")
     if entry["stiffness"] == "material" and "material" not in config:
         raise ConfigError("material", f"missing: system '{name}' takes its stiffness from the material")
     beta = units.FORCE_LAW_BETA[entry["force_law"]]
@@ -313,7 +262,7 @@ def system_from_config(name: str, config: Mapping[str, Any]) -> SystemSpec | Imp
             raise ConfigError(f"{key}.relaxation.criterion",
                               f"is {criterion!r}, not one of {list(RELAXATION_CRITERIA)}")
         relaxation = Relaxation(**entry["relaxation"])
-    system = SystemSpec(
+    return SystemSpec(
         name=name,
         dimension=int(entry["dimension"]),
         force_law=entry["force_law"],
@@ -340,19 +289,6 @@ def system_from_config(name: str, config: Mapping[str, Any]) -> SystemSpec | Imp
         relaxation=relaxation,
         paper=paper,
     )
-    check_system(system, key)
-    return system
-
-
-def check_system(system: SystemSpec, key: str) -> None:
-    """Every check that needs only the config (`forcenet.checks`: positivity, the ρ grid against the initial and the
-    densest packing, Δt against the shortest collision and the contact damping); raise `ConfigError` naming the
-    key (``{key}.<setting>``) of the first that fails."""
-    from forcenet.checks import system_problems
-
-    problems = system_problems(system)
-    if problems:
-        raise ConfigError(f"{key}.{problems[0].key}", problems[0].message)
 
 
 def resolve_rattler_rule(remove_rattlers: bool | str) -> str:
@@ -412,47 +348,6 @@ def non_finite_number(config: Any, key: str = "") -> ConfigError | None:
         if problem is not None:
             return problem
     return None
-
-
-def validate_config(config: Mapping[str, Any]) -> dict[str, SystemSpec | ImportedSystem]:
-    """Semantic validation after the JSON schema; returns every system by name. Raises `ConfigError`."""
-    problem = non_finite_number(config)
-    if problem is not None:
-        raise problem
-    for study, entry in config["studies"].items():
-        if "counterparts" in entry and study != "p1":
-            raise ConfigError(f"studies.{study}.counterparts", "only P1's friction and system-size claims judge "
-                                                               "counterpart runs; this study has none")
-        for key in ("systems", "counterparts"):
-            for i, name in enumerate(entry.get(key, ())):
-                if name not in config["systems"]:
-                    raise ConfigError(f"studies.{study}.{key}[{i}]", f"unknown system '{name}' "
-                                                                      f"(defined: {sorted(config['systems'])})")
-                if key == "counterparts" and name in entry["systems"]:
-                    raise ConfigError(f"studies.{study}.{key}[{i}]", f"'{name}' is one of the study's own systems; "
-                                                                      "a counterpart stands beside them")
-    thresholds = config["analysis"]["thresholds"]
-    if thresholds["stop"] <= thresholds["start"]:
-        raise ConfigError("analysis.thresholds", "stop must exceed start")
-    for name in config["systems"]:
-        study_rattler_rule(config, name)
-    realizations = config["realizations"]
-    if isinstance(realizations, Mapping):
-        for name in realizations:
-            if name not in config["systems"]:
-                raise ConfigError(f"realizations.{name}",
-                                  f"unknown system '{name}' (defined: {sorted(config['systems'])})")
-        missing = [name for name in config["systems"] if name not in realizations]
-        if missing:
-            raise ConfigError("realizations", f"no count for system(s) {missing}: a per-system mapping names every "
-                                              "system (or give one integer for all)")
-    systems = {name: system_from_config(name, config) for name in config["systems"]}
-    for name in config["studies"].get("p2", {}).get("systems", []):
-        if len(systems[name].rho_grid) < TABLE_STATES:
-            raise ConfigError(f"systems.{name}.rho", f"has {len(systems[name].rho_grid)} snapshot(s), but a system of "
-                                                     f"study p2 needs at least {TABLE_STATES} (the consecutive states "
-                                                     "a, b, c of Tables I–III): extend the ρ grid")
-    return systems
 
 
 def realization_count(config: Mapping[str, Any], system: str) -> int:

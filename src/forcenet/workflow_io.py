@@ -13,12 +13,14 @@ import yaml
 from forcenet.catalog import ConfigFileError, expanded, read_config_file  # noqa: F401 (the readers' home)
 from forcenet.errors import ForcenetError
 from forcenet.datasets.runs import config_sha256
-from forcenet.systems import ConfigError, non_finite_number, read_all_sources, validate_config
+from forcenet.systems import ConfigError, non_finite_number
 
 
 def write_resolved_config(config: Mapping[str, Any], path: str | Path, results_dir: str | Path) -> None:
     """Every system in reduced units (k_n, k_t, ρ grid …) plus the config hash and the absolute folder that received
     the outputs (`results_dir`, from `resolve_results_dir`), as YAML."""
+    from forcenet.checks import validate_config
+
     systems = validate_config(config)
     resolved = {
         "config_sha256": config_sha256(config),
@@ -122,8 +124,10 @@ def schema_problem(config: Mapping[str, Any], schema_path: str | Path) -> Config
 
 def checked_config(config: Mapping[str, Any], schema_path: str | Path) -> dict:
     """Expand a run config with its catalog in place (`forcenet.catalog.expanded`), validate it (JSON schema, then
-    `forcenet.systems.validate_config` with the physical checks of `forcenet.checks`) and return its systems by
+    `forcenet.checks.validate_config` with the physical checks of each system) and return its systems by
     name; raises the first `ConfigError` (or `CatalogError`), whose one-line message names the key. A NaN or infinity is named before the schema runs (the schema's bounds cannot see NaN)."""
+    from forcenet.checks import validate_config
+
     expanded(config)  # a run config names catalog systems (forcenet.catalog): in place, as the rules read it
     problem = non_finite_number(config) or schema_problem(config, schema_path)
     if problem is not None:
@@ -187,8 +191,11 @@ def check_config_main(argv: list[str] | None = None) -> int:
     Snakemake reads a --configfile before the workflow does and reports a YAML syntax error without the file or line,
     and a key given twice not at all; this names both (and runs the schema and physical checks as the workflow
     would, and resolves `results_dir` against the current directory, as a run from it would). It also reads every
-    source file of an imported system in full, as its import job will (`read_all_sources`): the workflow itself reads
-    only the particles files when it parses a config, so a bad pairs or contacts file is found here before any job."""
+    source file of an imported system in full, as its import job will (`forcenet.importers.read_all_sources`): the
+    workflow itself reads only the particles files when it parses a config, so a bad pairs or contacts file is found
+    here before any job."""
+    from forcenet.importers.system import read_all_sources
+
     paths = sys.argv[1:] if argv is None else argv
     if not paths:
         print("usage: forcenet-check-config CONFIG.yaml [...]", file=sys.stderr)

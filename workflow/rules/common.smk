@@ -1,6 +1,6 @@
 # Config loading and validation, paths and input functions. Runs at parse time, before any job: a bad config stops
 # here with one line naming the file and line (YAML, a key given twice) or the key (NaN or infinity, JSON schema,
-# then forcenet.systems and the physical checks of forcenet.checks). Kept light (no numba/xarray imports) so a
+# then forcenet.checks: what a schema cannot see and the physical checks). Kept light (no numba/xarray imports) so a
 # dry-run of thousands of jobs stays fast.
 import sys
 from pathlib import Path

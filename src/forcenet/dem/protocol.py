@@ -1,7 +1,8 @@
 """Compression protocols (P1 §3 quasi-static, P2 App. A continuous), snapshots and checkpoints.
 
-`run_compression` is the one entry point the workflow calls: it validates the system, builds (or resumes) the
-simulation, compresses it through `system.rho_grid` and writes one snapshot per grid value.
+`run_compression` is the one entry point the workflow calls: given a checked system (`forcenet.checks.checked_system`
+runs the physical checks of its config first), it builds (or resumes) the simulation, compresses it through
+`system.rho_grid` and writes one snapshot per grid value.
 
 * quasi-static (P1): the walls move inward at `wall_speed` until ρ reaches the next grid value (the walls stop
   exactly there); then the packing relaxes with the walls fixed, in windows of `relaxation.window_steps`
@@ -40,9 +41,9 @@ from forcenet.boxes import P1_OVERLAP_BOUND, relative_overlaps
 from forcenet.dem import calibration, packing, stability
 from forcenet.dem._kernels.law import LAW_GAMMA_N, LAW_GAMMA_T
 from forcenet.dem.engine import ContactLaw, Simulation, SimulationBlowUp
-from forcenet.systems import CONTACT_NUMBER, KINETIC_ENERGY_FLUCTUATION, SystemSpec, check_system
+from forcenet.systems import CONTACT_NUMBER, KINETIC_ENERGY_FLUCTUATION, SystemSpec
 
-__all__ = ["run_compression", "SimulationBlowUp", "validate_system", "build_simulation", "contact_law_for_system",
+__all__ = ["run_compression", "SimulationBlowUp", "build_simulation", "contact_law_for_system",
            "blow_up_cause", "continue_with_damping", "CHECKPOINT_FORMAT"]
 
 #: bump when the checkpoint layout or the engine's arithmetic changes (old checkpoints are then ignored)
@@ -65,12 +66,6 @@ def contact_law_for_system(system: SystemSpec) -> ContactLaw:
     return ContactLaw(normal_stiffness=system.normal_stiffness, tangential_stiffness=system.tangential_stiffness,
                       normal_damping=gamma_n, tangential_damping=gamma_n, friction=system.friction,
                       beta=system.beta, wall_stiffness_factor=system.wall_stiffness_factor)
-
-
-def validate_system(system: SystemSpec) -> None:
-    """Every check that needs only the system (`forcenet.checks`, the same the workflow runs on the config before
-    any job); raise ConfigError naming the key of the first that fails."""
-    check_system(system, f"systems.{system.name}")
 
 
 def build_simulation(system: SystemSpec, seed: int) -> tuple[Simulation, np.random.Generator]:
@@ -405,18 +400,17 @@ def run_compression(system: SystemSpec, *, seed: int, snapshot_paths: Sequence[s
                     checkpoint_path: str | os.PathLike, attrs: dict, log: logging.Logger | None = None) -> float:
     """Compress one realization of `system` through its ρ grid, writing one snapshot per grid value.
 
-    snapshot_paths: one path per `system.rho_grid` value, same order. checkpoint_path: resumable state
-    (written after each snapshot). attrs: provenance stored in every snapshot. Raises ConfigError for bad
-    input (before any work) and SimulationBlowUp when the dynamics become unphysical (no snapshot is written
-    for the failed grid value; earlier ones are complete and the checkpoint allows a rerun from the last one).
-    Each snapshot records λΔt (`dem_damping_rate_time_step`, the stability check's margin). Returns the CPU
-    seconds the whole run took, over every session that resumed it.
+    system: a checked system (`forcenet.checks.checked_system`, or `check_system` on a changed copy). snapshot_paths:
+    one path per `system.rho_grid` value, same order. checkpoint_path: resumable state (written after each snapshot).
+    attrs: provenance stored in every snapshot. Raises SimulationBlowUp when the dynamics become unphysical (no
+    snapshot is written for the failed grid value; earlier ones are complete and the checkpoint allows a rerun from
+    the last one). Each snapshot records λΔt (`dem_damping_rate_time_step`, the stability check's margin). Returns
+    the CPU seconds the whole run took, over every session that resumed it.
     """
     log = log or _LOG
     paths = [Path(p) for p in snapshot_paths]
     if len(paths) != len(system.rho_grid):
         raise ValueError(f"{len(paths)} snapshot paths for {len(system.rho_grid)} ρ values of {system.name}")
-    validate_system(system)
     fingerprint = _fingerprint(system, seed)
     resumed = load_checkpoint(Path(checkpoint_path), fingerprint, paths, log)
     cpu_before = 0.0

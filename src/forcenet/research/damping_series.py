@@ -123,13 +123,13 @@ def _fit(rho, z) -> float:
 
 def series_row(run: SeriesRun) -> dict:
     """One row of the series table (module docstring) for a finished or stopped series run."""
-    from forcenet.systems import system_from_config
+    from forcenet.checks import checked_system
 
     states = _snapshot_states(run)
     if not states:
         return {"system": run.system, "results": str(run.results), "status": "no snapshot"}
     config = states[0]["config"]
-    spec = system_from_config(run.system, config)
+    spec = checked_system(run.system, config)
     gamma = states[0]["normal_damping"]
     grid = np.array(spec.rho_grid)
     done = np.array([s["grid_rho"] for s in states])

@@ -33,7 +33,8 @@ from typing import Any, Mapping, Sequence
 import numpy as np
 import yaml
 
-from forcenet.systems import run_seed, system_from_config
+from forcenet.checks import checked_system
+from forcenet.systems import run_seed
 
 #: distance from the walls [d_ave] beyond which a snapshot's packing counts as bulk (`snapshot_row`'s rho_bulk)
 BULK_MARGIN = 1.0
@@ -138,7 +139,7 @@ def run_survey(config: Mapping[str, Any], system: str, realization: int = 0, log
     from forcenet.measures.jamming import jamming_point
     from forcenet.pipeline import run_attrs
 
-    spec = system_from_config(system, config)
+    spec = checked_system(system, config)
     seed = run_seed(config, system, realization)
     log = log or logging.getLogger(f"forcenet.research.survey.{system}")
     failure = None
