@@ -191,7 +191,7 @@ def simulate(*, config: Mapping[str, Any], system: str, realization: str, output
     Snapshots and the checkpoint live in the run's staging folder (`forcenet.datasets.paths.staging_dir`) while the
     run is in progress (Snakemake deletes declared outputs of an interrupted job; the staged ones survive, so a rerun
     resumes from the checkpoint).
-    cost_path: a JSON record of what the run cost (CPU seconds over every session that resumed it, particles,
+    cost_path: a JSON record of what the run cost (CPU seconds over every job that resumed it, particles,
     snapshots), written last; the validation report sums it into its provenance.
     """
     from forcenet.checks import checked_system
@@ -212,7 +212,7 @@ def simulate(*, config: Mapping[str, Any], system: str, realization: str, output
             os.replace(source, target)
         shutil.rmtree(stage, ignore_errors=True)
         lock.unlink(missing_ok=True)  # still held: no other process waits on it
-        log.info("published %d snapshots (%.2f CPU-hours over all sessions)", len(outputs), cpu_seconds / 3600)
+        log.info("published %d snapshots (%.2f CPU-hours, every job of the run)", len(outputs), cpu_seconds / 3600)
         if cost_path is not None:
             from forcenet.datasets import read_snapshot
 

@@ -4,7 +4,7 @@
 study's generated tables (P1: the validation table; P2: the validation table and Tables I–III) with the cost record
 of every compression run (`results/sim/{system}/r{NN}/run_cost.json`). It writes them unchanged in value, headed by
 provenance that is generated, never typed: git commit, config sha256, date, and per system N, realizations and the
-CPU-hours the runs took (summed over every session that resumed them).
+CPU-hours the runs took (summed over every job that resumed them).
 
 CSV files carry the provenance as leading ``# key: value`` lines (`forcenet.report.claims_table.read_validation_csv` skips
 them; a "#" inside a cell stays).
