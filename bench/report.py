@@ -291,10 +291,31 @@ def commands_table(recs: dict) -> str:
     return lines_with_provenance(table(["command", "measured"], rows), used)
 
 
+def import_dry_run_table(recs: dict) -> str:
+    record = recs.get("import_dry_run")
+    if not measured(record):
+        return not_measured(record, "bench/import_dry_run.py --baseline CHECKOUT") + "\n"
+    m, peer = record["measured"], record.get("peer")
+    header = ["", "this tree" + (f" / baseline (commit {peer['commit'][:10]})" if peer else "")]
+    rows = []
+    for key, what in (("first_call", "`snakemake -n`, first call (no source records yet)"),
+                      ("later_call", "`snakemake -n`, a later call"),
+                      ("parse_first", "the config's parse alone (`checked_config`), first call"),
+                      ("parse_later", "the config's parse alone, a later call")):
+        def cell(result):
+            part = result[key]
+            wall = part["wall_s"] if "wall_s" in part else part["seconds"]
+            return f"{seconds(wall)}, {part['peak_mb']} MB"
+        rows.append([what, cell(m) + (f" / {cell(peer)}" if peer else "")])
+    body = [f"A generated 2D LAMMPS run of {m['atoms_dump_lines']:,} lines ({m['atoms_dump_mb']} MB) in its atoms "
+            "dump, with its pairs dump (wall time, peak resident memory):", "", *table(header, rows)]
+    return lines_with_provenance(body, [("import_dry_run", record)])
+
+
 TABLES = {"lammps_same_state": same_state_table, "dem_vs_lammps": dem_vs_lammps_table,
           "dem_scaling": dem_scaling_table, "dem_profile": dem_profile_table,
           "analysis": analysis_table, "p1_table": p1_table_table,
-          "workflow_overhead": workflow_table, "commands": commands_table}
+          "workflow_overhead": workflow_table, "commands": commands_table, "import_dry_run": import_dry_run_table}
 
 
 def render(page: str, recs: dict) -> str:

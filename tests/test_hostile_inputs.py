@@ -160,14 +160,11 @@ def test_a_byte_order_mark_and_a_frame_without_pairs_read(tmp_path):
     assert len(state.radius) == 3 and len(state.contact_i) == 0
 
 
-def test_particles_that_do_not_fit_their_box_are_named_when_the_config_is_parsed(tmp_path, records):
-    from forcenet.importers import imported_system
-
+def test_particles_that_do_not_fit_their_box_are_named_by_the_import_job(tmp_path):
     atoms, pairs = dumps(tmp_path, atom_rows=["1 1 1.0 1.0 0 0.5", "2 1 1.9 1.0 0 50", "3 1 1.0 1.9 0 0.5"])
-    with pytest.raises(SourceError) as caught:
-        imported_system("s", lammps_entry(atoms, pairs))
-    assert str(caught.value) == (f"{atoms}, timestep 5: ρ = 491: the particles' area is not below the box's (radii and "
-                                 "box in different units? diameters given as radii?)")
+    assert refused(tmp_path, {**lammps_entry(atoms, pairs), "rho": [0.147]}) == (
+        f"{atoms}, timestep 5: ρ = 491: the particles' area is not below the box's (radii and box in different units? "
+        "diameters given as radii?)")
 
 
 def test_a_gzipped_dump_named_without_gz_is_said_to_be_one(tmp_path):
@@ -329,34 +326,52 @@ def records(tmp_path, monkeypatch) -> Path:
     return folder
 
 
-def test_parsing_reads_the_atoms_once_per_content_and_never_the_pairs(tmp_path, records, monkeypatch):
-    from forcenet.importers import scan
+def test_parsing_reads_no_source_content_and_records_each_files_status(tmp_path, records):
+    from forcenet.importers import imported_system, run_files
     from forcenet.importers.scan import record_path
-    from forcenet.importers import imported_system
 
     atoms, pairs = dumps(tmp_path)
-    entry = lammps_entry(atoms, pairs)
-    calls = []
-    original = scan.scan_atoms
-    monkeypatch.setattr(scan, "scan_atoms", lambda *args: calls.append(args) or original(*args))
+    entry = {**lammps_entry(atoms, pairs), "rho": [0.147]}
     first = imported_system("s", entry)
-    assert imported_system("s", entry) == first and len(calls) == 1  # the second call reads the record only
+    assert first.rho_labels == ["0.147"] and first.particles == 3  # the declared ρ; the atoms dump's first header
     stamp = record_path(atoms).stat().st_mtime_ns
     assert stamp == atoms.stat().st_mtime_ns  # a first record: outputs already built stay current
-    os.utime(atoms, ns=(stamp + 10**9, stamp + 10**9))  # touched, same content: scanned again, record's time kept
-    imported_system("s", entry)
-    assert len(calls) == 2 and record_path(atoms).stat().st_mtime_ns == stamp
-    # other content under an older modification time (cp -p, an archive): the record moves, the job reruns
+    assert imported_system("s", entry) == first and record_path(atoms).stat().st_mtime_ns == stamp
+    # other content under an older modification time (cp -p, an archive): the record moves, the import job reruns
     atoms.write_text(GOOD_ATOMS.replace("1 1 1.0 1.0 0 0.5", "1 1 1.0 1.0 0 0.45"))
     os.utime(atoms, ns=(stamp - 10**9, stamp - 10**9))
-    assert imported_system("s", entry).rho_grid != first.rho_grid
-    assert record_path(atoms).stat().st_mtime_ns > stamp
-    from forcenet.importers import run_files
-
-    assert run_files(entry, 0) == [str(atoms), str(pairs), str(record_path(atoms)), str(record_path(pairs))]
-    pairs.write_text("not a dump\n")  # the pairs are the import job's to read
     imported_system("s", entry)
-    assert refused(tmp_path, entry).startswith(f"{pairs}, line 1: expected 'ITEM: TIMESTEP'")
+    assert record_path(atoms).stat().st_mtime_ns > stamp
+    assert run_files(entry, 0) == [str(atoms), str(pairs), str(record_path(atoms)), str(record_path(pairs))]
+    # a bad pairs dump and an atoms dump cut after its first header: neither is read when the config is parsed
+    pairs.write_text("not a dump\n")
+    atoms.write_text(_cut(GOOD_ATOMS, "ITEM: BOX BOUNDS ff ff pp"))
+    assert imported_system("s", entry).rho_labels == ["0.147"]
+    assert refused(tmp_path, entry).startswith(f"{atoms}, line 6: the file ends where line 1 of the 3 lines of box "
+                                               "bounds")
+
+
+def test_the_first_states_particles_come_from_a_bounded_read_of_its_head(tmp_path):
+    from forcenet.importers.scan import first_state_particles
+
+    atoms, pairs = dumps(tmp_path)
+    assert first_state_particles(lammps_entry(atoms, pairs)) == 3  # ITEM: NUMBER OF ATOMS
+    atoms.write_text("not a dump\n")
+    assert first_state_particles(lammps_entry(atoms, pairs)) == 0  # unknown: the import job names the problem
+    table = tmp_path / "p.csv"
+    table.write_text("# a comment\nid,x,y,radius\n1,1,1,0.5\n2,2,1,0.5\n3,1,2,0.5\n")
+    entry = {"dimension": 2, "source": {"format": "table", "runs": [[{"particles": str(table)}]]}}
+    assert first_state_particles(entry) == 3  # the rows under the header, comments left out
+    table.write_text("id,x,y,radius\n" + "".join(f"{k},{k}.25,0.5,0.25\n" for k in range(1, 20001)))
+    assert 18000 < first_state_particles(entry) < 22000  # past 64 KiB: scaled to the size (longer ids later)
+
+
+def test_forcenet_check_config_says_in_its_help_that_it_reads_every_source(capsys):
+    from forcenet.workflow_io import check_config_main
+
+    assert check_config_main(["--help"]) == 0
+    assert "reads every source file in full" in " ".join(capsys.readouterr().out.split())
+    assert check_config_main([]) == 2
 
 
 @pytest.mark.parametrize("content, expected", [(None, "cannot be read (No such file or directory)"),
@@ -377,14 +392,15 @@ def test_a_missing_or_empty_pairs_file_is_named_when_the_config_is_parsed(tmp_pa
 
 def test_overlaps_past_ten_percent_are_logged_and_a_changed_rho_is_refused(tmp_path, records, caplog):
     atoms, pairs = dumps(tmp_path, atom_rows=["1 1 1.0 1.0 0 0.5", "2 1 1.7 1.0 0 0.5", "3 1 1.0 1.9 0 0.5"])
-    config = {"realizations": 1, "systems": {"s": lammps_entry(atoms, pairs)}}
+    config = {"realizations": 1, "systems": {"s": {**lammps_entry(atoms, pairs), "rho": [0.147]}}}
     log = logging.getLogger("forcenet.test.import")
     import_run(config=config, system="s", realization=0, outputs=[str(tmp_path / "out" / "rho0.147.nc")], log=log)
     warnings = [r.getMessage() for r in caplog.records if r.levelno == logging.WARNING]
     assert warnings == [f"{atoms}: timestep 5 has overlaps up to 30.0 % of the sum of the radii (particles 0 and 1), "
                         "past the 10 % P1 states: check the source's units and radii"]
-    with pytest.raises(SourceError, match=r"atoms.dump, state 0 \(timestep 5\): ρ = 0.147, but the workflow named "
-                                          r"its snapshot rho0.150.nc: the source changed after snakemake read it"):
+    config["systems"]["s"]["rho"] = [0.150]  # a ρ the files do not give: refused before anything is written
+    with pytest.raises(SourceError, match=r"atoms.dump, timestep 5: ρ = 0.14726 \(0.147 at 3 decimals\), but "
+                                          r"systems.s.rho declares 0.150 for state 0: declare the ρ the files give"):
         import_run(config=config, system="s", realization=0, outputs=[str(tmp_path / "other" / "rho0.150.nc")])
     assert not (tmp_path / "other").exists()
 
@@ -430,8 +446,8 @@ def test_a_grid_past_random_close_packing_gets_one_note_in_the_dry_run(capsys):
 
 
 def test_forcenet_check_config_reads_every_source_file_in_full(tmp_path, records, capsys):
-    """The workflow reads only the particles files when it parses a config; the checker reads what the import jobs
-    will, so a cut pairs dump is named before any job."""
+    """The workflow reads no source file when it parses a config; the checker reads what the import jobs will, so a
+    cut pairs dump is named before any job, and a compression that declares no ρ is told the files' values."""
     import yaml
 
     from conftest import load_config
@@ -442,6 +458,10 @@ def test_forcenet_check_config_reads_every_source_file_in_full(tmp_path, records
     config["systems"] = {"s": lammps_entry(atoms, pairs)}
     config["studies"] = {"p1": {"systems": ["s"]}}
     path = tmp_path / "config.yaml"
+    path.write_text(yaml.safe_dump(config))
+    assert check_config_main([str(path)]) == 1
+    assert capsys.readouterr().err.splitlines()[-1] == f"{path}: its files give systems.s.rho: [0.147]"
+    config["systems"]["s"]["rho"] = [0.147]
     path.write_text(yaml.safe_dump(config))
     assert check_config_main([str(path)]) == 0
     pairs.write_text(_cut(GOOD_PAIRS, "ITEM: NUMBER OF ENTRIES"))

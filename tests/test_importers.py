@@ -45,7 +45,11 @@ def lammps_entry(folder: str, dimension: int) -> dict:
     """A `source:` entry for a shipped LAMMPS example (columns as config/example_import.yaml's lammps_2d)."""
     source = {**EXAMPLE["systems"]["lammps_2d"]["source"],
               "runs": [{"atoms": f"data/examples/{folder}/atoms.dump", "pairs": f"data/examples/{folder}/pairs.dump"}]}
-    return {"dimension": dimension, "source": source}
+    return {"dimension": dimension, "rho": list(EXAMPLE_RHO[folder]), "source": source}
+
+
+#: the states' ρ of the shipped LAMMPS examples (bench/lammps/make_import_example.py --rho)
+EXAMPLE_RHO = {"lammps_2d": (0.82, 0.84, 0.86), "lammps_3d": (0.58, 0.60, 0.62)}
 
 
 def engine_contacts(folder: str, k: int):
@@ -61,7 +65,7 @@ def engine_contacts(folder: str, k: int):
     sim = Simulation(position=z[f"positions{k}"], radius=z[f"radii{k}"], mass=z[f"masses{k}"], law=law,
                      time_step=float(z["dt"]), box_lo=z[f"box_lo{k}"], box_hi=z[f"box_hi{k}"],
                      velocity=z[f"velocities{k}"], walls="flat")
-    sim.record(spring_dt=sim.time_step, spring=sim.spring, wall_spring=sim.wall_spring)
+    sim.record(spring_dt=sim.time_step, spring=sim.contacts.spring, wall_spring=sim.walls.wall_spring)
     return sim.contact_forces(), z, sim
 
 
@@ -182,11 +186,9 @@ def test_a_malformed_table_stops_with_one_line_and_writes_nothing(tmp_path, case
     message = str(caught.value)
     assert message.startswith(f"{tmp_path / bad}, ") and expected in message and "\n" not in message, message
     assert not out.parent.exists()
-    if bad == "p.csv":
-        with pytest.raises(SourceError, match=expected.split(":")[0]):
-            checked_system("t", config)  # the workflow reads the particles when it parses: before any job
-    else:  # the contacts are read by the import job alone (issue 57: reading paid once per job, not per call)
-        checked_system("t", config)
+    # the workflow reads no source file when it parses the config: the import job is the first to read either
+    config["systems"]["t"]["rho"] = [0.5]
+    assert checked_system("t", config).rho_labels == ["0.500"]
 
 
 def test_a_good_table_with_vectors_reads(tmp_path):
@@ -465,13 +467,24 @@ def test_the_example_config_passes_and_a_bad_source_entry_names_its_key():
     same_rho = [dict(state, box={"lo": [0, 0], "hi": [6, 4]})
                 for state in EXAMPLE["systems"]["table_2d"]["source"]["runs"][0]]
     flat = {"dimension": 2, "source": {**EXAMPLE["systems"]["table_2d"]["source"], "runs": [same_rho]}}
-    with pytest.raises(ConfigError, match="config key 'systems.table_2d.source.runs\\[0\\]': states with the same ρ "
+    # states at one ρ, or in the wrong order: found when the files are read (the import job, forcenet-check-config)
+    config = {**EXAMPLE, "systems": {"table_2d": flat}, "studies": {"p1": {"systems": ["table_2d"]}}}
+    with pytest.raises(ConfigError, match="config key 'systems.table_2d.rho': not given: an imported compression"):
+        checked(config)
+    with pytest.raises(SourceError, match="particles.csv, systems.table_2d.source.runs\\[0\\]: states with the same ρ "
                                           "at 3 decimals .* is one run with source.sequence"):
-        checked({**EXAMPLE, "systems": {"table_2d": flat}, "studies": {"p1": {"systems": ["table_2d"]}}})
-    backwards = {"dimension": 2, "source": {**EXAMPLE["systems"]["table_2d"]["source"],
-                                            "runs": [EXAMPLE["systems"]["table_2d"]["source"]["runs"][0][::-1]]}}
-    with pytest.raises(ConfigError, match="config key 'systems.table_2d.source.runs\\[0\\].*must increase"):
-        checked({**EXAMPLE, "systems": {"table_2d": backwards}, "studies": {"p1": {"systems": ["table_2d"]}}})
+        import_run(config=config, system="table_2d", realization=0, outputs=["a.nc", "b.nc", "c.nc"])
+    backwards = {"dimension": 2, "rho": [0.229, 0.233, 0.237],
+                 "source": {**EXAMPLE["systems"]["table_2d"]["source"],
+                            "runs": [EXAMPLE["systems"]["table_2d"]["source"]["runs"][0][::-1]]}}
+    config = {**EXAMPLE, "systems": {"table_2d": backwards}, "studies": {"p1": {"systems": ["table_2d"]}}}
+    assert checked(config)["table_2d"].rho_labels == ["0.229", "0.233", "0.237"]
+    with pytest.raises(SourceError, match="particles_2.csv, state 0: ρ = 0.23[0-9]* \\(0.237 at 3 decimals\\), but "
+                                          "systems.table_2d.rho declares 0.229 for state 0"):
+        import_run(config=config, system="table_2d", realization=0, outputs=["a.nc", "b.nc", "c.nc"])
+    with pytest.raises(ConfigError, match="config key 'systems.table_2d.rho': declares 2 state\\(s\\), but "
+                                          "source.runs\\[0\\] lists 3"):
+        checked({**config, "systems": {"table_2d": {**backwards, "rho": [0.2, 0.3]}}})
     with pytest.raises(ConfigError, match="config key 'systems.lammps_2d.source.runs': lists 1 run\\(s\\), but "
                                           "realizations is 2: one run per realization"):
         checked({**EXAMPLE, "realizations": 2})

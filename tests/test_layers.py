@@ -117,7 +117,7 @@ def test_numba_kernels_import_only_numpy_numba_and_math():
     ("checks.py", "from forcenet.dem import packing\n", None),  # a config is judged by the engine's own formulas
     ("dem/protocol.py", "def run():\n    from forcenet.checks import check_system\n",
      "dem/protocol.py: dem imports forcenet.checks"),
-    ("systems.py", "def f():\n    from forcenet.importers.scan import run_scan\n",
+    ("systems.py", "def f():\n    from forcenet.importers.scan import file_record\n",
      "systems.py: systems imports forcenet.importers"),
     ("datasets/runs.py", "class A:\n    def f(self):\n        from forcenet.systems import format_rho\n",
      "datasets/runs.py: datasets imports forcenet.systems"),

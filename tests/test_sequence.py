@@ -9,6 +9,8 @@ import pytest
 import xarray as xr
 
 from forcenet.checks import checked_system
+from forcenet.importers import SourceError
+from forcenet.importers.system import measured_labels
 from forcenet.datasets import paths
 from forcenet.datasets.io import read_dataset, sequence_in_memory, sequence_on_disk, write_netcdf
 from forcenet.datasets.paths import state_labels
@@ -61,15 +63,21 @@ def test_the_shipped_sequence_is_one_run_at_constant_rho_keyed_by_its_strain():
     spec = checked_system("table_shear_2d", config)
     assert isinstance(spec, ImportedSystem) and spec.is_sequence and spec.coordinate == "strain"
     assert len(spec.rho_grid) == 12 and spec.rho_grid[:3] == (0.0, 0.002, 0.004)
-    assert len(set(np.round(spec.measured_rho, 9))) == 1  # every state at one ρ
+    assert set(measured_labels("table_shear_2d", config["systems"]["table_shear_2d"])) == {"0.853"}  # one ρ
     assert spec.rho_labels[:2] == ["state000", "state001"] and not spec.movies
     assert paths.snapshot("results", "table_shear_2d", "r00", "state003") == "results/sim/table_shear_2d/r00/state003.nc"
     assert paths.snapshot("results", "x", "r00", "0.840") == "results/sim/x/r00/rho0.840.nc"
     # the same states without sequence: states at one ρ are refused, naming the option that accepts them
     entry = {**config["systems"]["table_shear_2d"]}
     entry["source"] = {k: v for k, v in entry["source"].items() if k != "sequence"}
-    with pytest.raises(ConfigError, match=r"states with the same ρ .* is one run with source.sequence"):
+    with pytest.raises(SourceError, match=r"states with the same ρ .* is one run with source.sequence"):
+        measured_labels("flat", entry)  # forcenet-check-config and the import job read the files; parsing does not
+    with pytest.raises(ConfigError, match=r"'systems.flat.rho': not given"):
         checked_system("flat", {**config, "systems": {"flat": entry}})
+    with pytest.raises(ConfigError, match=r"'systems.table_shear_2d.rho': a sequence's states are keyed by its "
+                                          r"coordinate \(strain\)"):
+        checked_system("table_shear_2d", {**config, "systems": {"table_shear_2d": {
+            **config["systems"]["table_shear_2d"], "rho": [0.853]}}})
 
 
 def stacked(coordinate=None):

@@ -51,7 +51,7 @@ def sequence_config(atoms: str, pairs: str) -> dict:
     config["studies"] = {"p1": {"systems": []}, "p2": {**config["studies"]["p2"], "systems": ["steps"]}}
     config["systems"] = {"steps": {
         "dimension": 2, "units": {"length": "mm", "force": "N"},
-        "source": {"format": "lammps", "sequence": {"coordinate": "timestep"},
+        "source": {"format": "lammps", "sequence": {"coordinate": "timestep"}, "timesteps": list(STATES),
                    "pair_columns": {"i": "c_pid[1]", "j": "c_pid[2]", "normal": "c_pf[1]",
                                     "tangential": ["c_pf[2]", "c_pf[3]", "c_pf[4]"]},
                    "runs": [{"atoms": atoms, "pairs": pairs}]}}}

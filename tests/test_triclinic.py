@@ -320,7 +320,8 @@ def test_the_image_forcenet_joins_is_the_one_lammps_used_in_its_sheared_run():
 def test_a_shear_at_constant_volume_is_not_a_compression(tmp_path):
     """Two states at one ρ are refused as a compression's (keyed by ρ), naming the option that makes them one run
     (a sequence, tests/test_sequence.py); one of them alone imports."""
-    from forcenet.importers import imported_system
+    from forcenet.importers import SourceError, imported_system
+    from forcenet.importers.system import measured_labels
     from forcenet.systems import ConfigError
 
     atoms, pairs = ring_dumps(tmp_path)
@@ -328,10 +329,12 @@ def test_a_shear_at_constant_volume_is_not_a_compression(tmp_path):
         text = dump.read_text()
         dump.write_text(text + text.replace("ITEM: TIMESTEP\n7\n", "ITEM: TIMESTEP\n8\n").replace("0 5 1\n", "0 5.5 1.5\n"))
     entry = {"dimension": 2, "source": {"format": "lammps", "runs": [{"atoms": str(atoms), "pairs": str(pairs)}]}}
-    with pytest.raises(ConfigError, match=r"'systems.s.source.runs\[0\]': states with the same ρ at 3 decimals "
-                                          r"\(\[0.212, 0.212\]\).*one run with source.sequence"):
-        imported_system("s", entry)
-    later = imported_system("s", {**entry, "source": {**entry["source"], "timesteps": [8]}})
+    with pytest.raises(SourceError, match=r"a.dump, systems.s.source.runs\[0\]: states with the same ρ at 3 "
+                                          r"decimals \(0.212, 0.212\).*one run with source.sequence"):
+        measured_labels("s", entry)  # forcenet-check-config; the import job says the same
+    with pytest.raises(ConfigError, match=r"'systems.s.rho': declares 2 state\(s\), but source.timesteps picks 1"):
+        imported_system("s", {**entry, "rho": [0.2, 0.212], "source": {**entry["source"], "timesteps": [8]}})
+    later = imported_system("s", {**entry, "rho": [0.212], "source": {**entry["source"], "timesteps": [8]}})
     assert later.rho_grid == (0.212,)
     (state,) = lammps.read_run(entry["source"]["runs"][0], 2, {"format": "lammps", "timesteps": [8]})
     np.testing.assert_allclose(state.tilt, [1.5])

@@ -4,7 +4,8 @@ checks of one system that need nothing but its config.
 `validate_config` checks a whole config and builds every system with `checked_system`: a simulated system's
 `forcenet.systems.SystemSpec` must pass `check_system` (`system_problems`), when the workflow reads its config (before
 any job, a dry run included) and again when a run starts (`forcenet.pipeline.simulate`); an imported system's
-`ImportedSystem` is built from its source files (`forcenet.importers.imported_system_from_config`). The margins:
+`ImportedSystem` is built from its config entry, its source files' paths and sizes checked, never their contents
+(`forcenet.importers.imported_system_from_config`). The margins:
 
 * **ρ grid against the initial packing.** The first grid value must lie above the packing fraction of the initial
   lattice (`forcenet.dem.packing`): exact for bidisperse sizes (the counts are fixed); for polydisperse sizes,
@@ -252,7 +253,8 @@ def check_system(system: SystemSpec, key: str) -> None:
 def checked_system(name: str, config: Mapping[str, Any]) -> SystemSpec | ImportedSystem:
     """The system ``config["systems"][name]`` of a schema-validated config: a simulated system's `SystemSpec`
     (`forcenet.systems.system_from_config`) that passed `check_system`, or an imported system's `ImportedSystem`
-    (an entry with ``source:``, `forcenet.importers.imported_system_from_config`: its particles files read). Raises
+    (an entry with ``source:``, `forcenet.importers.imported_system_from_config`: its files' paths and sizes checked,
+    not read). Raises
     `ConfigError` naming the key."""
     key = f"systems.{name}"
     if name not in config["systems"]:

@@ -155,15 +155,16 @@ class ImportedSystem:
     ----------
     name : config name
     dimension : 2 or 3
-    rho_grid : the run's state axis, increasing: the packing fractions of run 0's states (from each state's particles
-        and box), rounded to `RHO_DECIMALS`, for a compression (`coordinate` "rho"); the coordinate of each state
+    rho_grid : the run's state axis, increasing: the packing fractions of its states as the config declares them
+        (``systems.<name>.rho``, at `RHO_DECIMALS`; the import job checks them against the files) for a compression
+        (`coordinate` "rho"); the coordinate of each state
         for a sequence (``source.sequence``, `forcenet.importers.sequence`), whose stacked files name that axis after
         the coordinate (`forcenet.datasets.schema.STATE_COORDINATE_ATTR`)
     source : the config's ``source:`` entry
-    particles : particles in run 0's first state (the cost model's job sizes)
+    particles : particles in run 0's first state from a bounded read of its file's head (the cost model's job sizes;
+        `forcenet.importers.scan.first_state_particles`)
     force_law : ``"imported"`` (the law is the source's own; every network is analysed in units of its mean force)
     coordinate : "rho" (a compression), or a sequence's coordinate: strain, time, frame or timestep
-    measured_rho : the packing fraction of each of run 0's states (for a compression: `rho_grid` unrounded)
     units : the config's ``units:`` entry (length, force, time), empty for the source's own unnamed units
     movies : whether the P1 movies of this system are made (``movies:``, default false: opt-in for imports)
     """
@@ -177,7 +178,6 @@ class ImportedSystem:
     paper: str = "imported"
     normal_stiffness: float = float("nan")
     coordinate: str = "rho"
-    measured_rho: tuple[float, ...] = ()
     units: Mapping[str, str] = field(default_factory=dict, compare=False)
     movies: bool = False
 
@@ -224,7 +224,7 @@ def material_from_config(config: Mapping[str, Any]) -> units.Material:
 def system_from_config(name: str, config: Mapping[str, Any]) -> SystemSpec:
     """Build the `SystemSpec` of the simulated system ``config["systems"][name]`` (config already schema-validated),
     without the physical checks (`forcenet.checks.check_system`). An imported system (an entry with ``source:``) is
-    built from its files by `forcenet.importers.imported_system_from_config`; `forcenet.checks.checked_system` builds
+    built from its config entry by `forcenet.importers.imported_system_from_config`; `forcenet.checks.checked_system` builds
     either kind, checked."""
     key = f"systems.{name}"
     if name not in config["systems"]:

@@ -185,21 +185,32 @@ def table_rho_problem(config: Mapping[str, Any], systems: Mapping[str, Any]) -> 
     return None
 
 
+CHECK_CONFIG_HELP = """usage: forcenet-check-config CONFIG.yaml [...]
+
+Every check the workflow runs on a config before any job (YAML, keys given twice, schema, physical checks,
+results_dir), one line per file. Unlike the workflow, which checks only the paths and sizes of an imported system's
+source files when it parses a config, this also reads every source file in full and checks it against the states
+the config declares, as the import jobs will: its time and memory grow with the files. An imported compression that
+declares no rho gets the values its files give."""
+
+
 def check_config_main(argv: list[str] | None = None) -> int:
-    """`forcenet-check-config FILE …`: every check the workflow runs on a config before any job, one line per file.
+    """`forcenet-check-config FILE …`: every check the workflow runs on a config before any job, one line per file,
+    and a full read of every source file of its imported systems, which the workflow itself never reads.
 
     Snakemake reads a --configfile before the workflow does and reports a YAML syntax error without the file or line,
     and a key given twice not at all; this names both (and runs the schema and physical checks as the workflow
-    would, and resolves `results_dir` against the current directory, as a run from it would). It also reads every
-    source file of an imported system in full, as its import job will (`forcenet.importers.read_all_sources`): the
-    workflow itself reads only the particles files when it parses a config, so a bad pairs or contacts file is found
-    here before any job."""
-    from forcenet.importers.system import read_all_sources
+    would, and resolves `results_dir` against the current directory, as a run from it would). Unlike the workflow,
+    which checks only the source files' paths and sizes when it parses a config, it then reads every source file in
+    full and checks it against the states the config declares, as the import jobs will
+    (`forcenet.importers.system.read_all_sources`), so a bad source is named before any job; its time and memory grow
+    with the files. An imported compression that declares no ``rho`` gets the values its files give."""
+    from forcenet.importers.system import UndeclaredStates, measured_labels, read_all_sources
 
     paths = sys.argv[1:] if argv is None else argv
-    if not paths:
-        print("usage: forcenet-check-config CONFIG.yaml [...]", file=sys.stderr)
-        return 2
+    if not paths or paths[0] in ("-h", "--help"):
+        print(CHECK_CONFIG_HELP, file=sys.stderr if not paths else sys.stdout)
+        return 2 if not paths else 0
     schema = Path(__file__).resolve().parents[2] / CONFIG_SCHEMA
     status = 0
     for path in paths:
@@ -208,6 +219,15 @@ def check_config_main(argv: list[str] | None = None) -> int:
             systems = checked_config(config, schema)
             _, results = resolve_results_dir(config.get("results_dir"), Path.cwd())
             read_all_sources(config, systems)
+        except UndeclaredStates as error:
+            print(f"{path}: invalid: {error}", file=sys.stderr)
+            try:
+                labels = measured_labels(error.system, config["systems"][error.system])
+            except ForcenetError as unread:
+                print(f"{path}: {unread}", file=sys.stderr)
+            else:
+                print(f"{path}: its files give systems.{error.system}.rho: [{', '.join(labels)}]", file=sys.stderr)
+            status = 1
         except ForcenetError as error:
             print(f"{path}: invalid: {error}", file=sys.stderr)
             status = 1

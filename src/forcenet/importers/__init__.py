@@ -11,9 +11,10 @@ formats (`FORMATS`):
 
 A malformed source stops with `SourceError`: one line naming the file and the line or column, and nothing is
 written. This package reads with the standard library and numpy only. When the workflow parses its config it needs
-an imported system's ρ grid: `imported_system` (`forcenet.importers.system`) builds its
-`forcenet.systems.ImportedSystem`, for which `forcenet.importers.scan` reads the particles files once per content
-and keeps a record of each file; the import job reads and checks every file in full (`source_states`).
+an imported system's states: `imported_system` (`forcenet.importers.system`) builds its
+`forcenet.systems.ImportedSystem` from the config entry (a compression's declared ρ, a sequence's coordinate), for
+which `forcenet.importers.scan` checks the source files' paths and sizes and keeps a record of each, never reading
+their contents; the import job reads and checks every file in full (`source_states`, `checked_run`).
 """
 from __future__ import annotations
 
@@ -22,10 +23,10 @@ from forcenet._lazy import lazy_exports
 #: the formats a config's ``source.format`` may name
 FORMATS = ("table", "lammps")
 
-#: public name → the submodule that defines it, imported on first use (PEP 562): the configuration reads a source's
-#: ρ grid through `system` and `sources` without loading `run`, which writes snapshots through `forcenet.datasets`
+#: public name → the submodule that defines it, imported on first use (PEP 562): the configuration builds an imported
+#: system through `system` without loading `run`, which writes snapshots through `forcenet.datasets`
 _EXPORTS = {"SourceError": "common", "SourceState": "common", "file_sha256": "common", "import_run": "run",
-            "run_files": "sources", "source_rho_grid": "sources", "source_states": "sources",
+            "run_files": "sources", "source_states": "sources",
             "imported_system": "system", "imported_system_from_config": "system", "read_all_sources": "system"}
 
 __all__ = ["FORMATS", *sorted(_EXPORTS)]

@@ -2,22 +2,16 @@
 from __future__ import annotations
 
 import json
-import re
-from pathlib import Path
 from typing import Any, Mapping, Sequence
 
 import numpy as np
 
 from forcenet.boxes import P1_OVERLAP_BOUND
-from forcenet.datasets.paths import format_rho
 from forcenet.importers.common import SourceError, file_sha256, largest_relative_overlap
-from forcenet.importers.sources import source_states
 
 #: the snapshot variables in the source's length and force units (`forcenet.importers.sequence.unit`)
 LENGTH_VARIABLES = ("position", "radius", "box_lo", "box_hi")
 FORCE_VARIABLES = ("force_normal", "force_tangential", "wall_contact_force", "contact_force_disagreement")
-#: the ρ label in a snapshot's file name (`forcenet.datasets.paths.snapshot`: …/rho0.842.nc)
-RHO_LABEL = re.compile(r"rho(\d\.\d+)\.nc$")
 
 
 def import_run(*, config: Mapping[str, Any], system: str, realization: int, outputs: Sequence[str],
@@ -31,26 +25,23 @@ def import_run(*, config: Mapping[str, Any], system: str, realization: int, outp
                                           STATE_UNITS_ATTR, STATE_VALUE_ATTR)
     from forcenet.datasets.snapshot import snapshot_dataset
 
-    from forcenet.importers.sequence import coordinate, coordinate_units, coordinate_values, is_sequence, unit
+    from forcenet.importers.sequence import coordinate, coordinate_units, unit
+    from forcenet.importers.system import UndeclaredStates, checked_run, imported_system, measured_labels
 
     entry = config["systems"][system]
-    states = source_states(entry, realization, where=f"systems.{system}.source")
-    # a sequence's states carry their coordinate (the import checks that it increases along this run, too)
-    values = (coordinate_values(entry, [state.timestep for state in states], f"systems.{system}.source")
-              if is_sequence(entry) else None)
-    if len(states) != len(outputs):
+    try:
+        spec = imported_system(system, entry)
+    except UndeclaredStates:  # a direct call (the workflow refuses such a config before any job): the files' own ρ
+        spec = imported_system(system, {**entry, "rho": measured_labels(system, entry)})
+    # every state read and checked against the states the config declares (their number, ρ or coordinate)
+    states, values = checked_run(system, entry, spec, realization)
+    if len(outputs) != len(states):
         raise SourceError(f"systems.{system}.source.runs[{realization}]", "",
-                          f"{len(states)} states, but run 0 has {len(outputs)}: every run of a system needs the same "
-                          "number of states")
+                          f"{len(states)} states for {len(outputs)} outputs: the rule's outputs are the declared states")
 
     hashes: dict[str, str] = {}
     datasets = []
     for k, (state, output) in enumerate(zip(states, outputs)):
-        label = RHO_LABEL.search(Path(output).name)
-        if label and label.group(1) != format_rho(state.rho):  # the workflow read the particles before they changed
-            raise SourceError(state.files[0], f"state {k} (timestep {state.timestep})",
-                              f"ρ = {format_rho(state.rho)}, but the workflow named its snapshot {Path(output).name}: "
-                              "the source changed after snakemake read it; run snakemake again")
         overlap, contact = largest_relative_overlap(state)
         if overlap > P1_OVERLAP_BOUND and log is not None:
             log.warning("%s: timestep %s has overlaps up to %.1f %% of the sum of the radii (particles %d and %d), "

@@ -1,42 +1,37 @@
-"""What the workflow needs of an imported system when it parses its config (every ``snakemake`` call, a dry run
-included), read once per source content and then only looked up.
+"""What the workflow learns of an imported system's source files when it parses its config (every ``snakemake``
+call, a dry run included): their paths and sizes, and the number of atoms in a LAMMPS dump's first header, never
+their contents.
 
-Parsing needs each state's ρ (the label in its snapshot's file name) and the particles of run 0's first state (the
-cost model). Those come from the particles alone: a LAMMPS atoms dump (its box bounds and radii, `scan_atoms`) or a
-table's particles CSV (`scan_particles`); the pairs and contacts files are only checked to exist and be non-empty.
-What a scan finds is kept in a small record per source file (`record_path`, in `record_dir`), with the file's size,
-modification time and sha256: a later call whose file has the same size and modification time reads the record, not
-the file (issue 57: a 2-million-line dump cost 24.5 s and 492 MB on every call, ``-n`` included). Every file is read
-in full and checked (pairs, contacts, forces) by the import job (`forcenet.importers.import_run`).
-
-The record is also an input of the import job (`forcenet.importers.run_files`), and its modification time moves
-only when the file's content changes: a source replaced by other content with an older modification time (copied
-with ``cp -p``, unpacked from an archive) is imported again, which Snakemake's comparison of times alone missed. A
-record first written for a file gets the file's own modification time, so outputs made before records existed stay
-up to date.
+The states an imported run has (their ρ, or a sequence's coordinate: the names of its snapshots) come from the
+config (`forcenet.importers.system.imported_system`); the import job reads every file in full and checks it against
+them (`forcenet.importers.system.checked_run`). Here each source file is checked to exist, to be a file and not to be
+empty (`checked_size`), and a small record of its status is kept (`record_path`, in `record_dir`): its path, size
+and modification time. The record is an input of the import job (`forcenet.importers.run_files`), and its own
+modification time moves when the file's size or modification time changes: a source replaced by other content with
+an older modification time (copied with ``cp -p``, unpacked from an archive) is imported again, which Snakemake's
+comparison of times alone missed. A record first written for a file gets the file's own modification time, so
+outputs made before records existed stay up to date. `first_state_particles` reads the first lines of run 0's
+particles file (the cost model's job size): a bounded read, whatever the file's length.
 """
 from __future__ import annotations
 
 import hashlib
+import itertools
 import json
-import math
 import os
 import stat
 import time
 from pathlib import Path
-from typing import Any, Callable, Mapping
+from typing import Any, Mapping
 
-import numpy as np
-
-from forcenet.importers.common import SourceError, file_sha256
-from forcenet.importers.table import given_box, read_particles
+from forcenet.importers.common import SourceError, source_lines
 
 #: the environment variable naming the folder of the records (default `DEFAULT_RECORD_DIR`, below the working
 #: directory: Snakemake's own folder, which ``--directory`` moves with the run)
 RECORD_DIR_ENV = "FORCENET_SOURCE_RECORDS"
 DEFAULT_RECORD_DIR = ".snakemake/forcenet-sources"
-#: bumped when what a scan stores changes: older records are scanned again
-RECORD_VERSION = 1
+#: bumped when what a record holds changes
+RECORD_VERSION = 2
 
 
 def record_dir() -> Path:
@@ -64,28 +59,59 @@ def checked_size(path: str | Path) -> os.stat_result:
     return status
 
 
-def file_record(path: str | Path, how: str | None = None, scan: Callable[[], Any] | None = None) -> dict[str, Any]:
-    """The record of one source file: {path, size, mtime_ns, sha256, scans: {how: what `scan` returned}}. Read from
-    its file when the source's size and modification time are those recorded (and it holds scan `how`), else made
-    now (the file hashed, `scan` run) and stored; its modification time then changes only if the sha256 did."""
+def file_record(path: str | Path) -> dict[str, Any]:
+    """The record of one source file, {path, size, mtime_ns, version}, from its status alone (`checked_size`: the
+    file is not read). Stored when it differs from the stored one; the stored record's modification time is the
+    file's own the first time, and now when the file's size or modification time changed (its import job reruns)."""
     status = checked_size(path)
-    key = {"path": os.path.normpath(path), "size": status.st_size, "mtime_ns": status.st_mtime_ns,
-           "version": RECORD_VERSION}
+    record = {"path": os.path.normpath(path), "size": status.st_size, "mtime_ns": status.st_mtime_ns,
+              "version": RECORD_VERSION}
     stored = record_path(path)
     old = _load(stored)
-    if old is not None and all(old.get(name) == value for name, value in key.items()) and (
-            how is None or how in old.get("scans", {})):
-        return old
-    sha256 = file_sha256(path)
-    same_content = old is not None and old.get("sha256") == sha256
-    scans = dict(old.get("scans", {})) if same_content and old.get("version") == RECORD_VERSION else {}
-    if how is not None:
-        scans[how] = scan()
-    record = {**key, "sha256": sha256, "scans": scans}
-    # first record: the source's own time (outputs already built stay current); new content: now (reimport)
-    stamp = (status.st_mtime_ns if old is None else os.stat(stored).st_mtime_ns if same_content else time.time_ns())
+    if old == record:
+        return record
+    same_file = old is not None and all(old.get(key) == record[key] for key in ("path", "size", "mtime_ns"))
+    # first record: the source's own time (outputs already built stay current); a changed file: now (reimport)
+    stamp = (status.st_mtime_ns if old is None else os.stat(stored).st_mtime_ns if same_file else time.time_ns())
     _store(stored, record, stamp)
     return record
+
+
+def run_paths(entry: Mapping[str, Any], realization: int) -> list[str]:
+    """The source files of one run of a ``source:`` entry: a LAMMPS run's atoms and pairs dumps, a table run's
+    particles and contacts files of each state, in order."""
+    run = entry["source"]["runs"][realization]
+    if entry["source"]["format"] == "lammps":
+        return [run["atoms"], run["pairs"]]
+    return [path for state in run for path in (state["particles"], state["contacts"])]
+
+
+#: the most a table's particles count is estimated from (bytes of its first lines)
+ESTIMATE_BYTES = 1 << 16
+
+
+def first_state_particles(entry: Mapping[str, Any]) -> int:
+    """The particles of run 0's first state, for the cost model, from a bounded read of its particles file: a LAMMPS
+    atoms dump's first header (``ITEM: NUMBER OF ATOMS``, exact), a table's rows counted in its first
+    `ESTIMATE_BYTES` (exact for a smaller file, else scaled to the file's size). 0 where that read finds no count (a
+    header that is not one, a file cut short): the import job reads the file in full and names the problem."""
+    run = entry["source"]["runs"][0]
+    path = run["atoms"] if entry["source"]["format"] == "lammps" else run[0]["particles"]
+    try:
+        if entry["source"]["format"] == "lammps":
+            head = [text.strip() for _, text in itertools.islice(source_lines(path), 4)]
+            known = (len(head) == 4 and head[0] == "ITEM: TIMESTEP" and head[2] == "ITEM: NUMBER OF ATOMS"
+                     and head[3].isdigit())
+            return int(head[3]) if known else 0
+        rows, read = 0, 0
+        for _, text in source_lines(path):
+            read += len(text) + 1
+            rows += bool(text.strip()) and not text.lstrip().startswith("#")
+            if read >= ESTIMATE_BYTES:
+                return max(1, round((rows - 1) * os.stat(path).st_size / read))
+        return max(rows - 1, 0)  # the header is no particle
+    except SourceError:
+        return 0
 
 
 def _load(path: Path) -> dict[str, Any] | None:
@@ -109,76 +135,3 @@ def _store(path: Path, record: Mapping[str, Any], mtime_ns: int) -> None:
         pass
 
 
-def _volume(radius: np.ndarray, dimension: int) -> float:
-    """Σ π r² (2D) or Σ 4/3 π r³ (3D), as `forcenet.importers.common.packing_fraction` sums it."""
-    return float(math.pi * np.sum(radius ** 2) if dimension == 2 else 4.0 / 3.0 * math.pi * np.sum(radius ** 3))
-
-
-def scan_atoms(path: str | Path, dimension: int) -> list[dict[str, Any]]:
-    """Per timestep of a LAMMPS atoms dump: {timestep, particles, volume (the particles'), lo, hi (the box on the
-    system's axes)}, each frame's atoms checked as the import job checks them (`lammps.atom_state`)."""
-    from forcenet.importers import lammps
-
-    frames = []
-    for frame in lammps.read_frames(path, "ATOMS"):
-        _, _, radius, lo, hi, _ = lammps.atom_state(path, frame, dimension)
-        frames.append({"timestep": frame.timestep, "particles": len(radius), "volume": _volume(radius, dimension),
-                       "lo": lo.tolist(), "hi": hi.tolist()})
-    return frames
-
-
-def scan_particles(path: str | Path, dimension: int) -> dict[str, Any]:
-    """A table's particles CSV: {particles, volume, lo, hi (the particles' bounding box)} (`table.read_particles`)."""
-    _, position, radius = read_particles(path, dimension)
-    return {"particles": len(radius), "volume": _volume(radius, dimension),
-            "lo": (position - radius[:, None]).min(axis=0).tolist(),
-            "hi": (position + radius[:, None]).max(axis=0).tolist()}
-
-
-def _rho(volume: float, lo, hi, path, where: str) -> float:
-    """ρ of a state; one at or above 1 raises `SourceError` naming the file and the state: its particles do not fit
-    their box (radii and box in different length units, or diameters given as radii)."""
-    rho = float(volume / np.prod(np.asarray(hi, float) - np.asarray(lo, float)))
-    if not 0.0 < rho < 1.0:
-        raise SourceError(path, where, f"ρ = {rho:.4g}: the particles' {'area' if len(lo) == 2 else 'volume'} is not "
-                                       "below the box's (radii and box in different units? diameters given as radii?)")
-    return rho
-
-
-def run_outline(entry: Mapping[str, Any], realization: int) -> list[tuple[float, int]]:
-    """(ρ, particles) of each state of one run of a ``source:`` entry, in the source's order, from the records
-    (`file_record`): the particles files scanned once per content, the others checked to exist and be non-empty."""
-    return [(rho, particles) for rho, particles, _ in run_scan(entry, realization)]
-
-
-def run_scan(entry: Mapping[str, Any], realization: int) -> list[tuple[float, int, int]]:
-    """(ρ, particles, timestep) of each state of one run, as `run_outline`; the timestep is a LAMMPS state's and a
-    table state's index in its run."""
-    source, dimension = entry["source"], int(entry["dimension"])
-    run = source["runs"][realization]
-    if source["format"] not in ("lammps", "table"):
-        raise SourceError("source.format", "", f"unknown format {source['format']!r}")
-    if source["format"] == "lammps":
-        file_record(run["pairs"])
-        frames = file_record(run["atoms"], f"lammps:{dimension}",
-                             lambda: scan_atoms(run["atoms"], dimension))["scans"][f"lammps:{dimension}"]
-        wanted = source.get("timesteps")
-        if wanted is not None:
-            have = [frame["timestep"] for frame in frames]
-            missing = [step for step in wanted if step not in have]
-            if missing:
-                raise SourceError(run["atoms"], "source.timesteps", f"timestep {missing[0]} is not in the dump ({have})")
-            frames = [frame for frame in frames if frame["timestep"] in wanted]
-        box = source.get("box")
-        return [(_rho(f["volume"], box["lo"] if box else f["lo"], box["hi"] if box else f["hi"], run["atoms"],
-                      f"timestep {f['timestep']}"), f["particles"], int(f["timestep"])) for f in frames]
-    states = []
-    for state in run:
-        file_record(state["contacts"])
-        scan = file_record(state["particles"], f"table:{dimension}",
-                           lambda: scan_particles(state["particles"], dimension))["scans"][f"table:{dimension}"]
-        box = state.get("box", source.get("box"))
-        lo, hi = (scan["lo"], scan["hi"]) if box is None else given_box(box, dimension, state["particles"])
-        states.append((_rho(scan["volume"], lo, hi, state["particles"], "box" if box else ""), scan["particles"],
-                       len(states)))
-    return states

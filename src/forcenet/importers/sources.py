@@ -1,14 +1,13 @@
-"""Which reader reads a config system's ``source:`` entry: the states of one run (`source_states`, the import job),
-its ρ grid (`source_rho_grid`, when the workflow parses the config: the particles files only, `scan`) and the files
-its import job takes as inputs (`run_files`). Above the readers (`lammps`, `table`) and `scan`, which share the
-primitives of `common`."""
+"""Which reader reads a config system's ``source:`` entry: the states of one run (`source_states`, the import job
+and `forcenet-check-config`) and the files its import job takes as inputs (`run_files`). Above the readers
+(`lammps`, `table`) and `scan`, which share the primitives of `common`."""
 from __future__ import annotations
 
 from typing import Any, Mapping
 
 from forcenet.importers import lammps, table
 from forcenet.importers.common import SourceError, SourceState
-from forcenet.importers.scan import record_path, run_outline
+from forcenet.importers.scan import record_path, run_paths
 
 
 def source_states(entry: Mapping[str, Any], realization: int, *, where: str = "source") -> list[SourceState]:
@@ -23,18 +22,10 @@ def source_states(entry: Mapping[str, Any], realization: int, *, where: str = "s
     raise SourceError(where, "", f"unknown format {source['format']!r}")
 
 
-def source_rho_grid(entry: Mapping[str, Any], realization: int = 0) -> tuple[float, ...]:
-    """The packing fractions of a run's states (computed from each state's particles and box; the particles files
-    read once per content, `forcenet.importers.scan.run_outline`)."""
-    return tuple(rho for rho, _ in run_outline(entry, realization))
-
-
 def run_files(entry: Mapping[str, Any], realization: int) -> list[str]:
     """The inputs of the import job of one run of a ``source:`` entry: its source files and the record of each
     (`forcenet.importers.scan`, written when the workflow parsed the config; listed where it exists), whose
-    modification time moves when the file's content changes, so that new content is imported again even under an
-    older modification time."""
-    run = entry["source"]["runs"][realization]
-    files = ([run["atoms"], run["pairs"]] if entry["source"]["format"] == "lammps" else
-             [path for state in run for path in (state["particles"], state["contacts"])])
+    modification time moves when the file's size or modification time changes, so that a file replaced under an
+    older modification time is imported again."""
+    files = run_paths(entry, realization)
     return files + [str(record) for record in map(record_path, files) if record.exists()]
