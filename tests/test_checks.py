@@ -34,21 +34,32 @@ def test_densest_packing_margin_by_hand():
     assert checks.DENSEST_PACKING[2] == pytest.approx(0.906900, abs=1e-6)
     assert checks.DENSEST_PACKING[3] == pytest.approx(0.740480, abs=1e-6)
     assert checks.max_packing_fraction(2) == pytest.approx(0.9069 / 0.998 ** 2, abs=1e-4)  # 0.9105
-    assert checks.max_packing_fraction(3) == pytest.approx(0.7405 / 0.998 ** 3, abs=1e-4)  # 0.7449
+    assert checks.max_packing_fraction(3) == 0.739  # below 0.7405 at the grid's three decimals (0.740)
 
 
-@pytest.mark.parametrize("name, good, bad, limit", [("2d_linear", 0.91, 0.92, "0.9105"),
-                                                    ("3d_hertz", 0.744, 0.76, "0.7449")])
-def test_rho_grid_against_the_densest_packing(name, good, bad, limit):
-    """Issue 27's grids (ρ 0.92 in 2D: 14 % overlaps; 0.76 in 3D: a blow-up at job time), which the earlier 1 %
-    margin admitted, are refused; P1's own grid ends (0.91 in 2D, 0.71 in 3D) and just below the limit pass."""
-    system = spec(name)
+@pytest.mark.parametrize("good, bad", [(0.91, 0.92), (0.91, 0.911)])
+def test_a_2d_grid_may_end_at_p1s_091_and_not_past_the_margin(good, bad):
+    """Issue 27's grid (ρ 0.92 in 2D: 14 % overlaps), which the earlier 1 % margin admitted, is refused; P1's own
+    grid end (0.91, above equal disks' 0.9069 by less than the 0.2 % margin) passes."""
+    system = spec("2d_linear")
     assert "rho" not in problem_keys(dataclasses.replace(system, rho_grid=system.rho_grid[:-1] + (good,)))
     problem = checks.system_problems(dataclasses.replace(system, rho_grid=system.rho_grid[:-1] + (bad,)))[0]
-    shape = "disks (0.9069)" if name.startswith("2d") else "spheres (0.7405)"
     assert problem.key == "rho" and problem.message == (
-        f"the last ρ = {bad} is above {limit}, the densest packing of equal {shape} compressed to a uniform overlap "
-        "of 0.2% of a diameter: lower the grid's stop")
+        f"the last ρ = {bad} is above 0.9105, the densest packing of equal disks (0.9069) compressed to a uniform "
+        "overlap of 0.2% of a diameter: lower the grid's stop")
+
+
+@pytest.mark.parametrize("good, bad", [(0.71, 0.74), (0.739, 0.74), (0.739, 0.76)])
+def test_a_3d_grid_stays_below_the_densest_packing_of_spheres(good, bad):
+    """Issue 57 W1: a 3D grid to 0.74 (0.7405 at three decimals is 0.740) passed the dry run and blew up at job time;
+    now the dry run refuses it, naming the key; P1's 0.71 and 0.739 pass."""
+    system = spec("3d_hertz")
+    assert "rho" not in problem_keys(dataclasses.replace(system, rho_grid=system.rho_grid[:-1] + (good,)))
+    problem = checks.system_problems(dataclasses.replace(system, rho_grid=system.rho_grid[:-1] + (bad,)))[0]
+    assert problem.key == "rho" and problem.message == (
+        f"the last ρ = {bad} is at or above the densest packing of equal spheres, π/(3√2) = 0.7405 (0.740 at the "
+        "grid's 3 decimals), which a disordered packing never reaches (the engine stops at its 20% overlap limit): "
+        "end the grid at 0.739 or below")
 
 
 def test_rho_grid_against_the_initial_lattice_bidisperse_is_exact():

@@ -10,16 +10,18 @@ any job, a dry run included) and again when a run starts (`forcenet.pipeline.sim
 * **ρ grid against the initial packing.** The first grid value must lie above the packing fraction of the initial
   lattice (`forcenet.dem.packing`): exact for bidisperse sizes (the counts are fixed); for polydisperse sizes,
   whose lattice ρ varies with the seed, the expectation plus `INITIAL_RHO_SIGMAS` standard deviations.
-* **ρ grid against the densest packing.** The last grid value must stay at or below the densest packing of equal
-  disks, π/(2√3) = 0.9069, or spheres, π/(3√2) = 0.7405, compressed to a uniform overlap of `RHO_OVERLAP_MARGIN`
-  of a diameter: ρ_max = ρ_densest / (1 − margin)^d = 0.9105 (2D), 0.7449 (3D). (Hard disks of two sizes
-  cannot be packed much denser: Florian's bound is 0.9091 for diameter ratio 1.4, 0.9101 for 1.5.) The margin is
-  small on purpose: a disordered packing is never compressed uniformly, so its largest overlap is far above the
-  mean (14–15 % of a diameter at ρ = 0.91 in 2D, 13.5 % at 0.71 in 3D, growing ≈ 0.7 % per 0.01 in ρ), and the
-  earlier margin of 1 % (0.9253, 0.7631) let grids well beyond the densest packing through (0.92 in 2D; 0.76 in
-  3D, which passed the engine's 20 % blow-up limit at job time). 0.2 % admits the ends of P1's grids (0.91, 0.71)
-  and refuses the next grid points (0.92, 0.75). The walls must also be able to reach it: the final box must stay
-  wider than two of the largest particles.
+* **ρ grid against the densest packing.** Disks: the last grid value must stay at or below the densest packing of
+  equal disks, π/(2√3) = 0.9069, compressed to a uniform overlap of `RHO_OVERLAP_MARGIN` of a diameter: ρ_max =
+  ρ_densest / (1 − margin)² = 0.9105. (Hard disks of two sizes cannot be packed much denser: Florian's bound is
+  0.9091 for diameter ratio 1.4, 0.9101 for 1.5.) The margin is small on purpose: a disordered packing is never
+  compressed uniformly, so its largest overlap is far above the mean (14–15 % of a diameter at ρ = 0.91 in 2D,
+  growing ≈ 0.7 % per 0.01 in ρ); it admits the end of P1's 2D grid (0.91, which P1 ran: a simulation then warns of
+  every snapshot past P1's 10 % overlap, `forcenet.dem.protocol.warn_of_overlaps`) and refuses the next grid point
+  (0.92). Spheres: the last grid value must stay below the densest packing of equal spheres, π/(3√2) = 0.7405,
+  at the grid's `RHO_DECIMALS` decimals (ρ ≤ 0.739): a disordered packing of spheres of two sizes never reaches
+  the fcc density (random close packing is ≈ 0.64; the largest overlap is 13.5 % at P1's 0.71 already), and a grid
+  to 0.74 passed the engine's 20 % blow-up limit at job time. P1's 3D grid (to 0.71) passes. The walls must also be
+  able to reach it: the final box must stay wider than two of the largest particles.
 * **Δt against the collision time of the lightest pair.** The undamped head-on collision of two of the lightest
   particles at twice the fastest imposed speed (initial or wall speed; P1 Eq. 4 generalised,
   `forcenet.units.undamped_collision_time`) must span at least `MIN_STEPS_PER_COLLISION` steps.
@@ -43,6 +45,7 @@ from typing import Any, Mapping
 
 from forcenet import units
 from forcenet.dem import packing, stability
+from forcenet.datasets.paths import RHO_DECIMALS
 from forcenet.dem._kernels.contacts import MAX_OVERLAP_FRACTION
 from forcenet.importers.system import imported_system_from_config
 from forcenet.systems import (TABLE_STATES, ConfigError, ImportedSystem, SystemSpec, non_finite_number,
@@ -55,8 +58,8 @@ RANDOM_CLOSE_PACKING = {2: 0.84, 3: 0.64}
 MIN_STEPS_PER_COLLISION = 10
 #: densest packing of equal disks (hexagonal) and spheres (fcc/hcp)
 DENSEST_PACKING = {2: math.pi / (2.0 * math.sqrt(3.0)), 3: math.pi / (3.0 * math.sqrt(2.0))}
-#: the grid may exceed the densest packing by a uniform overlap of this fraction of a diameter (admits P1's grid
-#: ends 0.91 in 2D and 0.71 in 3D, refuses 0.92 and 0.75: module docstring)
+#: a 2D grid may exceed the densest packing by a uniform overlap of this fraction of a diameter (admits P1's grid
+#: end 0.91, refuses 0.92: module docstring); a 3D grid stays below the densest packing
 RHO_OVERLAP_MARGIN = 0.002
 #: polydisperse initial lattices: the first ρ must exceed the expected lattice ρ by this many standard deviations
 INITIAL_RHO_SIGMAS = 5.0
@@ -73,8 +76,11 @@ class Problem:
 
 
 def max_packing_fraction(dimension: int) -> float:
-    """ρ_max = ρ_densest / (1 − RHO_OVERLAP_MARGIN)^d: the highest grid value a system may ask for."""
-    return DENSEST_PACKING[dimension] / (1.0 - RHO_OVERLAP_MARGIN) ** dimension
+    """The highest last grid value a system may ask for: ρ_densest / (1 − RHO_OVERLAP_MARGIN)² for disks (0.9105),
+    for spheres the last grid value below ρ_densest at `RHO_DECIMALS` decimals (0.739)."""
+    if dimension == 2:
+        return DENSEST_PACKING[2] / (1.0 - RHO_OVERLAP_MARGIN) ** 2
+    return round(round(DENSEST_PACKING[3], RHO_DECIMALS) - 10.0 ** -RHO_DECIMALS, RHO_DECIMALS)
 
 
 def _uniform_moment(low: float, high: float, power: int) -> float:
@@ -206,10 +212,15 @@ def _rho_problems(system) -> list[Problem]:
                                f"{rho0:.4f}{exact} (box {system.box_length} d_ave, {packing.sites_per_axis(system)}"
                                f"^{dim} sites): start the grid higher")]
     highest = max_packing_fraction(dim)
-    if last > highest:
-        return [Problem("rho", f"the last ρ = {last} is above {highest:.4f}, the densest packing of equal "
-                               f"{'disks' if dim == 2 else 'spheres'} ({DENSEST_PACKING[dim]:.4f}) compressed to a "
-                               f"uniform overlap of {RHO_OVERLAP_MARGIN:.1%} of a diameter: lower the grid's stop")]
+    if last > highest and dim == 2:
+        return [Problem("rho", f"the last ρ = {last} is above {highest:.4f}, the densest packing of equal disks "
+                               f"({DENSEST_PACKING[dim]:.4f}) compressed to a uniform overlap of "
+                               f"{RHO_OVERLAP_MARGIN:.1%} of a diameter: lower the grid's stop")]
+    if last > highest + 1e-12:
+        return [Problem("rho", f"the last ρ = {last} is at or above the densest packing of equal spheres, π/(3√2) = "
+                               f"{DENSEST_PACKING[dim]:.4f} ({DENSEST_PACKING[dim]:.{RHO_DECIMALS}f} at the grid's "
+                               f"{RHO_DECIMALS} decimals), which a disordered packing never reaches (the engine stops at its {MAX_OVERLAP_FRACTION:.0%} overlap "
+                               f"limit): end the grid at {highest:.{RHO_DECIMALS}f} or below")]
     final_length = system.box_length * (rho0 / last) ** (1.0 / dim)
     smallest_box = SMALLEST_BOX_IN_DIAMETERS * packing.largest_diameter(system)
     if final_length < smallest_box:
