@@ -296,7 +296,7 @@ def import_dry_run_table(recs: dict) -> str:
     if not measured(record):
         return not_measured(record, "bench/import_dry_run.py --baseline CHECKOUT") + "\n"
     m, peer = record["measured"], record.get("peer")
-    header = ["", "this tree" + (f" / baseline (commit {peer['commit'][:10]})" if peer else "")]
+    header = ["", "this tree" + (" / baseline (`--baseline`)" if peer else "")]
     rows = []
     for key, what in (("first_call", "`snakemake -n`, first call (no source records yet)"),
                       ("later_call", "`snakemake -n`, a later call"),
