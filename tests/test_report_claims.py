@@ -205,8 +205,20 @@ def test_a_campaign_table_without_the_key_columns_is_refused(tmp_path):
         claims_table.with_paper_size(table, p1_validation.P1_LAYOUT, docs)
 
 
+def test_a_table_without_the_attribute_its_reader_needs_is_refused_naming_it(tmp_path):
+    table = claims_table.claims_frame(judged_rows(), p1_validation.P1_LAYOUT)  # by hand: no force_unit
+    with pytest.raises(claims_table.TableAttributeError, match="^the table has no attribute 'force_unit' \\(set by "
+                                                               "p1_validation, which every reader of it needs\\)"):
+        p1_validation.write_p1_validation(table, tmp_path / "t.csv", tmp_path / "t.md")
+    assert not (tmp_path / "t.md").exists()
+    table.attrs["force_unit"] = "reduced"  # as p1_validation sets it
+    p1_validation.write_p1_validation(table, tmp_path / "t.csv", tmp_path / "t.md")
+    assert "reduced" in (tmp_path / "t.md").read_text()
+
+
 def test_p1_table_writes_the_paper_size_column_in_csv_and_markdown(tmp_path):
     table = claims_table.claims_frame(judged_rows(), p1_validation.P1_LAYOUT)
+    table.attrs.update(force_unit="reduced", left_out="")  # as p1_validation sets them
     docs = campaign_csv(tmp_path / "p1.csv", [{"id": "rho_J", "system": "2d_hertz", "measured": 0.805,
                                                "verdict": ""}])
     p1_validation.write_p1_validation(table, tmp_path / "t.csv", tmp_path / "t.md", paper_size=docs)
@@ -226,6 +238,7 @@ def test_p2_table_shows_the_campaign_evidence_and_verdict_beside_p2s_words(tmp_p
                              paper="rho_J(mu=0) > rho_J(mu=0.5)", criterion="c", measured=math.nan,
                              evidence="rho_J 0.80, 0.83", verdict=claims.HOLDS)
     table = claims_table.claims_frame([row], p2_validation.P2_LAYOUT)
+    table.attrs.update(systems={}, tolerances=p2_validation.ClaimTolerances())  # as p2_validation sets them
     docs = campaign_csv(tmp_path / "p2.csv", [
         {"table": "P2 validation table", "claim_id": "IV.C-1", "system": "mu05 vs mu0", "measured": "rho_J 0.802, 0.833",
          "verdict": "holds"},

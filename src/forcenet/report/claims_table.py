@@ -18,6 +18,7 @@ from typing import Any, Mapping, Sequence
 import numpy as np
 import pandas as pd
 
+from forcenet.errors import ForcenetError
 from forcenet.report.claims import MARGINAL, MARGINAL_FRACTION, VACUOUS, JudgedClaim
 
 #: the columns both papers' tables end with, the same names and fields (CSV name → `JudgedClaim` field)
@@ -53,6 +54,20 @@ class TableSection:
     text: Sequence[str]
     columns: Sequence[str]
     kind: str | None = None
+
+
+class TableAttributeError(ForcenetError, ValueError):
+    """A report table without an attribute its reader needs: one line naming the attribute and what sets it."""
+
+
+def table_attribute(frame: pd.DataFrame, key: str, made_by: str) -> Any:
+    """``frame.attrs[key]``, which `made_by` sets on every table it builds (a P1 or P2 validation table, a P2
+    Table I–III). A table without it (read back from its CSV, which keeps no attributes, or built by hand) raises
+    `TableAttributeError` naming the key and its maker: a reader never falls back on a default."""
+    if key not in frame.attrs:
+        raise TableAttributeError(f"the table has no attribute '{key}' (set by {made_by}, which every reader of "
+                                  f"it needs): use the table {made_by} returns, not one read from its CSV")
+    return frame.attrs[key]
 
 
 def claims_frame(claims: Sequence[JudgedClaim], layout: TableLayout) -> pd.DataFrame:
@@ -107,7 +122,7 @@ def validation_markdown(frame: pd.DataFrame, layout: TableLayout, head: Sequence
     lines = [*head, VERDICT_NOTE, ""]
     if PAPER_SIZE in frame:
         lines += [f"The column '{PAPER_SIZE_HEADER}' is our value (and verdict) at the papers' sizes, from the "
-                  f"validation campaign's committed table {frame.attrs.get(PAPER_SIZE, 'docs/validation')}: set "
+                  f"validation campaign's committed table {table_attribute(frame, PAPER_SIZE, 'with_paper_size')}: set "
                   "beside this build's value, it shows which differences from the paper come from the small "
                   "systems.", ""]
     for section in sections:

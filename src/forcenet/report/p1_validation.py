@@ -22,7 +22,8 @@ from forcenet.report.claims import (BELOW_TOLERANCE, FAILS, IMPORTED_NOT_EVALUAT
                                     ClaimTolerances, Explanation, JudgeChange, JudgedClaim, Judgement, NotEvaluated,
                                     judge_claim, rows_beside, verdict_summary)
 from forcenet.report.claims_table import (VERDICT_COLUMNS, TableLayout, TableSection, claims_frame,
-                                          validation_markdown, with_paper_size, write_validation_table)
+                                          table_attribute, validation_markdown, with_paper_size,
+                                          write_validation_table)
 from forcenet.report.p1 import (DEFAULT_P1_FORCE_UNIT, P1_FORCE_UNITS, P1_RHO_STEP, P1_ROLES, PAPER_PHI_C,
                                 PAPER_RHO_J_BY_ROLE, PAPER_RHO_MAX_BY_ROLE, PAPER_Z_AT_JAMMING, file_role, FMaxCut, cut_at_rho_max, f_max_cut,
                                 isostatic_crossing, jamming_point, rho_values, select_total, never_dying_at_minus_one,
@@ -431,7 +432,7 @@ def _markdown_sections(table: pd.DataFrame) -> list[TableSection]:
 def p1_validation_markdown(table: pd.DataFrame) -> str:
     """The validation table as Markdown: one table of values, one of claims, with the verdict counts; the force
     unit of the figures is the table's own (``table.attrs["force_unit"]``)."""
-    force_unit = table.attrs.get("force_unit", DEFAULT_P1_FORCE_UNIT)
+    force_unit = table_attribute(table, "force_unit", "p1_validation")
     return validation_markdown(table, P1_LAYOUT, _markdown_head(force_unit, table), _markdown_sections(table))
 
 
@@ -440,7 +441,7 @@ def write_p1_validation(table: pd.DataFrame, csv_path: str | os.PathLike | None,
     """Write the validation table as CSV and Markdown (the arguments of `write_p2_validation`); with `paper_size`
     (the campaign's ``docs/validation/p1.csv``) a column beside P1's values gives our value at P1's sizes
     (`forcenet.report.claims_table.with_paper_size`)."""
-    force_unit = table.attrs.get("force_unit", DEFAULT_P1_FORCE_UNIT)
+    force_unit = table_attribute(table, "force_unit", "p1_validation")
     if paper_size is not None:
         table = with_paper_size(table, P1_LAYOUT, paper_size)
     write_validation_table(table, P1_LAYOUT, csv_path, md_path, _markdown_head(force_unit, table),

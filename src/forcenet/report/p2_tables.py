@@ -24,6 +24,7 @@ import xarray as xr
 from forcenet.datasets.schema import FORCE_KINDS
 from forcenet.report.p2 import (METRICS, P2_HOMOLOGY_DIMS, QUADRANTS, TABLE_PAIRS, TABLE_RHO_KEYS, format_number,
                                 pretty_column, table_column)
+from forcenet.report.claims_table import table_attribute
 from forcenet.report.p2_distances import network_diagrams, pair_distances, p2_network, quadrant_diagrams
 
 
@@ -246,11 +247,9 @@ def table_markdown(table: pd.DataFrame, digits: int = 3, reference: pd.DataFrame
             lines.append("| " + " | ".join([f"{label}, P2"] + [format_number(float(v), digits) for v in paper]) + " |")
             lines.append("| " + " | ".join([f"{label}, ours / P2"] + [format_number(float(v), 2) for v in
                                                                       values / paper]) + " |")
-    caption = table.attrs.get("caption", "")
-    rhos = ", ".join(f"{key} = {table.attrs[key]:.4f}" for key in TABLE_RHO_KEYS if key in table.attrs)
-    kind = table.attrs.get("force_kind")
-    realization = table.attrs.get("realization", -1)
-    rule = table.attrs.get("rattler_rule")
+    caption, kind, realization, rule = (table_attribute(table, key, "p2_tables")
+                                        for key in ("caption", "force_kind", "realization", "rattler_rule"))
+    rhos = ", ".join(f"{key} = {table_attribute(table, key, 'p2_tables'):.4f}" for key in TABLE_RHO_KEYS)
     note = "; ".join(x for x in (rhos, f"realization {realization}" if realization >= 0 else "",
                                  f"{kind} forces" if kind else "", f"rattler rule '{rule}'" if rule else "",
                                  "distances in units of <F>") if x)

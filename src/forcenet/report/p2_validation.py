@@ -16,7 +16,8 @@ import xarray as xr
 from forcenet.report.claims import (HOLDS, IMPORTED_NOT_EVALUATED, ClaimTolerances, Explanation, JudgedClaim,
                                     Judgement, NotEvaluated, judge_claim, rows_beside, verdict_summary)
 from forcenet.report.claims_table import (VERDICT_COLUMNS, TableLayout, TableSection, claims_frame,
-                                          validation_markdown, with_paper_size, write_validation_table)
+                                          table_attribute, validation_markdown, with_paper_size,
+                                          write_validation_table)
 from forcenet.report.p1 import system_dimension
 from forcenet.report import p2_claims, p2_claims_friction
 from forcenet.report.p2 import FRICTIONAL, FRICTIONLESS, format_number
@@ -167,7 +168,7 @@ def _markdown_head(table: pd.DataFrame) -> list[str]:
              "docs/p2_sampling.md (400 disks at several wall speeds and sampling steps, and one realization at "
              "P2's size, 'paper size' there: 'holds at paper size' means it held in that one realization), then "
              "'Measured here:' the same diagnostics on the data of this table.", ""]
-    systems = table.attrs.get("systems", {})
+    systems = table_attribute(table, "systems", "p2_validation")
     if systems:
         lines += ["## Systems", "",
                   "| system | realizations | snapshot pairs | rho range | rho_J | never-dying classes | rattler rule |",
@@ -178,9 +179,8 @@ def _markdown_head(table: pd.DataFrame) -> list[str]:
                          f"{format_number(info['rho_J'], 4)} | {info['essential_convention']} | "
                          f"{info.get('rattler_rule', '')} |")
         lines.append("")
-    tol = table.attrs.get("tolerances")
-    if tol is not None:
-        lines += ["## Tolerances", "", ", ".join(f"{k} = {v}" for k, v in vars(tol).items()), ""]
+    tol = table_attribute(table, "tolerances", "p2_validation")
+    lines += ["## Tolerances", "", ", ".join(f"{k} = {v}" for k, v in vars(tol).items()), ""]
     return lines
 
 
