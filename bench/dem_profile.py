@@ -51,9 +51,9 @@ def _pairs_3d(n, motion, bodies, pairs, law, dt, loads):
 
 
 @numba.njit
-def _walls(n, motion, bodies, walls, lo, hi, law, dt, loads):
+def _walls(n, motion, bodies, walls, lo, hi, dt, loads):
     for _ in range(n):
-        contacts.flat_wall_forces(motion, bodies, walls, lo, hi, law, dt, loads, None)
+        contacts.flat_wall_forces(motion, bodies, walls, lo, hi, dt, loads, None)
 
 
 @numba.njit
@@ -99,35 +99,36 @@ def profile(state: dict, steps: int) -> dict:
     whole = timed(lambda: sim.advance(steps), 1, warm=False) / steps
     sim.rebuild = original
     dim, dt = sim.dimension, sim.time_step
-    position, rotation = sim.gear_position.copy(), sim.gear_rotation.copy()
+    position, rotation = sim.particles.gear_position.copy(), sim.particles.gear_rotation.copy()
     motion = Motion(position[0], position[1].copy(), rotation[1].copy(), 1.0 / dt)
-    loads = Loads(np.zeros_like(sim.force), np.zeros_like(sim.torque))
-    pairs = sim._pairs(sim.spring.copy())
-    walls = sim._walls(sim.wall_spring.copy())
-    bodies = sim._bodies()
-    law_values = tuple(float(v) for v in sim.law[:7])
-    lo = sim.box_lo + sim.wall_state[0]
-    hi = sim.box_hi - sim.wall_state[0]
+    loads = Loads(np.zeros_like(sim.work.loads.force), np.zeros_like(sim.work.loads.torque))
+    pairs = sim.kernel_pairs(sim.contacts.spring.copy())
+    walls = sim.kernel_walls(sim.walls.wall_spring.copy())
+    bodies = sim.kernel_bodies()
+    law_values = tuple(float(v) for v in sim.contacts.law[:7])
+    lo = sim.walls.box_lo + sim.walls.wall_state[0]
+    hi = sim.walls.box_hi - sim.walls.wall_state[0]
     pair_loop = _pairs_2d if dim == 2 else _pairs_3d
     # each kernel called `steps` times from one compiled loop: no Python call in between (the step's own calls
     # come from compiled code too)
     parts = {
         "pair forces": timed(lambda: pair_loop(steps, motion, bodies, pairs, law_values, dt, loads), 1) / steps,
-        "flat walls": timed(lambda: _walls(steps, motion, bodies, walls, lo, hi, sim.law, dt, loads), 1) / steps,
+        "flat walls": timed(lambda: _walls(steps, motion, bodies, walls, lo, hi, dt, loads), 1) / steps,
     }
     loads.force[:] = 0.0
     loads.torque[:] = 0.0
+    work = sim.work
     parts["Gear corrector-predictor"] = timed(lambda: _gear(
-        steps, position, rotation, loads.force, loads.torque, sim.accel_position, sim.accel_rotation, sim.half_mass,
-        sim.half_inertia, sim.n_mobile, motion.velocity, motion.spin), 1) / steps
+        steps, position, rotation, loads.force, loads.torque, work.accel_position, work.accel_rotation,
+        work.half_mass, work.half_inertia, sim.n_mobile, motion.velocity, motion.spin), 1) / steps
     reference = position[0].copy()
     parts["displacement check"] = timed(lambda: _check(steps, position[0], reference, sim.n_mobile, lo, hi,
-                                                       sim.escape_margin), 1) / steps
+                                                       sim.walls.escape_margin), 1) / steps
     rebuild = timed(sim.rebuild, max(3, steps // 200), warm=False)
     parts["neighbour-list rebuilds"] = rebuild * rebuilds[0] / steps
     parts["other"] = whole - sum(parts.values())
     return {"whole step": whole, "parts": parts, "rebuilds": rebuilds[0], "rebuild_s": rebuild,
-            "pairs": int(len(sim.pair_i)), "N": int(sim.n_mobile)}
+            "pairs": int(len(sim.contacts.pair_i)), "N": int(sim.n_mobile)}
 
 
 def main(argv=None) -> int:

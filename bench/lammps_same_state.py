@@ -117,7 +117,7 @@ def make_state(case: str, seed: int = 7) -> dict:
     law_entry = dict(entry, force_law=law)
     law_spec = checked_system(case, dict(config, systems={case: law_entry}))
     return dict(case=case, dim=spec.dimension, positions=sim.positions(), radii=sim.radii(),
-                masses=sim.mass[np.argsort(sim.particle_id)], velocities=velocities,
+                masses=sim.masses(), velocities=velocities,
                 box_lo=sim.walls_lo.copy(), box_hi=sim.walls_hi.copy(), dt=spec.time_step,
                 law=contact_law_for_system(law_spec), rho=sim.packing_fraction)
 
@@ -143,7 +143,7 @@ def ours(state: dict, law: ContactLaw, steps: int) -> tuple[Forces, np.ndarray, 
                      time_step=state["dt"], box_lo=state["box_lo"], box_hi=state["box_hi"],
                      velocity=state["velocities"], walls="flat")
     n = sim.n_mobile
-    spring, wall_spring = np.zeros_like(sim.spring), np.zeros_like(sim.wall_spring)  # advanced in place
+    spring, wall_spring = np.zeros_like(sim.contacts.spring), np.zeros_like(sim.walls.wall_spring)  # advanced in place
     for _ in range(steps):
         recorded = sim.record(spring_dt=sim.time_step, spring=spring, wall_spring=wall_spring)
     force, torque, overlap, normal, tangential, wall_overlap, wall_force = recorded
@@ -151,9 +151,9 @@ def ours(state: dict, law: ContactLaw, steps: int) -> tuple[Forces, np.ndarray, 
     torque3[:, 2 if dim == 2 else slice(None)] = torque[:n, 0] if dim == 2 else torque[:n]
     # LAMMPS's lever r_i: move each tangential force from our lever (r − x/2 for pairs, r − x at walls) to r
     lever_shift = np.zeros((n, 3))
-    position = sim.gear_position[0]
+    position = sim.particles.gear_position[0]
     touching = overlap > 0
-    i, j = sim.pair_i[touching], sim.pair_j[touching]
+    i, j = sim.contacts.pair_i[touching], sim.contacts.pair_j[touching]
     n_hat = _unit3(position[i] - position[j])
     shift = 0.5 * overlap[touching, None] * np.cross(n_hat, _as3(tangential[touching]))
     np.add.at(lever_shift, i, -shift)
@@ -165,14 +165,14 @@ def ours(state: dict, law: ContactLaw, steps: int) -> tuple[Forces, np.ndarray, 
     f_wall = _as3(wall_force[slot, wall])
     f_t_wall = f_wall - np.einsum("wk,wk->w", f_wall, n_wall)[:, None] * n_wall
     np.add.at(lever_shift, slot, -wall_overlap[slot, wall, None] * np.cross(n_wall, f_t_wall))
-    radius = sim.radius
+    radius = sim.particles.radius
     lever_bound = max(np.max(overlap[touching] / (2 * np.minimum(radius[i], radius[j]) - overlap[touching]),
                              initial=0.0),
                       np.max(wall_overlap[slot, wall] / (radius[slot] - wall_overlap[slot, wall]), initial=0.0))
     f_n = np.concatenate([np.linalg.norm(normal[touching], axis=1), np.einsum("wk,wk->w", f_wall, n_wall)])
     f_t = np.concatenate([np.linalg.norm(tangential[touching], axis=1), np.linalg.norm(f_t_wall, axis=1)])
     capped = int(np.sum((f_t > 0) & (f_t >= law.friction * f_n * (1 - 1e-9))))
-    order = np.argsort(sim.particle_id)  # slots → input order
+    order = np.argsort(sim.particles.particle_id)  # slots → input order
     return Forces(force[:n][order], torque3[order]), (torque3 + lever_shift)[order], capped, float(lever_bound)
 
 

@@ -9,6 +9,7 @@ from forcenet.dem._kernels import contacts, neighbours
 from forcenet.dem._kernels import gear as gear_kernels
 from forcenet.dem.engine import ContactLaw, Simulation
 from forcenet.dem.kernel_arguments import Bodies, Loads, Motion, PairRecord, Pairs, Walls
+from forcenet.dem.state import wall_law as wall_law_array
 
 LAWS = {
     "linear": dict(k_n=9.87, k_t=8.46, gamma_n=2.3, gamma_t=2.3, mu=0.5, beta=0.0),
@@ -86,12 +87,13 @@ def test_flat_walls_match_naive_reference(dim, law_name, wall_factor):
     springs = {(i, w): wall_spring[i, w].copy() for i in range(n) for w in range(2 * dim)}
     force = np.zeros((n, dim))
     torque = np.zeros((n, 1 if dim == 2 else 3))
-    walls = Walls(flat=True, box_lo=lo, box_hi=hi, state=np.array([0.0, speed, np.inf, speed]), spring=wall_spring,
+    walls = Walls(flat=True, box_lo=lo, box_hi=hi, state=np.array([0.0, speed, np.inf, speed]),
+                  law=wall_law_array(law_array(law, wall_factor)), spring=wall_spring,
                   entry_particle=np.repeat(np.arange(n), 2 * dim), entry_wall=np.tile(np.arange(2 * dim), n),
                   release_band=np.inf, escape_margin=0.0, anchor=np.zeros((0, dim)), axis=np.zeros(0, dtype=np.int64),
                   sign=np.zeros(0))
     contacts.flat_wall_forces(Motion(position, velocity, omega.reshape(n, -1), 1.0), Bodies(radius, 1.0 / mass, n),
-                              walls, lo, hi, law_array(law, wall_factor), dt, Loads(force, torque), None)
+                              walls, lo, hi, dt, Loads(force, torque), None)
     ref_force, ref_torque, ref_springs = naive_dem.flat_wall_forces(position, velocity, omega, radius, mass, lo, hi,
                                                                     speed, springs, wall_law, dt)
     assert len(ref_springs) > 10
@@ -119,6 +121,12 @@ def test_verlet_list_finds_every_pair_within_reach(dim):
     assert np.all(np.diff(keys) > 0), "the list is sorted by i, then j"
 
 
+def particle_id_of_pair(sim: Simulation, p: int) -> tuple[int, int]:
+    """The input indices of listed pair p's particles."""
+    particle_id = sim.particles.particle_id
+    return particle_id[sim.contacts.pair_i[p]], particle_id[sim.contacts.pair_j[p]]
+
+
 def test_rebuild_carries_tangential_history_across_reordering():
     """Springs survive a rebuild that re-orders the particles (and flips i, j of some pairs)."""
     rng = np.random.default_rng(7)
@@ -134,30 +142,30 @@ def test_rebuild_carries_tangential_history_across_reordering():
     sim.advance(5)
     before = {}
     for p in range(sim.n_pairs):
-        if np.any(sim.spring[p] != 0):
-            a, b = sim.particle_id[sim.pair_i[p]], sim.particle_id[sim.pair_j[p]]
-            before[(a, b)] = sim.spring[p].copy()
+        if np.any(sim.contacts.spring[p] != 0):
+            a, b = particle_id_of_pair(sim, p)
+            before[(a, b)] = sim.contacts.spring[p].copy()
     assert len(before) > 20
     rng = np.random.default_rng(0)
     perm = rng.permutation(sim.n_mobile)  # scramble the slots to force a different order and flipped pairs
     for name in ("gear_position", "gear_rotation"):
-        getattr(sim, name)[:, :sim.n_mobile] = getattr(sim, name)[:, perm]
+        getattr(sim.particles, name)[:, :sim.n_mobile] = getattr(sim.particles, name)[:, perm]
     for name in ("radius", "inv_mass", "inv_inertia"):
-        getattr(sim, name)[:sim.n_mobile] = getattr(sim, name)[perm]
-    sim.mass, sim.particle_id = sim.mass[perm], sim.particle_id[perm]
+        getattr(sim.particles, name)[:sim.n_mobile] = getattr(sim.particles, name)[perm]
+    sim.particles.mass, sim.particles.particle_id = sim.particles.mass[perm], sim.particles.particle_id[perm]
     inverse = np.empty_like(perm)
     inverse[perm] = np.arange(len(perm))
-    old_i, old_j = inverse[sim.pair_i], inverse[sim.pair_j]
+    old_i, old_j = inverse[sim.contacts.pair_i], inverse[sim.contacts.pair_j]
     swap = old_i > old_j
-    sim.pair_i = np.where(swap, old_j, old_i).astype(np.int32)
-    sim.pair_j = np.where(swap, old_i, old_j).astype(np.int32)
-    sim.spring = np.where(swap[:, None], -sim.spring, sim.spring)
+    sim.contacts.pair_i = np.where(swap, old_j, old_i).astype(np.int32)
+    sim.contacts.pair_j = np.where(swap, old_i, old_j).astype(np.int32)
+    sim.contacts.spring = np.where(swap[:, None], -sim.contacts.spring, sim.contacts.spring)
     sim.rebuild()
     after = {}
     for p in range(sim.n_pairs):
-        if np.any(sim.spring[p] != 0):
-            a, b = sim.particle_id[sim.pair_i[p]], sim.particle_id[sim.pair_j[p]]
-            after[(a, b) if a < b else (b, a)] = sim.spring[p] if a < b else -sim.spring[p]
+        if np.any(sim.contacts.spring[p] != 0):
+            a, b = particle_id_of_pair(sim, p)
+            after[(a, b) if a < b else (b, a)] = sim.contacts.spring[p] if a < b else -sim.contacts.spring[p]
     before = {(a, b) if a < b else (b, a): (v if a < b else -v) for (a, b), v in before.items()}
     assert after.keys() == before.keys()
     for key in before:

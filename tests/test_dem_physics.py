@@ -244,8 +244,8 @@ def dense_cloud(dim: int, seed: int = 0, n_side: int = 6):
 def total_momentum(sim: Simulation):
     v = sim.velocities()
     x = sim.positions()
-    m = sim._ordered(sim.mass)
-    inertia = 1.0 / sim._ordered(sim.inv_inertia[:sim.n_mobile])
+    m = sim.masses()
+    inertia = 1.0 / sim._ordered(sim.particles.inv_inertia[:sim.n_mobile])
     p = (m[:, None] * v).sum(axis=0)
     omega = sim.angular_velocities().reshape(sim.n_mobile, -1)
     if sim.dimension == 2:
@@ -273,16 +273,16 @@ def test_momentum_is_conserved_without_walls(dim):
 
 
 def elastic_energy(sim: Simulation, law: ContactLaw) -> float:
-    x = sim.gear_position[0]
+    x = sim.particles.gear_position[0]
     energy = 0.0
-    for i, j in zip(sim.pair_i, sim.pair_j):
-        overlap = sim.radius[i] + sim.radius[j] - np.linalg.norm(x[i] - x[j])
+    for i, j in zip(sim.contacts.pair_i, sim.contacts.pair_j):
+        overlap = sim.particles.radius[i] + sim.particles.radius[j] - np.linalg.norm(x[i] - x[j])
         if overlap > 0:
             energy += law.normal_stiffness / (2 + law.beta) * overlap ** (2 + law.beta)
-    if sim.flat_walls:
+    if sim.walls.flat_walls:
         for k in range(sim.dimension):
-            for overlap in (sim.radius[:sim.n_mobile] - (x[:sim.n_mobile, k] - sim.walls_lo[k]),
-                            sim.radius[:sim.n_mobile] - (sim.walls_hi[k] - x[:sim.n_mobile, k])):
+            for overlap in (sim.particles.radius[:sim.n_mobile] - (x[:sim.n_mobile, k] - sim.walls_lo[k]),
+                            sim.particles.radius[:sim.n_mobile] - (sim.walls_hi[k] - x[:sim.n_mobile, k])):
                 energy += np.sum(law.normal_stiffness / (2 + law.beta) * np.clip(overlap, 0, None) ** (2 + law.beta))
     return float(energy)
 
@@ -335,7 +335,7 @@ def test_wall_contact_law(dim, beta):
     expected[0] = k_n * overlap ** (1 + beta)
     np.testing.assert_allclose(force[0], expected, rtol=1e-12)
     np.testing.assert_allclose(torque[0], 0.0, atol=1e-15)
-    sim.wall_state[3] = speed  # the walls are moving inward at `speed`
+    sim.walls.wall_state[3] = speed  # the walls are moving inward at `speed`
     force, _ = sim.evaluate_forces()
     assert force[0, 0] == pytest.approx(k_n * overlap ** (1 + beta) + gamma * overlap ** beta * mass * speed)
     contacts = sim.contact_forces()
@@ -348,7 +348,7 @@ def test_wall_contact_law(dim, beta):
         sim = Simulation(position=position, radius=[0.5], mass=[mass], law=law, time_step=0.01,
                          box_lo=np.zeros(dim), box_hi=np.full(dim, 4.0), walls="flat", velocity=[velocity[:dim]],
                          angular_velocity=[spin if dim == 3 else spin[2]])
-        sim.wall_spring[0, 0] = spring[:dim]  # particle 0, wall 0 (x_lo)
+        sim.walls.wall_spring[0, 0] = spring[:dim]  # particle 0, wall 0 (x_lo)
         reference_force, reference_torque = wall_contact_reference(law, [1.0, 0.0, 0.0], overlap, 0.5, mass,
                                                                    np.append(velocity[:dim], [0.0] * (3 - dim)),
                                                                    spin, np.append(spring[:dim], [0.0] * (3 - dim)))

@@ -554,7 +554,7 @@ def test_the_default_relaxation_criterion_keeps_the_checkpoint_fingerprint():
 def test_walls_of_their_own_material_change_the_checkpoint_fingerprint_and_old_checkpoints_load():
     """Plexiglass walls (P1 §2) are other physics: another fingerprint; walls of the particles' material keep it. A
     checkpoint's law array from before the wall factor (7 values) loads as walls of the particles' material."""
-    from forcenet.dem.engine import ContactLaw, Simulation
+    from forcenet.dem.engine import Simulation
 
     system = tiny("2d_hertz")
     plexiglass = dataclasses.replace(system, wall_stiffness_factor=1.9999817)
@@ -565,7 +565,7 @@ def test_walls_of_their_own_material_change_the_checkpoint_fingerprint_and_old_c
     state = sim.state_dict()
     state["law"] = state["law"][:7]
     restored = Simulation.from_state_dict(state)
-    assert restored.law.size == 8 and ContactLaw.from_array(restored.law) == ContactLaw.from_array(sim.law)
+    assert restored.contacts.law.size == 8 and restored.contact_law == sim.contact_law
 
 
 #: the fields that the checkpoint fingerprint hashes through `repr(system)`; a new field in this list would change

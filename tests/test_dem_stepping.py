@@ -53,9 +53,10 @@ def random_state(dim: int, law: ContactLaw, walls: str, seed: int) -> Simulation
                      box_lo=box_lo, box_hi=box_hi, velocity=rng.normal(0.0, 0.05, (n, dim)),
                      angular_velocity=rng.normal(0.0, 0.1, n if dim == 2 else (n, 3)), walls=walls,
                      wall_particles=rough_walls(box_lo, box_hi) if walls == "rough" else None)
-    sim.spring[:] = rng.normal(0.0, 0.03, sim.spring.shape)  # open pairs too: their springs must be dropped
-    sim.wall_spring[:] = rng.normal(0.0, 0.03, sim.wall_spring.shape)
-    for derivatives in (sim.gear_position, sim.gear_rotation):
+    # open pairs too: their springs must be dropped
+    sim.contacts.spring[:] = rng.normal(0.0, 0.03, sim.contacts.spring.shape)
+    sim.walls.wall_spring[:] = rng.normal(0.0, 0.03, sim.walls.wall_spring.shape)
+    for derivatives in (sim.particles.gear_position, sim.particles.gear_rotation):
         derivatives[3:, :n] = rng.normal(0.0, 1e-6, derivatives[3:, :n].shape)
     sim.set_walls(WALL_SPEED)
     return sim
@@ -71,14 +72,15 @@ def with_wall_speed(walls, wall_speed: float):
 def stepping_forces(sim: Simulation, velocity, spin, wall_speed: float):
     """Force, torque and the updated springs of one step as `advance` computes them (velocities: the scaled
     derivatives the step's forces see), on copies of the springs."""
-    spring, wall_spring = sim.spring.copy(), sim.wall_spring.copy()
-    loads = Loads(np.zeros_like(sim.force), np.zeros_like(sim.torque))
-    motion = Motion(sim.gear_position[0], velocity, spin, 1.0 / sim.time_step)
-    if sim.flat_walls:
-        contacts.flat_wall_forces(motion, sim._bodies(), with_wall_speed(sim._walls(wall_spring), wall_speed),
-                                  sim.walls_lo, sim.walls_hi, sim.law, sim.time_step, loads, None)
+    spring, wall_spring = sim.contacts.spring.copy(), sim.walls.wall_spring.copy()
+    loads = Loads(np.zeros_like(sim.work.loads.force), np.zeros_like(sim.work.loads.torque))
+    motion = Motion(sim.particles.gear_position[0], velocity, spin, 1.0 / sim.time_step)
+    if sim.walls.flat_walls:
+        walls = with_wall_speed(sim.kernel_walls(wall_spring), wall_speed)
+        contacts.flat_wall_forces(motion, sim.kernel_bodies(), walls, sim.walls_lo, sim.walls_hi, sim.time_step, loads,
+                                  None)
     pair_kernel = contacts.pair_forces_2d if sim.dimension == 2 else contacts.pair_forces_3d
-    pair_kernel(motion, sim._bodies(), sim._pairs(spring), sim.law_values(), sim.time_step, loads, None)
+    pair_kernel(motion, sim.kernel_bodies(), sim.kernel_pairs(spring), sim.law_values(), sim.time_step, loads, None)
     return loads.force, loads.torque, spring, wall_spring
 
 
@@ -91,13 +93,14 @@ def recording_forces(sim: Simulation, position, velocity, spin, lo, hi, wall_spe
     loads = Loads(force, torque)
     motion = Motion(position, velocity, spin, 1.0 / dt)
     wall_record = WallRecord(np.zeros((n, 2 * dim)), np.zeros((n, 2 * dim, dim)))
-    if sim.flat_walls:
-        walls = with_wall_speed(sim._walls(wall_spring, every_entry=True), wall_speed)._replace(release_band=sim.skin)
-        contacts.flat_wall_forces(motion, sim._bodies(), walls, lo, hi, sim.law, dt, loads, wall_record)
+    if sim.walls.flat_walls:
+        walls = with_wall_speed(sim.kernel_walls(wall_spring, every_entry=True), wall_speed)
+        walls = walls._replace(release_band=sim.contacts.skin)
+        contacts.flat_wall_forces(motion, sim.kernel_bodies(), walls, lo, hi, dt, loads, wall_record)
     record = PairRecord(np.zeros(sim.n_pairs), np.zeros(sim.n_pairs), np.zeros((sim.n_pairs, dim)),
                         np.zeros((sim.n_pairs, dim)))
     pair_kernel = contacts.pair_forces_2d if dim == 2 else contacts.pair_forces_3d
-    pair_kernel(motion, sim._bodies(), sim._pairs(spring), sim.law_values(), dt, loads, record)
+    pair_kernel(motion, sim.kernel_bodies(), sim.kernel_pairs(spring), sim.law_values(), dt, loads, record)
     return (record.overlap, record.normal_force[:, None] * record.normal, record.tangential, wall_record.overlap,
             wall_record.force)
 
@@ -109,13 +112,13 @@ def one_step_of_both(dim: int, walls: str, law_name: str):
     """A random state, and the forces of one step on it by `stepping_forces` and by `recording_forces`."""
     sim = random_state(dim, LAWS[law_name], walls, seed=dim * 10 + len(law_name))
     rng = np.random.default_rng(1)
-    velocity = sim.gear_position[1] + rng.normal(0.0, 1e-4, sim.gear_position[1].shape)
-    spin = sim.gear_rotation[1].copy()
+    velocity = sim.particles.gear_position[1] + rng.normal(0.0, 1e-4, sim.particles.gear_position[1].shape)
+    spin = sim.particles.gear_rotation[1].copy()
     stepped = stepping_forces(sim, velocity, spin, WALL_SPEED)
-    spring, wall_spring = sim.spring.copy(), sim.wall_spring.copy()
-    force, torque = np.zeros_like(sim.force), np.zeros_like(sim.torque)
-    recorded = recording_forces(sim, sim.gear_position[0], velocity, spin, sim.walls_lo, sim.walls_hi, WALL_SPEED,
-                                spring, wall_spring, force, torque)
+    spring, wall_spring = sim.contacts.spring.copy(), sim.walls.wall_spring.copy()
+    force, torque = np.zeros_like(sim.work.loads.force), np.zeros_like(sim.work.loads.torque)
+    recorded = recording_forces(sim, sim.particles.gear_position[0], velocity, spin, sim.walls_lo, sim.walls_hi,
+                                WALL_SPEED, spring, wall_spring, force, torque)
     return sim, stepped, (force, torque, spring, wall_spring), recorded
 
 
@@ -129,10 +132,10 @@ def test_random_states_exercise_every_branch(dim, walls, law_name):
     sliding = np.isclose(f_t, LAWS[law_name].friction * f_n, rtol=1e-12)
     assert 0 < np.count_nonzero(sliding) < np.count_nonzero(touching) < sim.n_pairs
     assert np.all(f_t <= LAWS[law_name].friction * f_n * (1 + 1e-12))
-    on_walls = np.count_nonzero(wall_overlap) if walls == "flat" else np.count_nonzero(sim.pair_j[touching]
+    on_walls = np.count_nonzero(wall_overlap) if walls == "flat" else np.count_nonzero(sim.contacts.pair_j[touching]
                                                                                       >= sim.n_mobile)
     assert on_walls >= (4 if dim == 2 else 8)
-    assert np.all(spring[~touching] == 0.0) and np.all(sim.spring[~touching] != 0.0)
+    assert np.all(spring[~touching] == 0.0) and np.all(sim.contacts.spring[~touching] != 0.0)
 
 
 @pytest.mark.parametrize("dim, walls, law_name", CASES)
@@ -145,12 +148,12 @@ def test_step_forces_equal_the_recording_kernels_bit_for_bit(dim, walls, law_nam
 def steps_with_recording_kernels(sim: Simulation, n_steps: int):
     """`advance` written out step by step with the recording kernels: predict, move the walls, forces, correct
     (on copies). Returns (gear_position, gear_rotation, spring, wall_spring, force, torque, kinetic energies)."""
-    gear_position, gear_rotation = sim.gear_position.copy(), sim.gear_rotation.copy()
-    spring, wall_spring = sim.spring.copy(), sim.wall_spring.copy()
-    force, torque = np.zeros_like(sim.force), np.zeros_like(sim.torque)
-    velocity, spin = np.zeros_like(sim.force_velocity), np.zeros_like(sim.force_spin)
-    n, dt = sim.n_mobile, sim.time_step
-    shift = float(sim.wall_state[0])
+    gear_position, gear_rotation = sim.particles.gear_position.copy(), sim.particles.gear_rotation.copy()
+    spring, wall_spring = sim.contacts.spring.copy(), sim.walls.wall_spring.copy()
+    force, torque = np.zeros_like(sim.work.loads.force), np.zeros_like(sim.work.loads.torque)
+    velocity, spin = np.zeros_like(sim.work.force_velocity), np.zeros_like(sim.work.force_spin)
+    n, dt, work = sim.n_mobile, sim.time_step, sim.work
+    shift = float(sim.walls.wall_state[0])
     energies = []
     gear_kernels.gear_predict(gear_position, n, velocity, force)
     gear_kernels.gear_predict(gear_rotation, n, spin, torque)
@@ -158,13 +161,14 @@ def steps_with_recording_kernels(sim: Simulation, n_steps: int):
         new_shift = shift + WALL_SPEED * dt  # exact (dyadic)
         wall_speed = (new_shift - shift) * (1.0 / dt)
         shift = new_shift
-        if len(sim.wall_anchor):
-            stepping.place_wall_particles(gear_position, velocity, n, sim._walls(), shift, wall_speed * dt)
+        if len(sim.walls.wall_anchor):
+            stepping.place_wall_particles(gear_position, velocity, n, sim.kernel_walls(), shift, wall_speed * dt)
         force[n:], torque[n:] = 0.0, 0.0
-        recording_forces(sim, gear_position[0], velocity, spin, sim.box_lo + shift, sim.box_hi - shift, wall_speed,
-                         spring, wall_spring, force, torque)
-        energy = (gear_kernels.gear_correct_predict(gear_position, force, sim.accel_position, sim.half_mass, n, velocity)
-                  + gear_kernels.gear_correct_predict(gear_rotation, torque, sim.accel_rotation, sim.half_inertia, n,
+        recording_forces(sim, gear_position[0], velocity, spin, sim.walls.box_lo + shift, sim.walls.box_hi - shift,
+                         wall_speed, spring, wall_spring, force, torque)
+        energy = (gear_kernels.gear_correct_predict(gear_position, force, work.accel_position, work.half_mass, n,
+                                                    velocity)
+                  + gear_kernels.gear_correct_predict(gear_rotation, torque, work.accel_rotation, work.half_inertia, n,
                                                       spin))
         energies.append(energy * (1.0 / dt) * (1.0 / dt))
     gear_kernels.gear_unpredict(gear_position, n)
@@ -177,12 +181,14 @@ def test_advance_is_the_recording_kernels_step_by_step(dim, walls, law_name):
     sim = random_state(dim, LAWS[law_name], walls, seed=dim * 10 + len(law_name))
     expected = steps_with_recording_kernels(sim, N_STEPS)
     energy = sim.advance(N_STEPS)
-    assert sim.step == N_STEPS and sim.status[0] == stepping.STATUS_DONE  # no rebuild in between
+    assert sim.step == N_STEPS and sim.work.status[0] == stepping.STATUS_DONE  # no rebuild in between
     n = sim.n_mobile
-    got = (sim.gear_position, sim.gear_rotation, sim.spring, sim.wall_spring, sim.force[n:], sim.torque[n:], energy)
+    loads = sim.work.loads
+    got = (sim.particles.gear_position, sim.particles.gear_rotation, sim.contacts.spring, sim.walls.wall_spring,
+           loads.force[n:], loads.torque[n:], energy)
     names = ("gear_position", "gear_rotation", "spring", "wall_spring", "force on wall particles",
              "torque on wall particles", "kinetic energy")
     for name, value, reference in zip(names, got, expected[:4] + (expected[4][n:], expected[5][n:], expected[6])):
         np.testing.assert_array_equal(bits(value), bits(reference), err_msg=name)
     if walls == "rough":
-        assert np.any(sim.force[n:] != 0.0), "the wall particles should carry forces"
+        assert np.any(sim.work.loads.force[n:] != 0.0), "the wall particles should carry forces"

@@ -70,7 +70,7 @@ def make_states(system: str, box: float, rhos, seed: int = SEED) -> list[dict]:
         sim.advance(RELAX_STEPS)
         velocities = sim.velocities() + PROBE_SPEED * rng.normal(size=sim.velocities().shape)
         states.append(dict(dim=spec.dimension, positions=sim.positions(), radii=sim.radii(),
-                           masses=sim.mass[np.argsort(sim.particle_id)], velocities=velocities,
+                           masses=sim.masses(), velocities=velocities,
                            box_lo=sim.walls_lo.copy(), box_hi=sim.walls_hi.copy(), dt=spec.time_step, law=law,
                            rho=sim.packing_fraction))
     return states

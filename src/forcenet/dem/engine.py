@@ -4,9 +4,12 @@
 and advances it; `protocol.py` drives it through a compression. Everything is in reduced units (length
 d_ave, mass m̄, time τ_c) unless a caller passes other numbers (the LAMMPS benchmark does).
 
-The kernels take their arguments grouped in the named tuples of `kernel_arguments.py` (`Motion`, `Bodies`,
-`Pairs`, …), views of the Simulation's arrays made afresh for every kernel call, so a rebuild that replaces an
-array needs no bookkeeping.
+The state is four named structures (`state.py`): `particles`, `contacts`, `walls` and `clock`; checkpoints are
+written from them field by field (`state_dict`). What the step derives from them (the flat walls' contact law,
+the entries and references of the last rebuild, the force sums) is `StepWork`, never checkpointed. The kernels
+take their arguments grouped in the named tuples of `kernel_arguments.py` (`Motion`, `Bodies`, `Pairs`, …),
+views of these arrays made afresh for every kernel call, so a rebuild that replaces an array needs no
+bookkeeping.
 
 Neighbour list: Verlet list of all pairs closer than r_i + r_j + skin, built through a cell list; it is
 rebuilt when a particle (or a wall) has moved more than skin/2 since the last build. At each rebuild the
@@ -22,11 +25,12 @@ from typing import NamedTuple
 import numpy as np
 
 from forcenet.dem._kernels import contacts, neighbours, stepping
-from forcenet.dem._kernels.law import (LAW_BETA, LAW_GAMMA_N, LAW_GAMMA_T, LAW_K_N, LAW_K_T, LAW_MU,
-                                       LAW_RADIUS_SCALED, LAW_SIZE, LAW_WALL_STIFFNESS)
+from forcenet.dem._kernels.law import LAW_SIZE
 from forcenet.dem.kernel_arguments import (Bodies, Integrator, Loads, Motion, PairRecord, Pairs, RebuildWatch,
                                            WallRecord, Walls)
 from forcenet.dem.packing import WallParticles, packing_fraction
+from forcenet.dem.state import (Clock, ContactLaw, ContactState, ParticleState, WallState, checkpoint_arrays,
+                                from_checkpoint, wall_law)
 from forcenet.errors import ForcenetError
 
 #: default Verlet skin [d_ave]
@@ -48,49 +52,6 @@ class SimulationBlowUp(ForcenetError, RuntimeError):
         self.particle = particle
         self.rho = rho
         self.cause = cause  # "overlap", "not_finite", "escaped" (the step loop's checks), "damping" (the driver's)
-
-
-@dataclass(frozen=True)
-class ContactLaw:
-    """Contact law (P1 Eq. 1–3): F_n = k_n x^(1+β) − γ_n x^β m_eff v_n ≥ 0,
-    F_t = −k_t x^β ξ' − γ_t x^β m_eff v_t capped at μ F_n.
-
-    normal_stiffness k_n [m̄ d_ave^(−β) τ_c^(−2)], tangential_stiffness k_t [same], normal_damping γ_n and
-    tangential_damping γ_t [d_ave^(−β) τ_c^(−1)], friction μ, beta β. radius_scaled: multiply every term by
-    √R_eff (R_eff = r_i r_j/(r_i + r_j), r_i at a wall) as LAMMPS gran/hertz does — benchmark only.
-    wall_stiffness_factor: k_n and k_t of a flat-wall contact over the pair's (1: walls of the particles' material).
-    """
-
-    normal_stiffness: float
-    tangential_stiffness: float
-    normal_damping: float
-    tangential_damping: float
-    friction: float
-    beta: float
-    radius_scaled: bool = False
-    wall_stiffness_factor: float = 1.0
-
-    def as_array(self) -> np.ndarray:
-        """The LAW_* layout (checkpoints)."""
-        law = np.zeros(LAW_SIZE)
-        law[LAW_K_N] = self.normal_stiffness
-        law[LAW_K_T] = self.tangential_stiffness
-        law[LAW_GAMMA_N] = self.normal_damping
-        law[LAW_GAMMA_T] = self.tangential_damping
-        law[LAW_MU] = self.friction
-        law[LAW_BETA] = self.beta
-        law[LAW_RADIUS_SCALED] = 1.0 if self.radius_scaled else 0.0
-        law[LAW_WALL_STIFFNESS] = self.wall_stiffness_factor
-        return law
-
-    @classmethod
-    def from_array(cls, law: np.ndarray) -> "ContactLaw":
-        return cls(normal_stiffness=float(law[LAW_K_N]), tangential_stiffness=float(law[LAW_K_T]),
-                   normal_damping=float(law[LAW_GAMMA_N]), tangential_damping=float(law[LAW_GAMMA_T]),
-                   friction=float(law[LAW_MU]), beta=float(law[LAW_BETA]),
-                   radius_scaled=bool(law[LAW_RADIUS_SCALED]),
-                   # a law array of checkpoints older than the wall factor has 7 values: walls of the particles'
-                   wall_stiffness_factor=float(law[LAW_WALL_STIFFNESS]) if law.size > LAW_WALL_STIFFNESS else 1.0)
 
 
 @dataclass(frozen=True)
@@ -126,15 +87,37 @@ class RecordedForces(NamedTuple):
     wall_force: np.ndarray
 
 
-_STATE_ARRAYS = ("gear_position", "gear_rotation", "radius", "mass", "inv_mass", "inv_inertia", "particle_id",
-                 "box_lo", "box_hi", "wall_state", "wall_anchor", "wall_axis", "wall_sign", "wall_id",
-                 "pair_i", "pair_j", "spring", "wall_spring", "law")
-_STATE_SCALARS = ("n_mobile", "step", "time_step", "skin", "flat_walls", "escape_margin")
+@dataclass(eq=False)
+class StepWork:
+    """What the time step derives from the state and works in; never checkpointed (made from the state at
+    construction, refreshed by `Simulation.rebuild` and `Simulation.set_law`).
+
+    wall_law (LAW_SIZE,): the flat walls' contact law (`wall_law`); loads: the force (N, d) and torque (N, 1|3)
+    sums; force_velocity (N, d), force_spin (N, 1|3): the velocities the forces see (Gear predicted); status (2,)
+    int64: [code, slot] of the last `stepping.advance`. Set at each rebuild: reference_position (N, d) and
+    reference_shift, positions and wall shift then [d_ave]; wall_entry_particle, wall_entry_wall (E,) int64, the
+    flat-wall entries that can touch before the next rebuild; accel_position (N, d), accel_rotation (N, 1|3) =
+    Δt²/2 · 1/m, 1/I per component; half_mass, half_inertia = ½ m, ½ I per component (0 for wall particles)."""
+    wall_law: np.ndarray
+    loads: Loads
+    force_velocity: np.ndarray
+    force_spin: np.ndarray
+    status: np.ndarray
+    reference_position: np.ndarray
+    reference_shift: float
+    wall_entry_particle: np.ndarray
+    wall_entry_wall: np.ndarray
+    accel_position: np.ndarray
+    accel_rotation: np.ndarray
+    half_mass: np.ndarray
+    half_inertia: np.ndarray
 
 
 class Simulation:
     """A DEM system: mobile particles (slots 0..n_mobile−1, re-ordered by cell at each rebuild; `particle_id`
     maps slots back to input order) and rough-wall particles (slots n_mobile.., fixed order).
+
+    The state is `particles`, `contacts`, `walls` and `clock` (`forcenet.dem.state`); `work` is derived from it.
 
     Parameters
     ----------
@@ -148,6 +131,12 @@ class Simulation:
     skin : Verlet skin [d_ave]
     """
 
+    particles: ParticleState
+    contacts: ContactState
+    walls: WallState
+    clock: Clock
+    work: StepWork
+
     def __init__(self, *, position, radius, mass, law: ContactLaw, time_step: float, box_lo, box_hi,
                  velocity=None, angular_velocity=None, walls: str = "flat",
                  wall_particles: WallParticles | None = None, skin: float = DEFAULT_SKIN):
@@ -160,50 +149,45 @@ class Simulation:
         n_wall = len(wall_particles.anchor) if walls == "rough" else 0
         n_total = n_mobile + n_wall
         rot = 1 if dim == 2 else 3
-        self.n_mobile = n_mobile
-        self.time_step = float(time_step)
-        self.skin = float(skin)
-        self.step = 0
-        self.flat_walls = walls == "flat"
-        self.gear_position = np.zeros((5, n_total, dim))
-        self.gear_rotation = np.zeros((5, n_total, rot))
-        self.gear_position[0, :n_mobile] = position
+        self.clock = Clock(step=0, time_step=float(time_step))
+        gear_position = np.zeros((5, n_total, dim))
+        gear_rotation = np.zeros((5, n_total, rot))
+        gear_position[0, :n_mobile] = position
         if velocity is not None:
-            self.gear_position[1, :n_mobile] = np.asarray(velocity, dtype=float) * self.time_step
+            gear_position[1, :n_mobile] = np.asarray(velocity, dtype=float) * self.clock.time_step
         if angular_velocity is not None:
-            self.gear_rotation[1, :n_mobile] = np.asarray(angular_velocity, dtype=float).reshape(n_mobile, rot) * self.time_step
-        self.radius = np.zeros(n_total)
-        self.radius[:n_mobile] = radius
-        self.mass = np.asarray(mass, dtype=float).copy()
-        inertia = (0.5 if dim == 2 else 0.4) * self.mass * self.radius[:n_mobile] ** 2  # disk m r²/2, sphere 2 m r²/5
-        self.inv_mass = np.zeros(n_total)
-        self.inv_mass[:n_mobile] = 1.0 / self.mass
-        self.inv_inertia = np.zeros(n_total)
-        self.inv_inertia[:n_mobile] = 1.0 / inertia
-        self.particle_id = np.arange(n_mobile, dtype=np.int64)
+            gear_rotation[1, :n_mobile] = (np.asarray(angular_velocity, dtype=float).reshape(n_mobile, rot)
+                                           * self.clock.time_step)
+        all_radius = np.zeros(n_total)
+        all_radius[:n_mobile] = radius
+        mass = np.asarray(mass, dtype=float).copy()
+        inertia = (0.5 if dim == 2 else 0.4) * mass * all_radius[:n_mobile] ** 2  # disk m r²/2, sphere 2 m r²/5
+        inv_mass = np.zeros(n_total)
+        inv_mass[:n_mobile] = 1.0 / mass
+        inv_inertia = np.zeros(n_total)
+        inv_inertia[:n_mobile] = 1.0 / inertia
         if walls == "none":
             box_lo, box_hi = np.full(dim, -np.inf), np.full(dim, np.inf)
-        self.box_lo = np.asarray(box_lo, dtype=float).copy()
-        self.box_hi = np.asarray(box_hi, dtype=float).copy()
-        self.wall_state = np.array([0.0, 0.0, np.inf, 0.0])  # shift, speed, shift_max, speed in the last step
         if n_wall:
-            self.wall_anchor = np.ascontiguousarray(wall_particles.anchor, dtype=float)
-            self.wall_axis = np.asarray(wall_particles.axis, dtype=np.int64)
-            self.wall_sign = np.asarray(wall_particles.sign, dtype=float)
-            self.wall_id = np.asarray(wall_particles.wall_id, dtype=np.int64)
-            self.radius[n_mobile:] = wall_particles.radius
-            self.escape_margin = float(wall_particles.radius)
+            all_radius[n_mobile:] = wall_particles.radius
+            rough = dict(wall_anchor=np.ascontiguousarray(wall_particles.anchor, dtype=float),
+                         wall_axis=np.asarray(wall_particles.axis, dtype=np.int64),
+                         wall_sign=np.asarray(wall_particles.sign, dtype=float),
+                         wall_id=np.asarray(wall_particles.wall_id, dtype=np.int64),
+                         escape_margin=float(wall_particles.radius))
         else:
-            self.wall_anchor = np.zeros((0, dim))
-            self.wall_axis = np.zeros(0, dtype=np.int64)
-            self.wall_sign = np.zeros(0)
-            self.wall_id = np.zeros(0, dtype=np.int64)
-            self.escape_margin = 0.0
-        self.law = law.as_array()
-        self.wall_spring = np.zeros((n_mobile, 2 * dim, dim))
-        self.pair_i = np.zeros(0, dtype=np.int32)
-        self.pair_j = np.zeros(0, dtype=np.int32)
-        self.spring = np.zeros((0, dim))
+            rough = dict(wall_anchor=np.zeros((0, dim)), wall_axis=np.zeros(0, dtype=np.int64),
+                         wall_sign=np.zeros(0), wall_id=np.zeros(0, dtype=np.int64), escape_margin=0.0)
+        self.particles = ParticleState(gear_position=gear_position, gear_rotation=gear_rotation, radius=all_radius,
+                                       mass=mass, inv_mass=inv_mass, inv_inertia=inv_inertia,
+                                       particle_id=np.arange(n_mobile, dtype=np.int64), n_mobile=n_mobile)
+        # shift, speed, shift_max, speed in the last step
+        self.walls = WallState(box_lo=np.asarray(box_lo, dtype=float).copy(),
+                               box_hi=np.asarray(box_hi, dtype=float).copy(),
+                               wall_state=np.array([0.0, 0.0, np.inf, 0.0]), flat_walls=walls == "flat",
+                               wall_spring=np.zeros((n_mobile, 2 * dim, dim)), **rough)
+        self.contacts = ContactState(law=law.as_array(), skin=float(skin), pair_i=np.zeros(0, dtype=np.int32),
+                                     pair_j=np.zeros(0, dtype=np.int32), spring=np.zeros((0, dim)))
         self._allocate_work()
         self._place_walls()
         self.rebuild()
@@ -211,39 +195,56 @@ class Simulation:
 
     # --- construction helpers --------------------------------------------------------------------------
     def _allocate_work(self):
-        n_total, dim = self.gear_position.shape[1:]
-        self.force = np.zeros((n_total, dim))
-        self.torque = np.zeros((n_total, self.gear_rotation.shape[2]))
-        self.status = np.zeros(2, dtype=np.int64)
-        self.force_velocity = np.zeros((n_total, dim))
-        self.force_spin = np.zeros((n_total, self.gear_rotation.shape[2]))
-        self.reference_position = np.zeros((n_total, dim))
-        self.reference_shift = 0.0
+        """`work` for the current state; the fields that `rebuild` sets are left empty."""
+        n_total, dim = self.particles.gear_position.shape[1:]
+        rot = self.particles.gear_rotation.shape[2]
+        empty = np.zeros(0, dtype=np.int64)
+        self.work = StepWork(wall_law=wall_law(self.contacts.law),
+                             loads=Loads(np.zeros((n_total, dim)), np.zeros((n_total, rot))),
+                             force_velocity=np.zeros((n_total, dim)), force_spin=np.zeros((n_total, rot)),
+                             status=np.zeros(2, dtype=np.int64), reference_position=np.zeros((n_total, dim)),
+                             reference_shift=0.0, wall_entry_particle=empty, wall_entry_wall=empty,
+                             accel_position=np.zeros((n_total, dim)), accel_rotation=np.zeros((n_total, rot)),
+                             half_mass=np.zeros((n_total, dim)), half_inertia=np.zeros((n_total, rot)))
 
     def _place_walls(self):
-        if len(self.wall_anchor):
-            stepping.place_wall_particles(self.gear_position, self.force_velocity, self.n_mobile,
-                                          self._walls(every_entry=True), self.wall_state[0], 0.0)
+        if len(self.walls.wall_anchor):
+            stepping.place_wall_particles(self.particles.gear_position, self.work.force_velocity, self.n_mobile,
+                                          self.kernel_walls(every_entry=True), self.walls.wall_state[0], 0.0)
 
     def _start_gear_accelerations(self):
         """Gear's second scaled derivative from the forces at t = 0 (springs all zero, velocities as given)."""
         forces = self.evaluate_forces()
         half_dt_sq = 0.5 * self.time_step ** 2
-        self.gear_position[2, :self.n_mobile] = half_dt_sq * forces[0][:self.n_mobile] * self.inv_mass[:self.n_mobile, None]
-        self.gear_rotation[2, :self.n_mobile] = half_dt_sq * forces[1][:self.n_mobile] * self.inv_inertia[:self.n_mobile, None]
+        n, particles = self.n_mobile, self.particles
+        particles.gear_position[2, :n] = half_dt_sq * forces[0][:n] * particles.inv_mass[:n, None]
+        particles.gear_rotation[2, :n] = half_dt_sq * forces[1][:n] * particles.inv_inertia[:n, None]
 
     # --- properties ----------------------------------------------------------------------------------------
     @property
+    def n_mobile(self) -> int:
+        return self.particles.n_mobile
+
+    @property
+    def step(self) -> int:
+        return self.clock.step
+
+    @property
+    def time_step(self) -> float:
+        """Δt [τ_c]."""
+        return self.clock.time_step
+
+    @property
     def dimension(self) -> int:
-        return self.gear_position.shape[2]
+        return self.particles.gear_position.shape[2]
 
     @property
     def n_pairs(self) -> int:
-        return len(self.pair_i)
+        return len(self.contacts.pair_i)
 
     @property
     def wall_shift(self) -> float:
-        return float(self.wall_state[0])
+        return float(self.walls.wall_state[0])
 
     @property
     def time(self) -> float:
@@ -252,62 +253,68 @@ class Simulation:
     @property
     def walls_lo(self) -> np.ndarray:
         """Current lower wall planes (d,) [d_ave]."""
-        return self.box_lo + self.wall_state[0]
+        return self.walls.box_lo + self.walls.wall_state[0]
 
     @property
     def walls_hi(self) -> np.ndarray:
-        return self.box_hi - self.wall_state[0]
+        return self.walls.box_hi - self.walls.wall_state[0]
 
     @property
     def packing_fraction(self) -> float:
         span = self.walls_hi - self.walls_lo
         if not np.all(np.isfinite(span)):
             return 0.0
-        return packing_fraction(self.radius[:self.n_mobile], span)
+        return packing_fraction(self.particles.radius[:self.n_mobile], span)
 
     def set_walls(self, speed: float, shift_max: float = np.inf) -> None:
         """Walls move inward at `speed` [d_ave/τ_c] until their shift reaches shift_max [d_ave]."""
-        self.wall_state[1] = speed
-        self.wall_state[2] = shift_max
+        self.walls.wall_state[1] = speed
+        self.walls.wall_state[2] = shift_max
 
     def _ordered(self, values: np.ndarray) -> np.ndarray:
         """Per-slot values (n_mobile, …) → input particle order."""
         out = np.empty_like(values)
-        out[self.particle_id] = values
+        out[self.particles.particle_id] = values
         return out
 
     def positions(self) -> np.ndarray:
         """(N, d) [d_ave], input order."""
-        return self._ordered(self.gear_position[0, :self.n_mobile])
+        return self._ordered(self.particles.gear_position[0, :self.n_mobile])
 
     def velocities(self) -> np.ndarray:
-        return self._ordered(self.gear_position[1, :self.n_mobile] / self.time_step)
+        return self._ordered(self.particles.gear_position[1, :self.n_mobile] / self.time_step)
 
     def angular_velocities(self) -> np.ndarray:
         """(N,) in 2D, (N, 3) in 3D [1/τ_c], input order."""
-        omega = self._ordered(self.gear_rotation[1, :self.n_mobile] / self.time_step)
+        omega = self._ordered(self.particles.gear_rotation[1, :self.n_mobile] / self.time_step)
         return omega[:, 0] if self.dimension == 2 else omega
 
     def radii(self) -> np.ndarray:
-        return self._ordered(self.radius[:self.n_mobile])
+        return self._ordered(self.particles.radius[:self.n_mobile])
+
+    def masses(self) -> np.ndarray:
+        """(N,) [m̄], input order."""
+        return self._ordered(self.particles.mass)
 
     def kinetic_energy(self) -> float:
         """Σ ½ m v² + ½ I ω² [m̄ d_ave² τ_c⁻²]."""
-        n = self.n_mobile
-        v = self.gear_position[1, :n] / self.time_step
-        w = self.gear_rotation[1, :n] / self.time_step
-        return float(0.5 * np.sum(self.mass * np.sum(v * v, axis=1))
-                     + 0.5 * np.sum(np.sum(w * w, axis=1) / self.inv_inertia[:n]))
+        n, particles = self.n_mobile, self.particles
+        v = particles.gear_position[1, :n] / self.time_step
+        w = particles.gear_rotation[1, :n] / self.time_step
+        return float(0.5 * np.sum(particles.mass * np.sum(v * v, axis=1))
+                     + 0.5 * np.sum(np.sum(w * w, axis=1) / particles.inv_inertia[:n]))
 
     # --- neighbour list ------------------------------------------------------------------------------------
     def rebuild(self) -> None:
         """Sort the mobile particles by cell, rebuild the Verlet list, carry the springs over."""
-        n, n_total = self.n_mobile, self.gear_position.shape[1]
+        particles, contact_state, walls, work = self.particles, self.contacts, self.walls, self.work
+        n, n_total = self.n_mobile, particles.gear_position.shape[1]
         dim = self.dimension
-        position = self.gear_position[0]
+        position = particles.gear_position[0]
         if not np.all(np.isfinite(position)):
             raise FloatingPointError("non-finite position at a neighbour-list rebuild")
-        cutoff = 2.0 * float(self.radius.max()) + self.skin
+        skin = contact_state.skin
+        cutoff = 2.0 * float(particles.radius.max()) + skin
         origin = position.min(axis=0) - 1e-9
         extent = position.max(axis=0) - origin
         cell_size = max(cutoff, float(extent.max()) / MAX_CELLS_PER_AXIS[dim])
@@ -317,41 +324,40 @@ class Simulation:
         order = np.argsort(cells, kind="stable")
         new_slot = np.arange(n_total, dtype=np.int64)
         new_slot[order] = np.arange(n, dtype=np.int64)
-        for name in ("gear_position", "gear_rotation"):
-            array = getattr(self, name)
+        for array in (particles.gear_position, particles.gear_rotation):
             array[:, :n] = array[:, order]
-        for name in ("radius", "inv_mass", "inv_inertia"):
-            array = getattr(self, name)
+        for array in (particles.radius, particles.inv_mass, particles.inv_inertia):
             array[:n] = array[order]
-        self.mass = self.mass[order]
-        self.particle_id = self.particle_id[order]
-        self.wall_spring = np.ascontiguousarray(self.wall_spring[order])
-        pair_i, pair_j = neighbours.build_pair_list(self.gear_position[0], self.radius, n, n_total, self.skin,
+        particles.mass = particles.mass[order]
+        particles.particle_id = particles.particle_id[order]
+        walls.wall_spring = np.ascontiguousarray(walls.wall_spring[order])
+        pair_i, pair_j = neighbours.build_pair_list(particles.gear_position[0], particles.radius, n, n_total, skin,
                                                     origin, cell_size, n_cells)
         spring = np.zeros((len(pair_i), dim))
-        neighbours.transfer_springs(self.pair_i, self.pair_j, self.spring, len(self.pair_i), new_slot,
-                                    pair_i, pair_j, spring, n_total)
+        neighbours.transfer_springs(contact_state.pair_i, contact_state.pair_j, contact_state.spring,
+                                    len(contact_state.pair_i), new_slot, pair_i, pair_j, spring, n_total)
         # touching pairs first, each group still sorted by i then j: the pair loop's contact test then mispredicts
         # only where a contact opened or closed since the rebuild, not at every pair that is merely near
         # (measured: −12 to −17 % on the 3D pair loop)
         order = np.argsort(~self._touching(pair_i, pair_j), kind="stable")
-        self.pair_i, self.pair_j = pair_i[order], pair_j[order]
-        self.spring = np.ascontiguousarray(spring[order])
+        contact_state.pair_i, contact_state.pair_j = pair_i[order], pair_j[order]
+        contact_state.spring = np.ascontiguousarray(spring[order])
         # the (particle, wall) entries that can touch before the next rebuild: within the spring-release band (the
         # skin) of that wall now, plus the skin (both they and the walls move less than half a skin until then),
         # plus a margin for the step that crosses the rebuild threshold
-        self.wall_entry_particle, self.wall_entry_wall = contacts.wall_candidates(
-            position, self.radius, n, self.walls_lo, self.walls_hi, WALL_REACH_IN_SKINS * self.skin)
+        work.wall_entry_particle, work.wall_entry_wall = contacts.wall_candidates(
+            position, particles.radius, n, self.walls_lo, self.walls_hi, WALL_REACH_IN_SKINS * skin)
         half_dt_sq = 0.5 * self.time_step ** 2
-        self.accel_position = np.repeat(half_dt_sq * self.inv_mass[:, None], dim, axis=1)
-        self.accel_rotation = np.repeat(half_dt_sq * self.inv_inertia[:, None], self.gear_rotation.shape[2], axis=1)
+        work.accel_position = np.repeat(half_dt_sq * particles.inv_mass[:, None], dim, axis=1)
+        work.accel_rotation = np.repeat(half_dt_sq * particles.inv_inertia[:, None], particles.gear_rotation.shape[2],
+                                        axis=1)
         # ½ m and ½ I per component, for the kinetic energy summed in the fused Gear pass (0 for wall particles)
-        self.half_mass = np.zeros_like(self.accel_position)
-        self.half_mass[:n] = 0.5 * self.mass[:, None]
-        self.half_inertia = np.zeros_like(self.accel_rotation)
-        self.half_inertia[:n] = 0.5 / self.inv_inertia[:n, None]
-        self.reference_position = self.gear_position[0].copy()
-        self.reference_shift = float(self.wall_state[0])
+        work.half_mass = np.zeros_like(work.accel_position)
+        work.half_mass[:n] = 0.5 * particles.mass[:, None]
+        work.half_inertia = np.zeros_like(work.accel_rotation)
+        work.half_inertia[:n] = 0.5 / particles.inv_inertia[:n, None]
+        work.reference_position = particles.gear_position[0].copy()
+        work.reference_shift = float(walls.wall_state[0])
 
     # --- time stepping -------------------------------------------------------------------------------------
     def advance(self, n_steps: int, kinetic_energy: np.ndarray | None = None) -> np.ndarray:
@@ -362,66 +368,76 @@ class Simulation:
         """
         if kinetic_energy is None:
             kinetic_energy = np.empty(n_steps)
+        particles, work = self.particles, self.work
         done = 0
         while done < n_steps:
-            dt = self.time_step
-            gear = Integrator(self.gear_position, self.gear_rotation, self.accel_position, self.accel_rotation,
-                              self.half_mass, self.half_inertia, dt)
-            motion = Motion(self.gear_position[0], self.force_velocity, self.force_spin, 1.0 / dt)
-            watch = RebuildWatch(self.reference_position, self.reference_shift, 0.5 * self.skin)
-            steps = stepping.advance(gear, motion, Loads(self.force, self.torque), self._bodies(), self._pairs(),
-                                     self._walls(), self.law, watch, n_steps - done, kinetic_energy[done:],
-                                     self.status)
+            dt = self.clock.time_step
+            gear = Integrator(particles.gear_position, particles.gear_rotation, work.accel_position,
+                              work.accel_rotation, work.half_mass, work.half_inertia, dt)
+            motion = Motion(particles.gear_position[0], work.force_velocity, work.force_spin, 1.0 / dt)
+            watch = RebuildWatch(work.reference_position, work.reference_shift, 0.5 * self.contacts.skin)
+            steps = stepping.advance(gear, motion, work.loads, self.kernel_bodies(), self.kernel_pairs(),
+                                     self.kernel_walls(), self.contacts.law, watch, n_steps - done,
+                                     kinetic_energy[done:], work.status)
             done += steps
-            self.step += steps
-            code = int(self.status[0])
+            self.clock.step += steps
+            code = int(work.status[0])
             if code == stepping.STATUS_REBUILD:
                 self.rebuild()
             elif code != stepping.STATUS_DONE:
-                self._raise_blow_up(code, int(self.status[1]))
+                self._raise_blow_up(code, int(work.status[1]))
         return kinetic_energy[:n_steps]
 
     def _raise_blow_up(self, code: int, slot: int) -> None:
-        particle = int(self.particle_id[slot]) if 0 <= slot < self.n_mobile else -1
+        particle = int(self.particles.particle_id[slot]) if 0 <= slot < self.n_mobile else -1
         reason = {stepping.STATUS_NOT_FINITE: "non-finite position or velocity",
                   stepping.STATUS_OVERLAP: f"overlap above {contacts.MAX_OVERLAP_FRACTION:.0%} of a diameter",
                   stepping.STATUS_ESCAPED: "particle centre outside the walls"}.get(code, f"status {code}")
         cause = {stepping.STATUS_NOT_FINITE: "not_finite", stepping.STATUS_OVERLAP: "overlap",
                  stepping.STATUS_ESCAPED: "escaped"}.get(code, "")
         if 0 <= slot < self.n_mobile:
-            reason += f" (position {self.gear_position[0, slot].tolist()})"
+            reason += f" (position {self.particles.gear_position[0, slot].tolist()})"
         raise SimulationBlowUp(reason, step=self.step, particle=particle, rho=self.packing_fraction, cause=cause)
 
-    # --- the kernels' arguments ---------------------------------------------------------------------------
+    # --- the contact law and the kernels' arguments ----------------------------------------------------------
     @property
     def contact_law(self) -> ContactLaw:
-        return ContactLaw.from_array(self.law)
+        return ContactLaw.from_array(self.contacts.law)
+
+    def set_law(self, law: ContactLaw) -> None:
+        """Continue under another contact law (the flat walls' law follows)."""
+        self.contacts.law = law.as_array()
+        self.work.wall_law = wall_law(self.contacts.law)
 
     def law_values(self) -> tuple[float, ...]:
         """The law as the pair kernels take it: a tuple of the LAW_* values (as `advance` makes it)."""
-        return tuple(float(value) for value in self.law)
+        return tuple(float(value) for value in self.contacts.law)
 
-    def _bodies(self) -> Bodies:
-        return Bodies(self.radius, self.inv_mass, self.n_mobile)
+    def kernel_bodies(self) -> Bodies:
+        return Bodies(self.particles.radius, self.particles.inv_mass, self.n_mobile)
 
-    def _pairs(self, spring: np.ndarray | None = None) -> Pairs:
-        return Pairs(self.pair_i, self.pair_j, len(self.pair_i), self.spring if spring is None else spring)
+    def kernel_pairs(self, spring: np.ndarray | None = None) -> Pairs:
+        """The Verlet list with its springs, or with the given spring array (P, d) in their place."""
+        contact_state = self.contacts
+        return Pairs(contact_state.pair_i, contact_state.pair_j, len(contact_state.pair_i),
+                     contact_state.spring if spring is None else spring)
 
-    def _walls(self, spring: np.ndarray | None = None, every_entry: bool = False) -> Walls:
+    def kernel_walls(self, spring: np.ndarray | None = None, every_entry: bool = False) -> Walls:
         """The walls as the time step sees them: the flat-wall entries that can touch before the next rebuild,
         springs released within one skin; or, with every_entry, every (particle, wall) entry and every spring
-        of a wall that does not touch released (for recording)."""
+        of a wall that does not touch released (for recording). spring (N, 2d, d): in place of the walls'."""
+        walls = self.walls
         if every_entry:
             n_walls = 2 * self.dimension
             entry_particle = np.repeat(np.arange(self.n_mobile, dtype=np.int64), n_walls)
             entry_wall = np.tile(np.arange(n_walls, dtype=np.int64), self.n_mobile)
         else:
-            entry_particle, entry_wall = self.wall_entry_particle, self.wall_entry_wall
-        return Walls(flat=self.flat_walls, box_lo=self.box_lo, box_hi=self.box_hi, state=self.wall_state,
-                     spring=self.wall_spring if spring is None else spring, entry_particle=entry_particle,
-                     entry_wall=entry_wall, release_band=np.inf if every_entry else self.skin,
-                     escape_margin=self.escape_margin, anchor=self.wall_anchor, axis=self.wall_axis,
-                     sign=self.wall_sign)
+            entry_particle, entry_wall = self.work.wall_entry_particle, self.work.wall_entry_wall
+        return Walls(flat=walls.flat_walls, box_lo=walls.box_lo, box_hi=walls.box_hi, state=walls.wall_state,
+                     law=self.work.wall_law, spring=walls.wall_spring if spring is None else spring,
+                     entry_particle=entry_particle, entry_wall=entry_wall,
+                     release_band=np.inf if every_entry else self.contacts.skin, escape_margin=walls.escape_margin,
+                     anchor=walls.wall_anchor, axis=walls.wall_axis, sign=walls.wall_sign)
 
     # --- forces at one instant -----------------------------------------------------------------------------
     def record(self, spring_dt: float = 0.0, spring: np.ndarray | None = None,
@@ -432,18 +448,21 @@ class Simulation:
         (n_pairs, d) and wall_spring (N, 2d, d), updated in place; by default in copies of the Simulation's,
         which stay unchanged."""
         n, dim = self.n_mobile, self.dimension
-        n_pairs = len(self.pair_i)
-        loads = Loads(np.zeros_like(self.force), np.zeros_like(self.torque))
-        motion = Motion(self.gear_position[0], self.gear_position[1], self.gear_rotation[1], 1.0 / self.time_step)
+        n_pairs = self.n_pairs
+        gear_position, gear_rotation = self.particles.gear_position, self.particles.gear_rotation
+        loads = Loads(np.zeros_like(self.work.loads.force), np.zeros_like(self.work.loads.torque))
+        motion = Motion(gear_position[0], gear_position[1], gear_rotation[1], 1.0 / self.time_step)
         wall_record = WallRecord(np.zeros((n, 2 * dim)), np.zeros((n, 2 * dim, dim)))
-        if self.flat_walls:
-            walls = self._walls(self.wall_spring.copy() if wall_spring is None else wall_spring, every_entry=True)
-            contacts.flat_wall_forces(motion, self._bodies(), walls, self.walls_lo, self.walls_hi, self.law,
+        if self.walls.flat_walls:
+            walls = self.kernel_walls(self.walls.wall_spring.copy() if wall_spring is None else wall_spring,
+                                      every_entry=True)
+            contacts.flat_wall_forces(motion, self.kernel_bodies(), walls, self.walls_lo, self.walls_hi,
                                       spring_dt, loads, wall_record)
         pair_record = PairRecord(np.zeros(n_pairs), np.zeros(n_pairs), np.zeros((n_pairs, dim)),
                                  np.zeros((n_pairs, dim)))
         pair_kernel = contacts.pair_forces_2d if dim == 2 else contacts.pair_forces_3d
-        pair_kernel(motion, self._bodies(), self._pairs(self.spring.copy() if spring is None else spring),
+        pair_kernel(motion, self.kernel_bodies(), self.kernel_pairs(self.contacts.spring.copy() if spring is None
+                                                                   else spring),
                     self.law_values(), spring_dt, loads, pair_record)
         return RecordedForces(force=loads.force, torque=loads.torque, overlap=pair_record.overlap,
                               normal=pair_record.normal_force[:, None] * pair_record.normal,
@@ -458,13 +477,15 @@ class Simulation:
     def contact_forces(self) -> ContactForces:
         """Every contact (overlap > 0) and its force, in input particle order (see `ContactForces`)."""
         n, dim = self.n_mobile, self.dimension
+        particle_id, wall_id = self.particles.particle_id, self.walls.wall_id
         _, _, overlap, normal, tangential, wall_overlap, wall_force = self.record()
         touching = overlap > 0.0
-        slot_i, slot_j = self.pair_i[touching].astype(np.int64), self.pair_j[touching].astype(np.int64)
+        slot_i = self.contacts.pair_i[touching].astype(np.int64)
+        slot_j = self.contacts.pair_j[touching].astype(np.int64)
         f_n, f_t = normal[touching], tangential[touching]
         between = slot_j < n
         # particle–particle contacts, relabelled to input order with i < j (force on i from j)
-        ci, cj = self.particle_id[slot_i[between]], self.particle_id[slot_j[between]]
+        ci, cj = particle_id[slot_i[between]], particle_id[slot_j[between]]
         fn, ft = f_n[between].copy(), f_t[between].copy()
         swap = ci > cj
         ci, cj = np.where(swap, cj, ci), np.where(swap, ci, cj)
@@ -472,12 +493,12 @@ class Simulation:
         ft[swap] *= -1.0
         order = np.lexsort((cj, ci))
         # wall contacts: rough-wall particles (pairs with j ≥ n) and flat walls
-        wall_particle = [self.particle_id[slot_i[~between]]]
-        wall_which = [self.wall_id[slot_j[~between] - n]]
+        wall_particle = [particle_id[slot_i[~between]]]
+        wall_which = [wall_id[slot_j[~between] - n]]
         wall_f = [f_n[~between] + f_t[~between]]
-        if self.flat_walls:
+        if self.walls.flat_walls:
             slot, wall = np.nonzero(wall_overlap > 0.0)
-            wall_particle.append(self.particle_id[slot])
+            wall_particle.append(particle_id[slot])
             wall_which.append(wall)
             wall_f.append(wall_force[slot, wall])
         wp = np.concatenate(wall_particle).astype(np.int64)
@@ -494,14 +515,14 @@ class Simulation:
 
     def contact_count(self) -> int:
         """Number of touching particle–particle pairs (cheap; for progress logs)."""
-        mobile = self.pair_j < self.n_mobile
-        return int(np.count_nonzero(self._touching(self.pair_i[mobile], self.pair_j[mobile])))
+        mobile = self.contacts.pair_j < self.n_mobile
+        return int(np.count_nonzero(self._touching(self.contacts.pair_i[mobile], self.contacts.pair_j[mobile])))
 
     def _touching(self, pair_i: np.ndarray, pair_j: np.ndarray) -> np.ndarray:
         """Whether each listed pair overlaps now (bool, len(pair_i))."""
-        position = self.gear_position[0]
+        position, radius = self.particles.gear_position[0], self.particles.radius
         d = position[pair_i] - position[pair_j]
-        reach = self.radius[pair_i] + self.radius[pair_j]
+        reach = radius[pair_i] + radius[pair_j]
         return np.einsum("pk,pk->p", d, d) < reach * reach
 
     def wall_pressure(self, load: np.ndarray) -> float:
@@ -514,26 +535,20 @@ class Simulation:
 
     # --- checkpoints -------------------------------------------------------------------------------------
     def state_dict(self) -> dict:
-        """Every array and scalar that determines the future of the run (for np.savez)."""
-        state = {name: getattr(self, name) for name in _STATE_ARRAYS}
-        state.update({name: getattr(self, name) for name in _STATE_SCALARS})
-        return state
+        """Every field of the state structures, by name (for np.savez): what determines the future of the run."""
+        return checkpoint_arrays(self.particles, self.contacts, self.walls, self.clock)
 
     @classmethod
     def from_state_dict(cls, state) -> "Simulation":
         """Rebuild a Simulation from `state_dict()` output (e.g. an np.load of a checkpoint). The Verlet list is
         rebuilt (carrying the springs), exactly as `rebuild()` does in the uninterrupted run."""
         sim = cls.__new__(cls)
-        for name in _STATE_ARRAYS:
-            setattr(sim, name, np.array(state[name]))
-        if sim.law.size < LAW_SIZE:  # a checkpoint from before the wall factor: walls of the particles' material
-            sim.law = ContactLaw.from_array(sim.law).as_array()
-        sim.n_mobile = int(state["n_mobile"])
-        sim.step = int(state["step"])
-        sim.time_step = float(state["time_step"])
-        sim.skin = float(state["skin"])
-        sim.flat_walls = bool(state["flat_walls"])
-        sim.escape_margin = float(state["escape_margin"])
+        sim.particles = from_checkpoint(ParticleState, state)
+        sim.contacts = from_checkpoint(ContactState, state)
+        sim.walls = from_checkpoint(WallState, state)
+        sim.clock = from_checkpoint(Clock, state)
+        if sim.contacts.law.size < LAW_SIZE:  # from before the wall factor: walls of the particles' material
+            sim.contacts.law = ContactLaw.from_array(sim.contacts.law).as_array()
         sim._allocate_work()
         sim.rebuild()
         return sim

@@ -49,13 +49,15 @@ class Pairs(NamedTuple):
 
 class Walls(NamedTuple):
     """The walls: flat (bool; else rough-wall particles or none), box_lo, box_hi (d,) the planes at shift 0
-    [d_ave], state = [shift, speed, shift_max, speed of the last step]; flat walls: spring (N, 2d, d), the
+    [d_ave], state = [shift, speed, shift_max, speed of the last step]; flat walls: law (LAW_SIZE,) the contact law
+    of a wall contact (the pair's, k_n and k_t × its LAW_WALL_STIFFNESS: `engine.wall_law`), spring (N, 2d, d), the
     (particle, wall) entries to visit entry_particle, entry_wall (int64), release_band [d_ave]; escape_margin
     [d_ave]; rough-wall particles: anchor (W, d), axis (W,) int64, sign (W,)."""
     flat: bool
     box_lo: np.ndarray
     box_hi: np.ndarray
     state: np.ndarray
+    law: np.ndarray
     spring: np.ndarray
     entry_particle: np.ndarray
     entry_wall: np.ndarray

@@ -25,6 +25,7 @@ the uninterrupted run too, so that both continue from identical arrays: resumed 
 """
 from __future__ import annotations
 
+import dataclasses
 import hashlib
 import json
 import logging
@@ -39,7 +40,6 @@ import numpy as np
 from forcenet import datasets
 from forcenet.boxes import P1_OVERLAP_BOUND, relative_overlaps
 from forcenet.dem import calibration, packing, stability
-from forcenet.dem._kernels.law import LAW_GAMMA_N, LAW_GAMMA_T
 from forcenet.dem.engine import ContactLaw, Simulation, SimulationBlowUp
 from forcenet.systems import CONTACT_NUMBER, KINETIC_ENERGY_FLUCTUATION, SystemSpec
 
@@ -82,8 +82,8 @@ def build_simulation(system: SystemSpec, seed: int) -> tuple[Simulation, np.rand
 def wall_shift_for(sim: Simulation, rho: float) -> float:
     """Inward shift of every wall at which the packing fraction is rho [d_ave]."""
     dim = sim.dimension
-    volume = float(packing.particle_volume(2.0 * sim.radius[:sim.n_mobile], dim).sum())
-    span0 = sim.box_hi - sim.box_lo
+    volume = float(packing.particle_volume(2.0 * sim.particles.radius[:sim.n_mobile], dim).sum())
+    span0 = sim.walls.box_hi - sim.walls.box_lo
     # Π (span0_k − 2 s) = volume / ρ; cubic boxes (the only ones built here) give a closed form
     side = (volume / rho) ** (1.0 / dim)
     return 0.5 * (float(span0[0]) - side)
@@ -171,9 +171,14 @@ def load_checkpoint(path: Path, fingerprint: str, snapshot_paths: Sequence[Path]
     if missing:
         log.warning("checkpoint %s is past snapshots that are missing (%s); starting from scratch", path, missing[0])
         return None
+    try:
+        sim = Simulation.from_state_dict(state)
+    except KeyError as err:  # a layout change bumps CHECKPOINT_FORMAT (in the fingerprint): another file, then
+        log.warning("checkpoint %s has %s; starting from scratch", path, err.args[0])
+        return None
     rng = np.random.default_rng()
     rng.bit_generator.state = json.loads(str(state["rng_state"]))
-    return Simulation.from_state_dict(state), rng, next_index, float(state.get("cpu_seconds", 0.0))
+    return sim, rng, next_index, float(state.get("cpu_seconds", 0.0))
 
 
 # --- the driver ------------------------------------------------------------------------------------------------
@@ -318,7 +323,7 @@ def check_damping_is_integrable(sim: Simulation, system: SystemSpec) -> float:
             f"{fastest.rate:.4g}/τ_c, and rate · Δt = {product:.2f} exceeds the Gear corrector's stability bound "
             f"{stability.GEAR_DAMPING_BOUND}, so each step amplifies that mode instead of damping it; set "
             f"systems.{system.name}.time_step ≤ {stability.stable_time_step(fastest.rate):.3g} "
-            f"(or weaker damping)", step=sim.step, particle=int(sim.particle_id[fastest.particle]),
+            f"(or weaker damping)", step=sim.step, particle=int(sim.particles.particle_id[fastest.particle]),
             rho=sim.packing_fraction, cause="damping")
     return product
 
@@ -378,8 +383,9 @@ def continue_with_damping(system: SystemSpec, state: dict, normal_damping: float
     the largest λΔt of the stability check at those values, "blow_up": the blow-up's message or ""}."""
     log = log or _LOG
     sim = Simulation.from_state_dict(state)
-    ratio = sim.law[LAW_GAMMA_T] / sim.law[LAW_GAMMA_N] if sim.law[LAW_GAMMA_N] else 0.0
-    sim.law[LAW_GAMMA_N], sim.law[LAW_GAMMA_T] = normal_damping, normal_damping * ratio
+    law = sim.contact_law
+    ratio = law.tangential_damping / law.normal_damping if law.normal_damping else 0.0
+    sim.set_law(dataclasses.replace(law, normal_damping=normal_damping, tangential_damping=normal_damping * ratio))
     start = int(state["next_index"])
     progress = _Progress(log, system, sim, start)
     result = {"last_rho": float(sim.packing_fraction), "max_damping_dt": 0.0, "blow_up": ""}
@@ -422,9 +428,9 @@ def run_compression(system: SystemSpec, *, seed: int, snapshot_paths: Sequence[s
         sim, rng = build_simulation(system, seed)
         start = 0
         log.info("%s: N = %d particles, initial ρ = %.4f, γ_n = %.6g, %d snapshots (%s)", system.name,
-                 sim.n_mobile, sim.packing_fraction, sim.law[2], len(paths), system.protocol)
+                 sim.n_mobile, sim.packing_fraction, sim.contact_law.normal_damping, len(paths), system.protocol)
     file_attrs = dict(attrs)
-    file_attrs.setdefault("dem_normal_damping", float(sim.law[2]))
+    file_attrs.setdefault("dem_normal_damping", sim.contact_law.normal_damping)
     progress = _Progress(log, system, sim, start)
     progress.relaxation_steps_done += _relaxation_steps_written(paths[:start])
     cpu_start = time.process_time()

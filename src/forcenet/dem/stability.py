@@ -134,9 +134,10 @@ def damping_contacts(sim) -> DampingContacts:
     law = sim.contact_law
     beta, gamma_n, gamma_t = law.beta, law.normal_damping, law.tangential_damping
     n, dim = sim.n_mobile, sim.dimension
-    position, radius = sim.gear_position[0], sim.radius
-    pair_mass, pair_scale = pair_constants(sim.pair_i, sim.pair_j, radius, sim.inv_mass, law.radius_scaled)
-    pi, pj = sim.pair_i.astype(np.int64), sim.pair_j.astype(np.int64)
+    particles, pair_i, pair_j = sim.particles, sim.contacts.pair_i, sim.contacts.pair_j
+    position, radius = particles.gear_position[0], particles.radius
+    pair_mass, pair_scale = pair_constants(pair_i, pair_j, radius, particles.inv_mass, law.radius_scaled)
+    pi, pj = pair_i.astype(np.int64), pair_j.astype(np.int64)
     separation = position[pi] - position[pj]
     distance = np.sqrt(np.einsum("pk,pk->p", separation, separation))
     overlap = radius[pi] + radius[pj] - distance
@@ -145,7 +146,7 @@ def damping_contacts(sim) -> DampingContacts:
     normal = separation[touching] / distance[touching, None]
     weight = overlap ** beta * pair_mass[touching] * pair_scale[touching]  # P1 Eq. 1–2: x^β m̄
     parts = [(pi, np.where(pj < n, pj, -1), normal, weight, radius[pi] - 0.5 * overlap, radius[pj] - 0.5 * overlap)]
-    if sim.flat_walls:
+    if sim.walls.flat_walls:
         mobile = np.arange(n)
         for axis in range(dim):
             for plane, sign in ((sim.walls_lo[axis], 1.0), (sim.walls_hi[axis], -1.0)):  # inward normals
@@ -155,7 +156,7 @@ def damping_contacts(sim) -> DampingContacts:
                 wall_normal = np.zeros((int(on.sum()), dim))
                 wall_normal[:, axis] = sign
                 parts.append((mobile[on], np.full(int(on.sum()), -1), wall_normal,
-                              wall_overlap[on] ** beta * sim.mass[:n][on], gap[on], np.zeros(int(on.sum()))))
+                              wall_overlap[on] ** beta * particles.mass[:n][on], gap[on], np.zeros(int(on.sum()))))
     i, j, normals, weights, lever_i, lever_j = (np.concatenate(column) for column in zip(*parts))
     return DampingContacts(i=i, j=j, normal=normals.reshape(-1, dim), normal_coefficient=gamma_n * weights,
                            tangential_coefficient=gamma_t * weights, lever_i=lever_i, lever_j=lever_j)
@@ -164,8 +165,8 @@ def damping_contacts(sim) -> DampingContacts:
 def fastest_damping_rate_of(sim) -> DampingRate:
     """`fastest_damping_rate` of a Simulation's current contacts (mobile particles only)."""
     n = sim.n_mobile
-    mass = sim.mass[:n]
-    inertia = 1.0 / sim.inv_inertia[:n]
+    mass = sim.particles.mass[:n]
+    inertia = 1.0 / sim.particles.inv_inertia[:n]
     return fastest_damping_rate(damping_contacts(sim), mass, inertia)
 
 

@@ -13,12 +13,13 @@ Arguments are named tuples of `forcenet.dem.kernel_arguments` (fields in reduced
 * bodies (`Bodies`): radius (N,), inv_mass (N,) (0 for rough-wall particles), n_mobile;
 * pairs (`Pairs`): the half Verlet list i, j (int32, i < j, i mobile), count, and spring (≥ count, d), the
   Cundall–Strack springs, updated in place (zeroed when a contact opens);
-* walls (`Walls`): flat walls' springs spring (N, 2d, d), the (particle, wall) entries entry_particle,
-  entry_wall to visit, release_band, and state (shift, speed, shift_max, speed of the last step);
+* walls (`Walls`): flat walls' contact law law (the LAW_* array, k_n and k_t already scaled for walls of their
+  own material), springs spring (N, 2d, d), the (particle, wall) entries entry_particle, entry_wall to visit,
+  release_band, and state (shift, speed, shift_max, speed of the last step);
 * loads (`Loads`): force (N, d) and torque (N, 1|3), accumulated;
 * law: the LAW_* values of `law.py`, as a tuple for the pair loops (`advance` makes it once per call; its values
-  are then arguments, held in registers across the loop) and as the float64 array for the flat walls (read per
-  contact). Each loop takes the law as it always has: under NJIT_DEM's contraction LLVM's choice of which
+  are then arguments, held in registers across the loop); the flat walls read theirs per contact from the float64
+  array walls.law. Each loop takes the law as it always has: under NJIT_DEM's contraction LLVM's choice of which
   multiply-adds to fuse depends on it, and so the trajectories stay bit-identical to those of earlier versions.
 
 A pair (i, j) has i < j; n = (r_i − r_j)/|r_i − r_j| points from j to i; forces are "on i from j". Particles
@@ -30,8 +31,7 @@ import numba
 import numpy as np
 
 from forcenet._numba import NJIT_DEM
-from forcenet.dem._kernels.law import (LAW_K_N, LAW_K_T, LAW_RADIUS_SCALED, LAW_WALL_STIFFNESS, contact_2d,
-                                       contact_3d)
+from forcenet.dem._kernels.law import LAW_RADIUS_SCALED, contact_2d, contact_3d
 
 #: blow-up threshold: overlap / diameter (smaller diameter of the pair)
 MAX_OVERLAP_FRACTION = 0.2
@@ -269,9 +269,9 @@ def pair_constants(pair_i, pair_j, radius, inv_mass, radius_scaled):
 # --- flat walls ------------------------------------------------------------------------------------------------
 
 @numba.njit(**NJIT_DEM)
-def flat_wall_forces(motion, bodies, walls, lo, hi, law, spring_dt, loads, record):
-    """Add the forces of the 2d flat walls (P1 §2: same law, k_n and k_t × law[LAW_WALL_STIFFNESS] for walls of
-    their own material; overlap x = d_i/2 − distance to the wall) for the
+def flat_wall_forces(motion, bodies, walls, lo, hi, spring_dt, loads, record):
+    """Add the forces of the 2d flat walls (P1 §2: the law walls.law, the pair's with k_n and k_t scaled for walls
+    of their own material; overlap x = d_i/2 − distance to the wall) for the
     (particle, wall) entries walls.entry_particle, walls.entry_wall (particle-major); the others are left alone.
 
     Wall w = 2·axis + side (side 0: at lo[axis], normal +e_axis; side 1: at hi[axis], normal −e_axis), moving
@@ -297,10 +297,8 @@ def flat_wall_forces(motion, bodies, walls, lo, hi, law, spring_dt, loads, recor
     force = loads.force
     torque = loads.torque
     dim = position.shape[1]
-    radius_scaled = law[LAW_RADIUS_SCALED] != 0.0
-    wall_law = law.copy()  # walls of their own material: stiffer springs, the pair's damping (P1 §2)
-    wall_law[LAW_K_N] *= law[LAW_WALL_STIFFNESS]
-    wall_law[LAW_K_T] *= law[LAW_WALL_STIFFNESS]
+    wall_law = walls.law
+    radius_scaled = wall_law[LAW_RADIUS_SCALED] != 0.0
     worst_fraction = 0.0
     worst_particle = -1
     for q in range(entry_particle.shape[0]):

@@ -2,7 +2,7 @@
 Gear prediction, wall motion, contact forces (`contacts.py`, the same kernels that record a snapshot), Gear
 correction, and the checks that stop a chunk (neighbour-list rebuild due, blow-up).
 
-Arguments are the named tuples of `forcenet.dem.engine` (see `contacts.py` for motion, bodies, pairs, walls,
+Arguments are the named tuples of `forcenet.dem.kernel_arguments` (see `contacts.py` for motion, bodies, pairs, walls,
 law and loads), plus:
 
 * gear (`Integrator`): position (5, N, d) and rotation (5, N, 1|3), the Gear scaled derivatives (`gear.py`);
@@ -108,7 +108,7 @@ def advance(gear, motion, loads, bodies, pairs, walls, law, watch, n_steps, kine
         worst_wall = 0.0
         wall_particle = -1
         if flat_walls:
-            worst_wall, wall_particle = flat_wall_forces(motion, bodies, walls, lo, hi, law, dt, loads, None)
+            worst_wall, wall_particle = flat_wall_forces(motion, bodies, walls, lo, hi, dt, loads, None)
         if dim == 2:
             worst_excess, worst_pair = pair_forces_2d(motion, bodies, pairs, law_values, dt, loads, None)
         else:
