@@ -16,7 +16,7 @@ import pytest
 from conftest import load_config
 from forcenet import campaign, pipeline
 from forcenet.campaign import CampaignError
-from forcenet.datasets import paths, read_dataset, read_snapshot, write_snapshot
+from forcenet.datasets import paths, read_dataset, read_snapshot, write_netcdf, write_snapshot
 from forcenet.datasets.records import (DROPPED_VARIABLES, RecordError, record_dataset, record_differences,
                                        state_snapshot)
 from forcenet.datasets.runs import simulation_sha256
@@ -320,3 +320,32 @@ def test_a_run_recorded_again_keeps_its_record(config):
     assert campaign.recorded_row(config, "records", SYSTEM, "r00") is None
     again = campaign.record_run(config, SYSTEM, "r00", results="results")
     assert again["sha256"] == campaign.file_sha256(path)
+
+
+def chain_state(wall_force: float):
+    """A jammed state (Z = 4) of three disks in a row pressed between two walls: each pair pushes with 1 along x, the
+    walls with `wall_force` (at rest only for 1)."""
+    import xarray as xr
+
+    return xr.Dataset({"Z": 4.0, "radius": ("particle", np.ones(3)),
+                       "contact_i": ("contact", [1, 2]), "contact_j": ("contact", [0, 1]),
+                       "force_normal": (("contact", "spatial"), [[1.0, 0.0], [1.0, 0.0]]),
+                       "force_tangential": (("contact", "spatial"), np.zeros((2, 2))),
+                       "wall_contact_particle": ("wall_contact", [0, 2]),
+                       "wall_contact_force": (("wall_contact", "spatial"), [[wall_force, 0.0], [-wall_force, 0.0]])})
+
+
+def test_a_jammed_state_not_at_rest_under_its_recorded_forces_is_not_recorded(config):
+    campaign.out_of_balance([chain_state(1.0)], ["0.850"], SYSTEM, "r00")  # at rest: nothing to say
+    with pytest.raises(CampaignError, match=r"2d_linear r00: the state at rho = 0\.850 is not at rest .*\(particle 0 "
+                                            r"feels 1 x the mean normal force"):
+        campaign.out_of_balance([chain_state(2.0)], ["0.850"], SYSTEM, "r00")
+    # a finished run whose last state is jammed but out of balance (the fake run's forces are arbitrary) is refused
+    outputs = fake_run(config)
+    last = read_snapshot(outputs[-1]).load()
+    last.close()
+    last["Z"] = last["Z"].copy(data=4.0)  # its units and long name kept
+    write_netcdf(last, outputs[-1], kind="snapshot")
+    with pytest.raises(CampaignError, match="is not at rest under its recorded forces"):
+        campaign.record_run(config, SYSTEM, "r00", results="results")
+    assert not Path(config["records_dir"], campaign.record_path(config, config["records_dir"], SYSTEM, "r00")).exists()

@@ -10,13 +10,10 @@ import pytest
 from conftest import REPO, load_config
 from forcenet import campaign
 from forcenet.datasets.records import read_dataset, state_snapshot
-from forcenet.measures.forces import force_imbalance, net_contact_forces
+from forcenet.measures.forces import FORCE_BALANCE_TOLERANCE, force_imbalance, net_contact_forces
 
 CONFIG = load_config("validation.yaml")
 RECORDS = REPO / CONFIG["records_dir"]
-#: |net force| of a particle over the mean normal force, at most, in a jammed state relaxed to rest; the campaign's
-#: records reach 3·10⁻⁴ (3d_hertz r00), a wall of the wrong stiffness 3.8
-FORCE_BALANCE_TOLERANCE = 1e-2
 
 
 def chain(wall_force: float) -> dict:

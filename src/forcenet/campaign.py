@@ -238,6 +238,8 @@ def record_run(config: Mapping[str, Any], system: str, realization: str, *, resu
                             f"missing (first: {missing[0]})")
     expect = run_expectation(spec, config)
     snapshots = [read_snapshot(path, expect=state_expectation(expect, path)) for path in outputs]
+    if spec.protocol == "quasistatic":
+        out_of_balance(snapshots, spec.rho_labels, system, realization)
     cost = json.loads(cost_path.read_text())
     title = f"forcenet campaign record, {system} {realization}"
     if p2_system(config, system):
@@ -266,6 +268,22 @@ def record_run(config: Mapping[str, Any], system: str, realization: str, *, resu
         kept = [r for r in read_manifest(records) if (r["system"], r["realization"]) != (system, realization)]
         write_manifest(records, [*kept, row])
     return row
+
+
+def out_of_balance(snapshots: Sequence[Any], labels: Sequence[str], system: str, realization: str) -> None:
+    """Refuse a quasi-static run one of whose jammed states (Z ≥ d + 1) is not in mechanical equilibrium: a particle
+    whose recorded contact and wall forces sum to more than `FORCE_BALANCE_TOLERANCE` × the mean normal force
+    (`forcenet.measures.forces.force_imbalance`). Such a run did not move under the forces it recorded."""
+    from forcenet.measures.forces import FORCE_BALANCE_TOLERANCE, force_imbalance
+
+    for label, snapshot in zip(labels, snapshots):
+        if float(snapshot["Z"]) < snapshot.sizes["spatial"] + 1:
+            continue
+        imbalance, particle = force_imbalance(snapshot)
+        if imbalance > FORCE_BALANCE_TOLERANCE:
+            raise CampaignError(f"{system} {realization}: the state at rho = {label} is not at rest under its recorded "
+                                f"forces (particle {particle} feels {imbalance:.3g} x the mean normal force, at most "
+                                f"{FORCE_BALANCE_TOLERANCE:g}); not recorded: simulate it again")
 
 
 def _p2_record(config: Mapping[str, Any], system: str, realization: str, results: str | os.PathLike,

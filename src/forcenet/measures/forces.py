@@ -48,6 +48,12 @@ def coordination_number(network: ForceNetwork, *, include_rattlers: bool = True)
     return 2.0 * network.n_contacts_without_rattlers / n_non_rattlers if n_non_rattlers else 0.0
 
 
+#: the largest |net contact force| of a particle over the mean normal force a state relaxed to rest may show
+#: (`force_imbalance`): the campaign's jammed states reach 3·10⁻⁴, a wall whose recorded stiffness was not the one
+#: that moved the particles 3.8
+FORCE_BALANCE_TOLERANCE = 1e-2
+
+
 def net_contact_forces(n_particles: int, contact_i, contact_j, contact_force, wall_particle=(), wall_force=()):
     """The sum of the contact forces on each particle (n_particles, d) [force unit]: contact_force (C, d) acts on
     particle contact_i from contact_j and, by Newton's third law, its opposite on contact_j; wall_force (W, d) acts
