@@ -312,10 +312,30 @@ def import_dry_run_table(recs: dict) -> str:
     return lines_with_provenance(body, [("import_dry_run", record)])
 
 
+def dem_ab_table(recs: dict) -> str:
+    """The latest A/B of the DEM step loop (bench/dem_ab.py): after / before throughput per case, pairs alternated."""
+    found = sorted((stem, r) for stem, r in recs.items() if stem.startswith("dem_ab-"))
+    if not found:
+        return not_measured(None, "bench/dem_ab.py BEFORE_CHECKOUT --pairs 8 --cpu 1") + "\n"
+    stem, record = found[-1]
+    if not measured(record):
+        return not_measured(record, "bench/dem_ab.py BEFORE_CHECKOUT") + "\n"
+    settings, m = record["settings"], record["measured"]
+    rows = [[case.upper(), fixed(m[case]["ratio_median"], 4),
+             f"{fixed(m[case]['ratio_min'], 3)} – {fixed(m[case]['ratio_max'], 3)}", str(len(m[case]["ratios"]))]
+            for case in DEM_CASES if case in m]
+    body = [f"`{record['variant']}`: the record's tree (after) against the checkout it names as before (both in the "
+            f"record's settings), {settings['steps']} steps a run, each run pinned to CPU {settings['cpu']}, runs "
+            "alternated:", "",
+            *table(["case", "after / before (median)", "range over the pairs", "pairs"], rows)]
+    return lines_with_provenance(body, [(stem, record)])
+
+
 TABLES = {"lammps_same_state": same_state_table, "dem_vs_lammps": dem_vs_lammps_table,
           "dem_scaling": dem_scaling_table, "dem_profile": dem_profile_table,
           "analysis": analysis_table, "p1_table": p1_table_table,
-          "workflow_overhead": workflow_table, "commands": commands_table, "import_dry_run": import_dry_run_table}
+          "workflow_overhead": workflow_table, "commands": commands_table, "import_dry_run": import_dry_run_table,
+          "dem_ab": dem_ab_table}
 
 
 def render(page: str, recs: dict) -> str:

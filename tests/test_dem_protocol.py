@@ -529,7 +529,7 @@ def test_p1_start_relaxes_its_overlaps_before_the_first_compression(tmp_path, ca
 
 def test_a_run_without_initial_state_keeps_its_checkpoint_fingerprint():
     """Adding `initial_state` to SystemSpec must not invalidate the checkpoints of runs that do not set it (a
-    campaign resumes across sessions); setting it changes the fingerprint."""
+    campaign resumes in later jobs); setting it changes the fingerprint."""
     system = tiny("2d_hertz")
     assert "initial_state" not in repr(system)
     assert protocol._fingerprint(system, 1) != protocol._fingerprint(p1_start(), 1)

@@ -139,7 +139,7 @@ def warn_of_overlaps(arrays: dict, system: str, log: logging.Logger) -> float:
 def save_checkpoint(path: Path, sim: Simulation, *, next_index: int, fingerprint: str,
                     rng: np.random.Generator, cpu_seconds: float = 0.0) -> None:
     """Atomic np.savez of everything needed to continue (temp file + rename); cpu_seconds is the run's CPU time
-    so far (all sessions), so a resumed run still reports what the whole run cost."""
+    so far (every job that worked on the run), so a resumed run still reports what the whole run cost."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_name(path.name + f".tmp{os.getpid()}")
@@ -411,7 +411,7 @@ def run_compression(system: SystemSpec, *, seed: int, snapshot_paths: Sequence[s
     attrs: provenance stored in every snapshot. Raises SimulationBlowUp when the dynamics become unphysical (no
     snapshot is written for the failed grid value; earlier ones are complete and the checkpoint allows a rerun from
     the last one). Each snapshot records λΔt (`dem_damping_rate_time_step`, the stability check's margin). Returns
-    the CPU seconds the whole run took, over every session that resumed it.
+    the CPU seconds the whole run took, over every job that resumed it.
     """
     log = log or _LOG
     paths = [Path(p) for p in snapshot_paths]
