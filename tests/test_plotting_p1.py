@@ -336,3 +336,25 @@ def test_total_persistence_and_bins_are_drawn_with_never_dying_classes_at_minus_
     assert tp0 == pytest.approx(stored)
     bins = p1_figure_data("p1_fig11_persistence_bins", measures, diagrams).table
     assert set(bins["persistence_bin"]) == set(figures.PD_BINS)
+
+
+def test_a_family_of_curves_spans_the_same_lightness_in_any_hue_and_titles_stay_readable():
+    import colorsys
+
+    import matplotlib.colors as mcolors
+    from forcenet.plotting import style
+
+    for colour in ("#ece133", "#1b9e77"):  # the fallback palette's yellow, a catalog colour
+        style.SYSTEM_STYLES["s"] = {"label": "s", "colour": colour}
+        shades = style.system_shades("s", 6)
+        lightness = [colorsys.rgb_to_hls(*mcolors.to_rgb(c))[1] for c in shades]
+        assert lightness[0] == pytest.approx(style.SHADE_LIGHTNESS[0]) and lightness[-1] == pytest.approx(
+            style.SHADE_LIGHTNESS[1])
+        assert all(a > b for a, b in zip(lightness, lightness[1:]))  # light to dark, every curve its own shade
+    fig, ax = style.panel_figure(1)
+    style.system_title(ax[0], "s")  # #1b9e77: dark enough, kept
+    assert mcolors.to_hex(ax[0].title.get_color()) == "#1b9e77"
+    style.SYSTEM_STYLES["s"]["colour"] = "#ece133"
+    style.system_title(ax[0], "s")
+    assert colorsys.rgb_to_hls(*mcolors.to_rgb(ax[0].title.get_color()))[1] == pytest.approx(style.TEXT_LIGHTNESS)
+    del style.SYSTEM_STYLES["s"]

@@ -26,7 +26,7 @@ from forcenet.measures.persistence_stats import MEDIUM_BIRTH, ROUGH_LIFESPAN, ST
 from forcenet.plotting import figure_data as cols
 from forcenet.plotting.figure_data import FigureData, concat, curve_rows
 from forcenet.plotting.style import (LABELS, is_sequence, panel_figure, state_axis_label, system_color, system_label,
-                                     system_title)
+                                     system_shades, system_title)
 from forcenet.report.p1 import (DEFAULT_P1_FORCE_UNIT, P1_SMALL_THRESHOLD, f_max_cut, jamming_point,
                                 never_dying_at_minus_one, per_particle, percolating_size_mean, rho_values, select_total,
                                 shape_parameter_average, system_dimension, system_order)
@@ -96,13 +96,6 @@ def _systems(measures: Mapping[str, xr.Dataset], force_unit: str = DEFAULT_P1_FO
 def _marks(system: _System) -> dict:
     """The ρ_J and ρ_max columns every ρ-curve row carries (the CSV says where P1 would stop showing data)."""
     return {cols.RHO_J: system.rho_j, RHO_MAX_COLUMN: system.rho_max}
-
-
-def _shades(name: str, n: int) -> list:
-    """n shades of the system's colour, light to dark (a family of curves: increasing F_th or ρ)."""
-    if n <= 1:
-        return [system_color(name)] * n
-    return sns.light_palette(system_color(name), n_colors=n + 2)[2:]
 
 
 def _nearest(values: np.ndarray, wanted: Sequence[float]) -> list[float]:
@@ -185,7 +178,7 @@ def _draw_family(ax, rows: pd.DataFrame, family: str, label: Callable[[float], s
     """A panel of curves versus ρ, one per value of `family`, in shades of the system's colour; ρ_J marked."""
     name = rows[cols.SYSTEM].iloc[0]
     values = sorted(rows[family].unique())
-    for color, value in zip(_shades(name, len(values)), values):
+    for color, value in zip(system_shades(name, len(values)), values):
         _draw_rows(ax, rows[rows[family] == value], cols.RHO, color, label=label(value))
     _mark_jamming(ax, float(rows[cols.RHO_J].iloc[0]), name)
     _mark_rho_max(ax, rows, name)
@@ -271,7 +264,7 @@ def draw_p1_fig03_force_pdf(data: FigureData) -> Figure:
         name = rows[cols.SYSTEM].iloc[0]
         values = sorted(rows[cols.RHO].unique())
         rho_max = float(rows[RHO_MAX_COLUMN].iloc[0])
-        for color, rho in zip(_shades(name, len(values)), values):
+        for color, rho in zip(system_shades(name, len(values)), values):
             beyond = rho > rho_max + 1e-12  # beyond P1's range (False when ρ_max is NaN)
             _draw_rows(ax, rows[rows[cols.RHO] == rho], cols.FORCE, color,
                        label=rf"$\rho$ = {rho:.3f}" + (r" > $\rho_{max}$" if beyond else ""),

@@ -1,6 +1,7 @@
 """One look for every figure: a colour per system (the same in every figure), labels with symbols and units."""
 from __future__ import annotations
 
+import colorsys
 import zlib
 from typing import Mapping, Sequence
 
@@ -106,9 +107,32 @@ def panel_figure(n_panels: int, ncols: int = 3, size=(4.2, 3.3), projections: Se
     return fig, axes
 
 
+#: the lightness (HLS) of the lightest and darkest of a family of curves in one system's hue (`system_shades`), and
+#: the most a title's text may have: a light colour (the fallback palette's yellow) stays readable on white
+SHADE_LIGHTNESS = (0.78, 0.22)
+TEXT_LIGHTNESS = 0.45
+
+
+def _with_lightness(color, lightness: float) -> tuple[float, float, float]:
+    hue, _, saturation = colorsys.rgb_to_hls(*matplotlib.colors.to_rgb(color))
+    return colorsys.hls_to_rgb(hue, lightness, saturation)
+
+
+def system_shades(name: str, n: int) -> list:
+    """n shades of the system's hue, light to dark, for a family of curves (increasing F_th or ρ): the same span of
+    lightness whatever the system's own colour, so a light colour gives curves as distinct as a dark one."""
+    if n <= 1:
+        return [system_color(name)] * n
+    light, dark = SHADE_LIGHTNESS
+    return [_with_lightness(system_color(name), light + (dark - light) * k / (n - 1)) for k in range(n)]
+
+
 def system_title(ax, name: str, extra: str = "") -> None:
-    """The panel title: the system's label in its colour, then `extra`."""
-    ax.set_title(system_label(name) + extra, color=system_color(name))
+    """The panel title: the system's label in its colour (darkened where too light to read), then `extra`."""
+    color = system_color(name)
+    _, lightness, _ = colorsys.rgb_to_hls(*matplotlib.colors.to_rgb(color))
+    ax.set_title(system_label(name) + extra,
+                 color=_with_lightness(color, TEXT_LIGHTNESS) if lightness > TEXT_LIGHTNESS else color)
 
 
 def apply_style() -> None:
