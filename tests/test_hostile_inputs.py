@@ -221,13 +221,19 @@ def test_a_hostile_table_is_refused_naming_its_file_and_line(tmp_path, case):
 @pytest.mark.parametrize("particles", [
     FIXED_PARTICLES[:-1], "id,x,y,radius\n1,1,1,0.5\n2,1.9,1,0.45\n3,1,1.9,0.5\n4,3,3,0.4", TABLE_PARTICLES[:-1]],
     ids=["fixed-format, the last value whole", "values of varying length", "two rows above the last"])
-def test_a_table_without_a_final_newline_whose_last_row_is_whole_reads(tmp_path, particles):
-    """A spreadsheet's CSV download or an editor may omit the final newline: a last row with every cell, and no
-    value shorter than a fixed-format column's (≥ 3 rows above it, all alike), is read as it is."""
-    (tmp_path / "p.csv").write_text(particles)
-    (tmp_path / "c.csv").write_text(TABLE_CONTACTS[:-1])
+def test_a_table_without_a_final_newline_is_refused_and_reads_once_the_newline_is_added(tmp_path, particles):
+    """A cut inside the last value cannot be told from a whole one (values of varying length, too few rows above),
+    so a file without its final newline is refused, naming its last line and the way out; with the newline added
+    the same rows read."""
+    (tmp_path / "c.csv").write_text(TABLE_CONTACTS)
     entry = {"dimension": 2, "source": {"format": "table", "forces": "magnitudes", "runs": [[
         {"particles": str(tmp_path / "p.csv"), "contacts": str(tmp_path / "c.csv")}]]}}
+    (tmp_path / "p.csv").write_text(particles)
+    message = refused(tmp_path, entry)
+    assert message.startswith(f"{tmp_path / 'p.csv'}, line "), message
+    assert message.endswith("without its final newline: cut short while it was being written? If the line is "
+                            "complete, end the file with a newline"), message
+    (tmp_path / "p.csv").write_text(particles + "\n")
     (state,) = source_states(entry, 0)
     assert state.radius[-1] == float(particles.rpartition(",")[2])
     assert state.contact_i.tolist() == [0, 0] and state.contact_j.tolist() == [1, 2]

@@ -19,7 +19,7 @@ drawings use it; forces are analysed in units of each network's mean, so their u
 ``i`` and ``j`` are particle ids; ``j`` may instead name a wall (``x_lo``, ``x_hi``, ``y_lo``, ``y_hi``, ``z_lo``,
 ``z_hi``) for a particle–wall contact (then the forces are the wall's on particle i; a magnitude's normal points
 into the box). A pair given as (j, i) is stored as (i, j) with its forces reversed. Rows starting with ``#`` are
-comments. A file may end without a final newline unless its last row is then evidently cut
+comments. A file must end with a newline: one that does not may have been cut inside its last row
 (`_complete_last_row`). Box: the state's ``box: {lo: [...], hi: [...]}`` in the config, else ``source.box``, else
 the particles' bounding box (min x − r to max x + r on each axis). ``source.periodic`` (e.g. ``[x, y]``) names the axes on which
 the box is periodic (it must then be given): a contact across a periodic face joins i to the image of j nearest to
@@ -86,26 +86,27 @@ FIXED_FORMAT_ROWS = 3
 
 
 def _complete_last_row(path, columns: int, body: list[tuple[int, list[str]]], line: str) -> None:
-    """Refuse the last row (`line`) of a CSV that ends without a final newline where it is evidently cut: fewer
-    cells than the header's `columns`, an empty last cell, or a last value with fewer characters after its decimal
-    point than each of the ≥ `FIXED_FORMAT_ROWS` rows above it, all alike. A last row that passes is read as it is:
-    tools that omit the final newline (a spreadsheet's CSV download, an editor) write complete files, and a value
-    cut in a column of varying length cannot be told from a complete one."""
+    """Refuse a CSV that ends without a final newline: its last row (`line`) may have been cut while the file was
+    being written, and a cut inside a value cannot be told from a whole one, so a missing final newline is an error,
+    not a guess. The message says what shows the cut where something does — fewer cells than the header's
+    `columns`, an empty last cell, a last value with fewer characters after its decimal point than each of the
+    ≥ `FIXED_FORMAT_ROWS` rows above it, all alike — and how to read a file whose last line is complete."""
     number, cells = body[-1]
-    cut = f"the file ends inside this line ({line[-40:]!r}), without its final newline"
     last = cells[-1].strip()
-    if len(cells) < columns or not last:
-        raise SourceError(path, f"line {number}", f"{cut}, and {len(cells) - (not last)} of the header's {columns} "
-                                                  "cells: cut short while it was being written?")
     k = len(cells) - 1
     above = [row[k].strip() for _, row in body[:-1] if len(row) > k]
     decimals = {len(v.partition(".")[2]) for v in above}
-    if (len(above) >= FIXED_FORMAT_ROWS and all("." in v for v in above) and len(decimals) == 1
+    if len(cells) < columns or not last:
+        evidence = f", and {len(cells) - (not last)} of the header's {columns} cells"
+    elif (len(above) >= FIXED_FORMAT_ROWS and all("." in v for v in above) and len(decimals) == 1
             and ("." not in last or len(last.partition(".")[2]) < min(decimals))):
-        raise SourceError(path, f"line {number}", f"{cut}, and its last value {last!r} is shorter than the "
-                                                  f"{len(above)} above it ({min(decimals)} characters after the "
-                                                  "decimal point each): cut short while it was being written? If the "
-                                                  "line is complete, end the file with a newline")
+        evidence = (f", and its last value {last!r} is shorter than the {len(above)} above it ({min(decimals)} "
+                    "characters after the decimal point each)")
+    else:
+        evidence = ""
+    raise SourceError(path, f"line {number}", f"the file ends inside this line ({line[-40:]!r}), without its final "
+                                              f"newline{evidence}: cut short while it was being written? If the line "
+                                              "is complete, end the file with a newline")
 
 
 def _columns(path, header: list[str], required: Sequence[str], forbidden: Mapping[str, str] = {}) -> dict[str, int]:
