@@ -14,6 +14,7 @@ import yaml
 from conftest import REPO, load_config, snakemake
 from forcenet import campaign
 from forcenet.datasets import paths, read_dataset
+from forcenet.datasets.records import p2_record_summary
 from forcenet.systems import system_from_config
 
 CONFIG = load_config("validation.yaml")
@@ -40,18 +41,21 @@ def test_every_committed_record_can_be_restored_under_the_validation_config(monk
 def test_recorded_runs_are_analysed_from_their_records_with_no_simulation(tmp_path):
     if not ROWS:
         pytest.skip("no campaign record is committed yet (forcenet-campaign status)")
-    chosen = sorted(ROWS, key=lambda row: int(row["bytes"]))[:2]  # the two smallest: about a minute
+    states = [row for row in ROWS if row["file"].endswith("/states.nc")]  # P1 runs: every state kept
+    chosen = sorted(states, key=lambda row: int(row["bytes"]))[:2]  # the two smallest: about a minute
+    # a P2 run keeps its summary (and Tables I-III's states): restored as its p2_runs file
+    p2 = sorted((row for row in ROWS if row["file"].endswith("/p2_run.nc")), key=lambda row: int(row["bytes"]))[:1]
     (tmp_path / "data").mkdir()
     os.symlink(RECORDS, tmp_path / "data" / "validation")
     config = {**CONFIG, "results_dir": "results"}
     (tmp_path / "validation.yaml").write_text(yaml.safe_dump(config))
-    targets = []
+    targets = [paths.p2_run("results", row["system"], row["realization"]) for row in p2]
     for row in chosen:
         labels = system_from_config(row["system"], CONFIG).rho_labels
         targets += [paths.analysis("results", row["system"], row["realization"], label) for label in labels]
     dry = snakemake(tmp_path, "-n", *targets, config=tmp_path / "validation.yaml")
     assert dry.returncode == 0, dry.stderr[-3000:]
-    assert "simulate_" not in dry.stdout and all(f"restore_{row['system']}" in dry.stdout for row in chosen)
+    assert "simulate_" not in dry.stdout and all(f"restore_{row['system']}" in dry.stdout for row in chosen + p2)
     build = snakemake(tmp_path, *targets, config=tmp_path / "validation.yaml")
     assert build.returncode == 0, build.stderr[-3000:]
     for row in chosen:
@@ -65,3 +69,8 @@ def test_recorded_runs_are_analysed_from_their_records_with_no_simulation(tmp_pa
             assert {int(a["n_particles"]) for a in analysed} == {int(row["particles"])}, row["file"]
             assert np.array_equal([float(s["Z"]) for s in restored], record["Z"].values), row["file"]
             assert [s.sizes["contact"] for s in restored] == list(record["contact_count"].values), row["file"]
+    for row in p2:
+        with xr.open_dataset(RECORDS / row["file"]) as record:
+            summary = read_dataset(tmp_path / paths.p2_run("results", row["system"], row["realization"]), "p2_run")
+            for name, variable in p2_record_summary(record).data_vars.items():
+                assert np.array_equal(summary[name].values, variable.values, equal_nan=True), (row["file"], name)
