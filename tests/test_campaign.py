@@ -81,7 +81,7 @@ def test_record_differences_finds_a_changed_force_and_a_record_refuses_other_rad
     labels = system_from_config(SYSTEM, config).rho_labels
     record = record_dataset(snapshots, labels, simulation_sha256="x", cpu_seconds=1.0, title="t")
     assert record_differences(record, snapshots) == []
-    record["force_tangential"].values[-1, 1] += 1e-15
+    record["force_tangential_residual"].values[-1, 1] += 1  # one unit in the last place of one component
     assert record_differences(record, snapshots) == [f"state {labels[-1]}: 'force_tangential' differs"]
     snapshots[1]["radius"].values[2] = 0.7
     with pytest.raises(RecordError, match=f"state {labels[1]}: other radii"):
@@ -349,3 +349,61 @@ def test_a_jammed_state_not_at_rest_under_its_recorded_forces_is_not_recorded(co
     with pytest.raises(CampaignError, match="is not at rest under its recorded forces"):
         campaign.record_run(config, SYSTEM, "r00", results="results")
     assert not Path(config["records_dir"], campaign.record_path(config, config["records_dir"], SYSTEM, "r00")).exists()
+
+
+def test_a_stopped_runner_stops_its_runs_and_records_none(config):
+    """Ctrl-C or SIGTERM while runs are in progress: each run's process is stopped (SIGTERM; it keeps its
+    checkpoint), nothing is recorded, and the runner does not hang."""
+    from forcenet import campaign_cli
+
+    config["systems"] = {SYSTEM: config["systems"][SYSTEM]}
+    config["realizations"] = {SYSTEM: 2}
+    processes, said = [], []
+
+    def start(command, log):
+        processes.append(subprocess.Popen(["sleep", "300"]))
+        return processes[-1]
+
+    def say(line):
+        said.append(line)
+        if line.startswith(f"started {SYSTEM} r01"):  # both runs in progress: Ctrl-C
+            raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        campaign_cli.run_missing(config, configfile="c.yaml", results="results", jobs=2, say=say, start=start)
+    assert len(processes) == 2 and all(p.poll() == -15 for p in processes)  # ended by SIGTERM, none left running
+    assert said[-2:] == [f"stopped {SYSTEM} r00 (resumes from its checkpoint)",
+                         f"stopped {SYSTEM} r01 (resumes from its checkpoint)"]
+    assert campaign.read_manifest("records") == []
+
+
+def test_a_record_of_the_earlier_layout_is_rewritten_with_the_same_values(config):
+    """`forcenet-campaign recode`: a record whose forces are raw vectors (forcenet-run-record-1) becomes one of
+    this layout, every state giving back the same snapshot, and its manifest row follows the new file."""
+    from forcenet.datasets.force_codec import decode_forces
+    from forcenet.datasets.records import FORCE_STORAGE, RECORD_FORMAT, recoded_record
+
+    snapshots = [read_snapshot(path) for path in fake_run(config)]
+    row = campaign.record_run(config, SYSTEM, "r00", results="results")
+    path = Path("records") / row["file"]
+    record = read_dataset(path, "run_record")
+    earlier = record.drop_vars(list(FORCE_STORAGE))
+    starts = np.concatenate([[0], np.cumsum(record["contact_count"].values)])
+    raw = [decode_forces(record["position"].values[k], record["contact_i"].values[a:b], record["contact_j"].values[a:b],
+                         {name: record[name].values[a:b] for name in FORCE_STORAGE})
+           for k, (a, b) in enumerate(zip(starts[:-1], starts[1:]))]
+    earlier["force_normal"] = (("contact", "spatial"), np.concatenate([n for n, _ in raw]))
+    earlier["force_tangential"] = (("contact", "spatial"), np.concatenate([t for _, t in raw]))
+    earlier.attrs["record_format"] = "forcenet-run-record-1"
+    assert recoded_record(record) is record  # this layout already: kept as it is
+    recoded = recoded_record(earlier)
+    assert recoded.attrs["record_format"] == RECORD_FORMAT
+    assert record_differences(recoded, snapshots) == []
+    earlier.to_netcdf(path)  # the folder holds the earlier layout; the manifest row is made to match it
+    manifest = campaign.read_manifest("records")
+    manifest[0].update(sha256=campaign.file_sha256(path), bytes=str(path.stat().st_size))
+    campaign.write_manifest("records", manifest)
+    assert [r["realization"] for r in campaign.recode_records(config, say=lambda line: None)] == ["r00"]
+    assert campaign.verify_records(config) == []
+    assert record_differences(read_dataset(path, "run_record"), snapshots) == []
+    assert campaign.recode_records(config, say=lambda line: None) == []  # nothing left to rewrite

@@ -27,7 +27,7 @@ import json
 import os
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, Mapping, Sequence
+from typing import Any, Callable, Mapping, Sequence
 
 from forcenet.datasets import paths
 from forcenet.datasets.runs import simulation_sha256
@@ -478,6 +478,40 @@ def verify_records(config: Mapping[str, Any]) -> list[str]:
         elif row["simulation_sha256"] != simulation_sha256(config, row["system"]):
             problems.append(f"{path}: made under other settings of '{row['system']}' than the config's")
     return problems
+
+
+def recode_records(config: Mapping[str, Any], say: Callable[[str], None] = print) -> list[dict[str, str]]:
+    """Rewrite every record of an earlier layout in this forcenet's (`forcenet.datasets.records.recoded_record`: the
+    same values, bit for bit, checked) and update its manifest row (bytes, sha256); the rows rewritten. A record's
+    fingerprint, commit and CPU time stay: it is the same run."""
+    import xarray as xr
+
+    from forcenet.datasets import write_netcdf
+    from forcenet.datasets.records import record_encoding, recoded_record
+
+    records = records_folder(config)
+    if records is None:
+        raise CampaignError("the config has no records_dir")
+    rewritten = []
+    with _manifest_lock(records):
+        rows = read_manifest(records)
+        for row in rows:
+            path = Path(records) / row["file"]
+            if file_sha256(path) != row["sha256"]:
+                raise CampaignError(f"{path}: sha256 differs from the manifest's; restore it from git first")
+            with xr.open_dataset(path) as opened:
+                record = opened.load()
+            recoded = recoded_record(record)
+            if recoded is record:
+                continue
+            kind = "p2_run_record" if path.name == paths.P2_RECORD_FILE else "run_record"
+            write_netcdf(recoded, path, kind=kind, encoding=record_encoding(recoded))
+            say(f"{row['file']}: {record.attrs['record_format']} -> {recoded.attrs['record_format']}, "
+                f"{int(row['bytes']) / 1e6:.2f} -> {path.stat().st_size / 1e6:.2f} MB")
+            row.update(bytes=str(path.stat().st_size), sha256=file_sha256(path))
+            rewritten.append(row)
+        write_manifest(records, rows)
+    return rewritten
 
 
 def drop_record(config: Mapping[str, Any], system: str, realization: str) -> Path:

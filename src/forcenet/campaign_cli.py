@@ -8,21 +8,26 @@
     forcenet-campaign verify                          every record against the manifest and the config
     forcenet-campaign sizes                           the records' size per system
     forcenet-campaign drop SYSTEM REALIZATION         remove a record (the run is simulated again)
+    forcenet-campaign recode [--commit]               rewrite records of an earlier layout in this one (same values)
+
+`run` stops its runs when it is stopped (Ctrl-C or SIGTERM; a run started with `nohup … &` from a script ignores
+Ctrl-C, so stop it with `kill PID`): each run is left resumable from its checkpoint, none half-recorded.
 
 Every command reads config/validation.yaml unless given --configfile, from the repository root.
 """
 from __future__ import annotations
 
 import argparse
+import signal
 import subprocess
 import sys
 import time
 from pathlib import Path
 from typing import Any, Callable, Mapping, Sequence
 
-from forcenet.campaign import (DEFAULT_CAMPAIGN_CONFIG, RunStatus, campaign_status, drop_record, p2_system, record_run,
-                               recorded_row, records_folder, size_table, status_table, verify_records,
-                               write_size_table)
+from forcenet.campaign import (DEFAULT_CAMPAIGN_CONFIG, RunStatus, campaign_status, drop_record, p2_system,
+                               recode_records, record_run, recorded_row, records_folder, size_table, status_table,
+                               verify_records, write_size_table)
 from forcenet.datasets import paths
 from forcenet.errors import ForcenetError
 
@@ -31,17 +36,19 @@ from forcenet.errors import ForcenetError
 DEFAULT_MARGIN = 1.5
 #: seconds between two looks at the runs in progress
 POLL_SECONDS = 30.0
+#: seconds a stopped run has to end before it is killed
+STOP_GRACE_SECONDS = 60.0
 
 
-def commit_records(records: str, rows: Sequence[Mapping[str, str]]) -> None:
+def commit_records(records: str, rows: Sequence[Mapping[str, str]], message: str | None = None) -> None:
     """git-commit the records of `rows`, the manifest and the folder's README (its size table), and nothing else
-    that is staged (a path-limited commit)."""
+    that is staged (a path-limited commit); `message` replaces the default one, which names the runs."""
     files = [str(Path(records) / row["file"]) for row in rows] + [paths.record_manifest(records)]
     readme = Path(records) / "README.md"
     files += [str(readme)] if readme.exists() else []
     runs = ", ".join(f"{row['system']} {row['realization']}" for row in rows)
     hours = sum(float(row["cpu_hours"]) for row in rows)
-    message = f"data/validation: campaign record of {runs} ({hours:.2f} CPU-hours)"
+    message = message or f"data/validation: campaign record of {runs} ({hours:.2f} CPU-hours)"
     for attempt in range(10):  # another git process (a developer's commit) may hold the index for a moment
         added = subprocess.run(["git", "add", "--", *files], capture_output=True, text=True)
         if added.returncode == 0:
@@ -102,6 +109,15 @@ def run_missing(config: Mapping[str, Any], *, configfile: str, results: str, job
     queue = sorted((s for s in statuses if s.state in ("missing", "stopped")),
                    key=lambda s: rank.get(s.system, len(rank)))
     running: dict[subprocess.Popen, RunStatus] = {}
+    try:
+        _make_runs(config, results, configfile, queue, running, jobs, deadline, margin, rows, land, say, start)
+    finally:  # stopped (Ctrl-C, SIGTERM): stop the runs too, each left resumable from its checkpoint
+        _stop_runs(running, say)
+    return rows
+
+
+def _make_runs(config, results, configfile, queue, running, jobs, deadline, margin, rows, land, say, start) -> None:
+    """The loop of `run_missing`: start runs while cores are free and time is left, land each that finishes."""
     while queue or running:
         if rows:  # the estimates follow the runs recorded meanwhile (the mean of a system's recorded runs)
             fresh = {(s.system, s.realization): s for s in campaign_status(config, results=results)}
@@ -135,7 +151,27 @@ def run_missing(config: Mapping[str, Any], *, configfile: str, results: str, job
             else:
                 say(f"failed: {status.system} {status.realization} (exit {process.returncode}; its job log: "
                     f"{paths.run_log(results, 'simulate', status.system, status.realization)})")
-    return rows
+
+
+def _stop_runs(running: Mapping[subprocess.Popen, RunStatus], say: Callable[[str], None],
+               grace: float = STOP_GRACE_SECONDS) -> None:
+    """Stop the runs still in progress (SIGTERM: Snakemake stops its job, which keeps its checkpoint), then kill any
+    that outlives `grace` seconds; each is named."""
+    live = [process for process in running if process.poll() is None]
+    for process in live:
+        process.terminate()
+    for process in live:
+        try:
+            process.wait(timeout=grace)
+        except subprocess.TimeoutExpired:
+            process.kill()
+            process.wait()
+        status = running[process]
+        say(f"stopped {status.system} {status.realization} (resumes from its checkpoint)")
+
+
+def _terminate(signum: int, frame: Any) -> None:
+    raise SystemExit(128 + signum)
 
 
 def load_config(path: str) -> dict[str, Any]:
@@ -176,6 +212,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     drop = commands.add_parser("drop", help="remove a run's record (it is simulated again)")
     drop.add_argument("system")
     drop.add_argument("realization")
+    recode = commands.add_parser("recode", help="rewrite the records of an earlier layout in this forcenet's "
+                                                "(every value kept bit for bit)")
+    recode.add_argument("--commit", action="store_true", help="git-commit the rewritten records")
     args = parser.parse_args(argv)
     try:
         config = load_config(args.configfile)
@@ -192,7 +231,16 @@ def main(argv: Sequence[str] | None = None) -> int:
             print(size_table(config))
         elif args.command == "drop":
             print(f"removed {drop_record(config, args.system, args.realization)}")
+        elif args.command == "recode":
+            rows = recode_records(config)
+            if rows:
+                write_size_table(config)
+            if args.commit and rows:
+                commit_records(records_folder(config), rows, f"data/validation: {len(rows)} records rewritten "
+                                                             "in the current layout (same values)")
+            print(f"{len(rows)} records rewritten")
         elif args.command == "run":
+            signal.signal(signal.SIGTERM, _terminate)  # `kill PID` stops the runs as Ctrl-C does
             run_missing(config, configfile=args.configfile, results=results, jobs=args.jobs, hours=args.hours,
                         margin=args.margin, systems=args.first, only=args.only, commit=args.commit,
                         say=lambda line: print(f"{time.strftime('%H:%M:%S')} {line}", flush=True))

@@ -6,8 +6,9 @@ its snapshots from the record (`restore_snapshots`) and analyses them as if it h
 
 What a record keeps of each snapshot: everything the snapshot contract requires (positions, radii, contacts with
 their normal and tangential force vectors, wall contacts, box, ρ, Z) and the scalar dynamics (kinetic energy,
-pressure, time, step, relaxation steps), in float64 as simulated, so a restored snapshot equals the simulated one in
-every value it holds. It drops the per-particle velocities and angular velocities (`DROPPED_VARIABLES`): optional in
+pressure, time, step, relaxation steps), so a restored snapshot equals the simulated one in every value it holds, bit
+for bit. The contact force vectors are stored along each contact's own axes (`forcenet.datasets.force_codec`:
+a normal component, d − 1 tangential ones and exact bit-pattern residuals), about half their bytes as raw vectors. It drops the per-particle velocities and angular velocities (`DROPPED_VARIABLES`): optional in
 the contract, read by no analysis, and a third of a 2D snapshot's bytes. Radii are stored once (a run's radii do not
 change; `record_dataset` checks it), contacts as CF contiguous ragged arrays.
 
@@ -25,15 +26,16 @@ from typing import Any, Mapping, Sequence
 import numpy as np
 import xarray as xr
 
+from forcenet.datasets.force_codec import decode_forces, encode_forces
 from forcenet.datasets.io import DatasetError, dataset_from_specs, read_dataset
-from forcenet.datasets.schema import (P2_RUN_VARIABLES, RECORD_VARIABLES, REQUIRED_GLOBAL_ATTRS, SNAPSHOT_DYNAMICS,
-                                      SNAPSHOT_VARIABLES)
+from forcenet.datasets.schema import (FORCE_STORAGE, P2_RUN_VARIABLES, RECORD_VARIABLES, REQUIRED_GLOBAL_ATTRS,
+                                      SNAPSHOT_DYNAMICS, SNAPSHOT_VARIABLES)
 from forcenet.datasets.snapshot import write_snapshot
 
 #: the record layout this module writes and reads (global attribute `record_format`)
-RECORD_FORMAT = "forcenet-run-record-1"
+RECORD_FORMAT = "forcenet-run-record-2"
 #: the layout of a P2 run's record (kind "p2_run_record")
-P2_RECORD_FORMAT = "forcenet-p2-run-record-1"
+P2_RECORD_FORMAT = "forcenet-p2-run-record-2"
 #: global attributes of a P2 run summary that its record keeps (the networks its diagrams were made of)
 P2_SUMMARY_ATTRS = ("rattler_rule", "rattler_rule_description", "flag_complex", "flag_complex_description")
 #: snapshot variables a record does not keep (restored snapshots lack them; the contract makes them optional)
@@ -44,7 +46,7 @@ IDENTITY_ATTRS = ("system", "realization", "seed", "dimension", "source_format")
 #: the scalar variables of a snapshot (one value per state in a record)
 SCALAR_VARIABLES = tuple(name for name, spec in SNAPSHOT_VARIABLES.items() if spec.dims == ())
 #: ragged groups: the count variable of each and the per-entry variables it counts
-RAGGED = {"contact_count": ("contact_i", "contact_j", "force_normal", "force_tangential"),
+RAGGED = {"contact_count": ("contact_i", "contact_j", *FORCE_STORAGE),
           "wall_contact_count": ("wall_contact_particle", "wall_contact_wall", "wall_contact_force")}
 #: zlib level and byte shuffle of every array of a record (lossless; measured in data/validation/README.md)
 RECORD_ENCODING = {"zlib": True, "complevel": 9, "shuffle": True}
@@ -85,10 +87,13 @@ def record_dataset(snapshots: Sequence[xr.Dataset], labels: Sequence[str], *, si
     }
     for name in SCALAR_VARIABLES:
         values[name] = np.array([s[name].values[()] for s in snapshots])
+    stored = [encode_forces(s["position"].values, s["contact_i"].values, s["contact_j"].values,
+                            s["force_normal"].values, s["force_tangential"].values) for s in snapshots]
     for count, members in RAGGED.items():
         values[count] = np.array([s.sizes[SNAPSHOT_VARIABLES[members[0]].dims[0]] for s in snapshots], dtype=np.int64)
         for name in members:
-            values[name] = np.concatenate([s[name].values for s in snapshots])
+            values[name] = np.concatenate([forces[name] if name in FORCE_STORAGE else s[name].values
+                                           for s, forces in zip(snapshots, stored)])
     attrs = {key: first.attrs[key] for key in REQUIRED_GLOBAL_ATTRS}
     attrs.update(title=title, record_format=RECORD_FORMAT, simulation_sha256=simulation_sha256,
                  cpu_seconds=float(cpu_seconds), dimension=int(first.attrs["dimension"]),
@@ -127,6 +132,9 @@ def state_snapshot(record: xr.Dataset, index: int) -> tuple[dict[str, Any], dict
         start = int(counts[:index].sum())
         for name in members:
             arrays[name] = record[name].values[start:start + int(counts[index])]
+    stored = {name: arrays.pop(name) for name in FORCE_STORAGE}
+    arrays["force_normal"], arrays["force_tangential"] = decode_forces(arrays["position"], arrays["contact_i"],
+                                                                       arrays["contact_j"], stored)
     return attrs, arrays
 
 
@@ -251,3 +259,34 @@ def record_encoding(record: xr.Dataset) -> dict[str, Mapping[str, Any]]:
     """The netCDF encoding of every array of `record` (`RECORD_ENCODING`)."""
     return {name: dict(RECORD_ENCODING) for name, var in record.variables.items()
             if var.dtype.kind in "fiu" and var.ndim > 0}
+
+
+#: the earlier record layouts `recoded_record` converts: the contact forces as raw float64 vectors
+EARLIER_FORMATS = {"forcenet-run-record-1": RECORD_FORMAT, "forcenet-p2-run-record-1": P2_RECORD_FORMAT}
+
+
+def recoded_record(record: xr.Dataset) -> xr.Dataset:
+    """A record of an earlier layout (`EARLIER_FORMATS`) in this one, every state giving back the same values bit
+    for bit (checked: raises `RecordError` otherwise); a record of this layout is returned as it is."""
+    layout = str(record.attrs["record_format"])
+    if layout not in EARLIER_FORMATS:
+        return record
+    recoded = record.drop_vars(["force_normal", "force_tangential"], errors="ignore")
+    recoded.attrs = {**record.attrs, "record_format": EARLIER_FORMATS[layout]}
+    if "force_normal" not in record:  # a P2 record that keeps no state
+        return recoded
+    starts = np.concatenate([[0], np.cumsum(record["contact_count"].values)])
+    stored = [encode_forces(record["position"].values[index], *(record[name].values[start:stop] for name in
+                                                                 ("contact_i", "contact_j", "force_normal",
+                                                                  "force_tangential")))
+              for index, (start, stop) in enumerate(zip(starts[:-1], starts[1:]))]
+    for name in FORCE_STORAGE:
+        spec = RECORD_VARIABLES[name]
+        recoded[name] = xr.Variable(spec.dims, np.concatenate([forces[name] for forces in stored]),
+                                    attrs={"units": spec.units, "long_name": spec.long_name})
+    for index, (start, stop) in enumerate(zip(starts[:-1], starts[1:])):
+        _, arrays = state_snapshot(recoded, index)
+        for name in ("force_normal", "force_tangential"):
+            if not np.array_equal(arrays[name].view(np.int64), record[name].values[start:stop].view(np.int64)):
+                raise RecordError("record", f"state {index}: '{name}' would not be given back bit for bit")
+    return recoded

@@ -280,14 +280,27 @@ RECORD_VARIABLES: dict[str, VariableSpec] = {
                                   dtype="int"),
     "contact_i": SNAPSHOT_VARIABLES["contact_i"],
     "contact_j": SNAPSHOT_VARIABLES["contact_j"],
-    "force_normal": SNAPSHOT_VARIABLES["force_normal"],
-    "force_tangential": SNAPSHOT_VARIABLES["force_tangential"],
+    "force_normal_component": VariableSpec(
+        ("contact",), FORCE_UNITS, "normal contact force on particle i from j along the unit branch vector "
+        "n = (x_i - x_j)/|x_i - x_j| (force_normal = force_normal_component n + force_normal_residual)"),
+    "force_normal_residual": VariableSpec(
+        ("contact", "spatial"), DIMENSIONLESS, "force_normal minus force_normal_component n, as the difference of "
+        "their IEEE-754 binary64 bit patterns (0 where the product is exact)", dtype="int"),
+    "force_tangential_component": VariableSpec(
+        ("contact", "tangent_axis"), FORCE_UNITS, "tangential contact force on particle i from j along the unit axes "
+        "normal to n: 2D (-n_y, n_x); 3D e1 = n x a/|n x a| (a: the coordinate axis least aligned with n), e2 = n x e1"),
+    "force_tangential_residual": VariableSpec(
+        ("contact", "spatial"), DIMENSIONLESS, "force_tangential minus its components along the tangent axes, as the "
+        "difference of their IEEE-754 binary64 bit patterns", dtype="int"),
     "wall_contact_count": VariableSpec(("state",), DIMENSIONLESS,
                                       "wall contacts of the state (consecutive in `wall_contact`)", dtype="int"),
     "wall_contact_particle": SNAPSHOT_VARIABLES["wall_contact_particle"],
     "wall_contact_wall": SNAPSHOT_VARIABLES["wall_contact_wall"],
     "wall_contact_force": SNAPSHOT_VARIABLES["wall_contact_force"],
 }
+#: how a record stores each contact's force vectors (`forcenet.datasets.force_codec`), losslessly
+FORCE_STORAGE = ("force_normal_component", "force_normal_residual", "force_tangential_component",
+                 "force_tangential_residual")
 #: global attributes of a record beyond REQUIRED_GLOBAL_ATTRS: the record format, the run's simulation fingerprint
 #: (`forcenet.datasets.runs.simulation_sha256`), its CPU seconds summed over every process that ran it, the
 #: dimension, the global attributes its snapshots share (JSON), those of each state that differ (JSON list: the commit
