@@ -92,6 +92,15 @@ def test_a_run_config_changes_scale_keys_only(tmp_path):
     assert set(SCALE_KEYS) == {"box_length", "initial_state", "rho", "relaxation", "wall_speed", "initial_speed"}
 
 
+def test_a_run_config_may_list_the_systems_it_runs_at_the_catalogs_sizes(tmp_path):
+    catalog = write_catalog(tmp_path)
+    listed = expand_config(run_config(catalog, ["twice", "base"]))
+    mapped = expand_config(run_config(catalog, {"twice": None, "base": None}))
+    assert listed == mapped and list(listed["systems"]) == ["twice", "base"]
+    with pytest.raises(CatalogError, match=r"c\.yaml: config key 'systems' must list the systems it runs"):
+        expand_config(run_config(catalog, [{"base": None}]), source="c.yaml")
+
+
 def test_catalog_mistakes_are_named(tmp_path):
     catalog = write_catalog(tmp_path)
     with pytest.raises(CatalogError, match=r"system 'nowhere' is not described there \(described: base, twice, "

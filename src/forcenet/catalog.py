@@ -184,9 +184,11 @@ def expand_config(run_config: Mapping[str, Any], *, source: str = "the config",
     catalog = " + ".join(str(p) for p in paths)
     config = {key: copy.deepcopy(value) for key, value in run_config.items() if key != "catalog"}
     systems = run_config.get("systems")
+    if isinstance(systems, list) and all(isinstance(name, str) for name in systems):
+        systems = dict.fromkeys(systems)  # a list of names: each system at the catalog's sizes
     if not isinstance(systems, Mapping):
-        raise CatalogError(f"{source}: config key 'systems' must map each system it runs to its scale keys (or to "
-                           "nothing)")
+        raise CatalogError(f"{source}: config key 'systems' must list the systems it runs, or map each to its scale "
+                           "keys (or to nothing)")
     if "material" in run_config and any(not (o or {}).get("source") for o in systems.values()):
         raise CatalogError(f"{source}: config key 'material': the particles' material is the catalog's ({catalog}): "
                            "remove it here, or describe systems of another material in a catalog of your own")
