@@ -184,6 +184,38 @@ def test_status_tells_recorded_finished_running_stopped_and_missing_runs_apart(c
     assert text.splitlines()[-1].startswith("1 recorded, 1 finished, 1 running, 1 stopped, 1 missing")
 
 
+def test_an_excluded_run_is_shown_with_its_reason_and_never_started(config, monkeypatch):
+    """records/excluded.csv: a run that cannot be made here (it cannot integrate, or is a cluster's) is shown as
+    excluded with its reason and nothing to go, and `run` does not start it; a stopped stage of it is not resumed,
+    a held one still shows as running."""
+    from forcenet import campaign_cli
+
+    monkeypatch.setattr(campaign_cli, "POLL_SECONDS", 0.0)
+    config["systems"] = {SYSTEM: config["systems"][SYSTEM]}
+    config["realizations"] = {SYSTEM: 3}
+    Path("records").mkdir()
+    Path("records/excluded.csv").write_text(f"system,realization,reason\n{SYSTEM},r01,blows up at step 65\n")
+    stage = Path(paths.run_dir("results", SYSTEM, "r01")) / paths.STAGING_DIR
+    stage.mkdir(parents=True)
+    statuses = {s.realization: s for s in campaign.campaign_status(config, results="results")}
+    assert [statuses[r].state for r in ("r00", "r01", "r02")] == ["missing", "excluded", "missing"]
+    assert statuses["r01"].detail.startswith("blows up at step 65") and statuses["r01"].cpu_hours_to_go == 0.0
+    started = []
+
+    def start(command, log):
+        realization = Path(command[command.index("-m") + 2]).parent.name
+        started.append(realization)
+        fake_run(config, realization)
+        return subprocess.Popen(["true"])
+
+    campaign_cli.run_missing(config, configfile="c.yaml", results="results", say=lambda line: None, start=start)
+    assert sorted(started) == ["r00", "r02"]
+    assert "1 excluded" in campaign.status_table(campaign.campaign_status(config, results="results"))
+    Path("records/excluded.csv").write_text(f"system,run\n{SYSTEM},r01\n")
+    with pytest.raises(CampaignError, match=r"excluded\.csv: columns \['run', 'system'\]"):
+        campaign.campaign_status(config, results="results")
+
+
 def test_the_tabled_cpu_hours_are_per_run(tmp_path):
     (tmp_path / "p1.csv").write_text("# study: p1\n# system 2d_linear: N=2025 realizations=5 cpu_hours=0.73\n"
                                      "# system box: N=484 realizations=1 cpu_hours=0.04\nclaim,verdict\n")

@@ -63,6 +63,19 @@ def read_manifest(records: str | os.PathLike) -> list[dict[str, str]]:
     return rows
 
 
+def excluded_runs(records: str | os.PathLike | None) -> dict[tuple[str, str], str]:
+    """{(system, realization): why} of the runs that `records`' excluded.csv says are not made here (a run that
+    cannot integrate, a run for a cluster); a run listed as `system,*` stands for all of its system's."""
+    path = Path(paths.excluded_runs(records)) if records else None
+    if path is None or not path.exists():
+        return {}
+    with open(path, newline="") as handle:
+        rows = list(csv.DictReader(handle))
+    if rows and set(rows[0]) != {"system", "realization", "reason"}:
+        raise CampaignError(f"{path}: columns {sorted(rows[0])}, expected ['realization', 'reason', 'system']")
+    return {(row["system"], row["realization"]): row["reason"] for row in rows}
+
+
 def write_manifest(records: str | os.PathLike, rows: Sequence[Mapping[str, Any]]) -> Path:
     """Write manifest.csv sorted by system and realization (atomically: a temporary name renamed over it)."""
     path = Path(paths.record_manifest(records))
@@ -331,7 +344,8 @@ def _manifest_lock(records: str | os.PathLike):
 @dataclass(frozen=True)
 class RunStatus:
     """One run of a campaign config: `state` recorded / finished (published, no record yet) / running (a process
-    holds its stage) / stopped (a stage to resume, nobody running it) / missing; CPU-hours done (recorded or
+    holds its stage) / stopped (a stage to resume, nobody running it) / missing / excluded (not made here, its
+    reason in the records' excluded.csv: nothing to go); CPU-hours done (recorded or
     finished) and to go (an estimate: the mean of the system's recorded runs, else of its runs in the committed
     tables' provenance, else of the recorded runs of the system it is a variant of when both have one size and
     grid, else the cost model)."""
@@ -385,6 +399,7 @@ def campaign_status(config: Mapping[str, Any], *, results: str | os.PathLike) ->
 
     records = records_folder(config)
     manifest = read_manifest(records) if records else []
+    excluded = excluded_runs(records)
     tabled = tabled_cpu_hours()
     statuses = []
     for system in config["systems"]:
@@ -411,12 +426,15 @@ def campaign_status(config: Mapping[str, Any], *, results: str | os.PathLike) ->
                 statuses.append(RunStatus(system, name, "recorded", float(row["cpu_hours"]), 0.0))
                 continue
             stale = "" if row is None else "its record has other settings (remake it)"
+            why = excluded.get((system, name)) or excluded.get((system, "*"))
             cost_path = Path(paths.run_cost(results, system, name))
             stage = Path(paths.run_dir(results, system, name)) / paths.STAGING_DIR
             if cost_path.exists():
                 done = float(json.loads(cost_path.read_text())["cpu_seconds"]) / 3600
                 statuses.append(RunStatus(system, name, "finished", done, 0.0,
                                           stale or "not recorded: forcenet-campaign record " + f"{system} {name}"))
+            elif why and not (stage.exists() and _stage_is_held(results, system, name)):  # made elsewhere, if at all
+                statuses.append(RunStatus(system, name, "excluded", 0.0, 0.0, f"{why} (estimate {estimate:.2f} h)"))
             elif stage.exists():
                 staged = len(list(stage.glob("rho*.nc")))
                 held = _stage_is_held(results, system, name)
@@ -453,7 +471,7 @@ def status_table(statuses: Sequence[RunStatus]) -> str:
         lines.append(f"{s.system:<20} {s.realization:<4} {s.state:<9} {s.cpu_hours_done:>10.2f} "
                      f"{s.cpu_hours_to_go:>11.2f}  {s.detail}")
     counts = {state: sum(s.state == state for s in statuses)
-              for state in ("recorded", "finished", "running", "stopped", "missing")}
+              for state in ("recorded", "finished", "running", "stopped", "missing", "excluded")}
     lines.append(", ".join(f"{n} {state}" for state, n in counts.items())
                  + f"; CPU-hours done {sum(s.cpu_hours_done for s in statuses):.2f}, "
                  f"to go {sum(s.cpu_hours_to_go for s in statuses):.2f}")

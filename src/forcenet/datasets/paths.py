@@ -64,6 +64,7 @@ RECORD_FILE = "states.nc"
 #: a P2 run's campaign record (`forcenet.datasets.records.p2_record_dataset`)
 P2_RECORD_FILE = "p2_run.nc"
 RECORD_MANIFEST = "manifest.csv"
+EXCLUDED_RUNS = "excluded.csv"
 #: the validation campaign's committed tables (in the repository): validation_report writes them, every other
 #: config reads them (config key ``paper_size_tables``)
 VALIDATION_DIR = "docs/validation"
@@ -122,6 +123,11 @@ def record_file(records: Folder, system: str, realization: str) -> str:
 def p2_record_file(records: Folder, system: str, realization: str) -> str:
     """The campaign record of one P2 compression run (kind "p2_run_record"), below a config's ``records_dir``."""
     return f"{records}/{system}/{realization}/{P2_RECORD_FILE}"
+
+
+def excluded_runs(records: Folder) -> str:
+    """The runs of a campaign that are not made on a workstation, each with its reason (`forcenet.campaign`)."""
+    return f"{records}/{EXCLUDED_RUNS}"
 
 
 def record_manifest(records: Folder) -> str:
