@@ -65,7 +65,7 @@ def read_manifest(records: str | os.PathLike) -> list[dict[str, str]]:
 
 def excluded_runs(records: str | os.PathLike | None) -> dict[tuple[str, str], str]:
     """{(system, realization): why} of the runs that `records`' excluded.csv says are not made here (a run that
-    cannot integrate, a run for a cluster); a run listed as `system,*` stands for all of its system's."""
+    cannot integrate, a run for a cluster)."""
     path = Path(paths.excluded_runs(records)) if records else None
     if path is None or not path.exists():
         return {}
@@ -426,7 +426,7 @@ def campaign_status(config: Mapping[str, Any], *, results: str | os.PathLike) ->
                 statuses.append(RunStatus(system, name, "recorded", float(row["cpu_hours"]), 0.0))
                 continue
             stale = "" if row is None else "its record has other settings (remake it)"
-            why = excluded.get((system, name)) or excluded.get((system, "*"))
+            why = excluded.get((system, name))
             cost_path = Path(paths.run_cost(results, system, name))
             stage = Path(paths.run_dir(results, system, name)) / paths.STAGING_DIR
             if cost_path.exists():

@@ -3,7 +3,7 @@
 A contact's normal force lies along its unit branch vector n̂ = (x_i − x_j)/|x_i − x_j|, and its tangential force in
 the plane normal to n̂, so of the d numbers of each vector only one (normal) or d − 1 (tangential) carry information;
 the others follow from the positions the record keeps anyway. Stored as raw float64 vectors the forces are most of a
-record's bytes (zlib cannot compress the mantissas); stored along the contact's axes they take about half.
+record's bytes (zlib cannot compress the mantissas); stored along the contact's axes they take about 60 %.
 
 Lossless by construction: each vector v (C, d) is kept as its components c (C, k) along k unit axes computed from the
 positions, plus the residual r = bits(v) − bits(Σ c_a ê_a), the difference of the IEEE-754 binary64 bit patterns as
@@ -26,20 +26,21 @@ def branch_unit_vectors(position: np.ndarray, contact_i: np.ndarray, contact_j: 
     """n̂ (C, d) of each contact: (x_i − x_j)/|x_i − x_j|, the direction of the normal force on i from j; zero where
     the branch vector has no direction (coincident centres, never in a valid state: such a force is kept in its
     residual alone)."""
-    branch = position[contact_i] - position[contact_j]
-    squared = branch[:, 0] * branch[:, 0] + branch[:, 1] * branch[:, 1]
-    if branch.shape[1] == 3:
-        squared = squared + branch[:, 2] * branch[:, 2]
-    with np.errstate(divide="ignore", invalid="ignore"):
-        unit = branch * (1.0 / np.sqrt(squared))[:, None]
-    return np.where(np.isfinite(unit), unit, 0.0)
+    return _normalized(position[contact_i] - position[contact_j])
 
 
 def _normalized(vectors: np.ndarray) -> np.ndarray:
-    length = np.sqrt(vectors[:, 0] * vectors[:, 0] + vectors[:, 1] * vectors[:, 1] + vectors[:, 2] * vectors[:, 2])
+    """vectors (C, d) / their lengths, zero where a vector has none."""
     with np.errstate(divide="ignore", invalid="ignore"):
-        unit = vectors * (1.0 / length)[:, None]
+        unit = vectors * (1.0 / np.sqrt(_dot(vectors, vectors)))[:, None]
     return np.where(np.isfinite(unit), unit, 0.0)
+
+
+def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """a × b of (C, 3) vectors, written out (elementwise products and differences in a fixed order, so that every
+    machine and numpy version gives the same bits: the residuals depend on them)."""
+    return np.stack([a[:, 1] * b[:, 2] - a[:, 2] * b[:, 1], a[:, 2] * b[:, 0] - a[:, 0] * b[:, 2],
+                     a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]], axis=1)
 
 
 def tangent_axes(normal: np.ndarray) -> list[np.ndarray]:
@@ -50,8 +51,8 @@ def tangent_axes(normal: np.ndarray) -> list[np.ndarray]:
     least = np.argmin(np.abs(normal), axis=1)
     axis = np.zeros_like(normal)
     axis[np.arange(len(normal)), least] = 1.0
-    first = _normalized(np.cross(normal, axis))
-    return [first, np.cross(normal, first)]
+    first = _normalized(_cross(normal, axis))
+    return [first, _cross(normal, first)]
 
 
 def _prediction(components: np.ndarray, axes: list[np.ndarray]) -> np.ndarray:

@@ -7,10 +7,11 @@ its snapshots from the record (`restore_snapshots`) and analyses them as if it h
 What a record keeps of each snapshot: everything the snapshot contract requires (positions, radii, contacts with
 their normal and tangential force vectors, wall contacts, box, ρ, Z) and the scalar dynamics (kinetic energy,
 pressure, time, step, relaxation steps), so a restored snapshot equals the simulated one in every value it holds, bit
-for bit. The contact force vectors are stored along each contact's own axes (`forcenet.datasets.force_codec`:
-a normal component, d − 1 tangential ones and exact bit-pattern residuals), about half their bytes as raw vectors. It drops the per-particle velocities and angular velocities (`DROPPED_VARIABLES`): optional in
-the contract, read by no analysis, and a third of a 2D snapshot's bytes. Radii are stored once (a run's radii do not
-change; `record_dataset` checks it), contacts as CF contiguous ragged arrays.
+for bit. The contact force vectors are stored along each contact's own axes (`forcenet.datasets.force_codec`: a
+normal component, d − 1 tangential ones and exact bit-pattern residuals), about 60 % of their bytes as raw vectors.
+It drops the per-particle velocities and angular velocities (`DROPPED_VARIABLES`): optional in the contract, read by
+no analysis, and a third of a 2D snapshot's bytes. Radii are stored once (a run's radii do not change;
+`record_dataset` checks it), contacts as CF contiguous ragged arrays.
 
 A P2 run (kind "p2_run_record", `p2_record_dataset`) does not fit as states: its record holds the run's summary
 (`forcenet.report.p2_distances.run_summary`: distances under each never-dying convention, Z, never-dying class and
