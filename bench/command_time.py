@@ -27,6 +27,14 @@ from pathlib import Path
 
 import records  # bench/records.py
 
+def _from_records(what: str, targets: str) -> dict:
+    """A command that makes `targets` of config/validation.yaml in a fresh clone from the committed campaign records
+    alone, with no results/ (data/validation/README.md)."""
+    return dict(what=f"{what} from the campaign records alone, no results/", fresh_clone=True,
+                command=f"PYTHONPATH=$PWD/src {{venv}}/bin/snakemake {targets} --cores 2 "
+                        "--configfile config/validation.yaml")
+
+
 #: name → what it is, the command (bash, {scratch}: an empty temporary folder), whether it runs in a fresh clone
 COMMANDS = {
     "main_build": dict(what="the main job, venv and install included (README)", fresh_clone=True,
@@ -45,6 +53,14 @@ COMMANDS = {
     "example_sequence": dict(what="the shipped imported sequence (config/example_sequence.yaml)", fresh_clone=True,
                              command="PYTHONPATH=$PWD/src {venv}/bin/snakemake --cores 2 "
                                      "--configfile config/example_sequence.yaml"),
+    "validation_tables_p1": _from_records("P1's validation tables (docs/validation/p1.{md,csv})",
+                                          "validation_report_p1"),
+    "validation_tables": _from_records("both studies' validation tables (docs/validation/{p1,p2}.{md,csv})",
+                                       "validation_report"),
+    "validation_p1": _from_records("P1's validation tables and every P1 figure at paper size",
+                                   "validation_report_p1 figures_p1"),
+    "validation_all": _from_records("both studies' validation tables and every figure at paper size",
+                                    "validation_report figures"),
     "smoke_build": dict(what="smoke config, full build in an empty folder", fresh_clone=False,
                         command=".venv/bin/snakemake --cores 2 --configfile config/smoke.yaml --directory {scratch}"),
 }

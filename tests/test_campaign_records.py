@@ -5,6 +5,7 @@ giving back the recorded states (ρ and Z of every state)."""
 from __future__ import annotations
 
 import os
+import re
 
 import numpy as np
 import pytest
@@ -74,3 +75,47 @@ def test_recorded_runs_are_analysed_from_their_records_with_no_simulation(tmp_pa
             summary = read_dataset(tmp_path / paths.p2_run("results", row["system"], row["realization"]), "p2_run")
             for name, variable in p2_record_summary(record).data_vars.items():
                 assert np.array_equal(summary[name].values, variable.values, equal_nan=True), (row["file"], name)
+
+
+def _study_systems(study: str) -> list[str]:
+    """The systems whose runs a study's committed table is made from (P1: its systems and counterparts)."""
+    entry = CONFIG["studies"][study]
+    return list(entry["systems"]) + list(entry.get("counterparts", []))
+
+
+def _without_provenance_of_the_day(text: str) -> str:
+    """A committed table without what differs between two generations of the same records: the date and the
+    commit it was generated from (the commit that adds the table is necessarily a later one)."""
+    kept = []
+    for line in text.splitlines():
+        if line.startswith(("# git_commit:", "# date:")):
+            continue
+        kept.append(re.sub(r" on \d{4}-\d\d-\d\d \d\d:\d\d UTC from commit `[0-9a-f]+`", "", line))
+    return "\n".join(kept)
+
+
+@pytest.mark.workflow
+@pytest.mark.parametrize("study", ["p1", "p2"])
+def test_the_committed_tables_are_regenerated_from_the_records_alone(study, tmp_path, monkeypatch):
+    """data/validation/README.md: with every run of a study recorded, `snakemake validation_report_{study}` in a
+    folder with the records and no results/ simulates nothing and writes docs/validation/{study}.{md,csv} equal to
+    the committed ones."""
+    monkeypatch.chdir(REPO)  # records_dir is relative to the repository root
+    statuses = campaign.campaign_status(CONFIG, results=tmp_path / "no-results")
+    missing = [f"{s.system} {s.realization}" for s in statuses
+               if s.system in _study_systems(study) and s.state not in ("recorded", "excluded")]
+    if missing:
+        pytest.skip(f"{len(missing)} of {study}'s runs have no record yet, so its committed table is not made from "
+                    f"records alone (forcenet-campaign status): {', '.join(missing[:3])}, …")
+    (tmp_path / "data").mkdir()
+    os.symlink(RECORDS, tmp_path / "data" / "validation")
+    target = f"validation_report_{study}"
+    dry = snakemake(tmp_path, "-n", target, config=REPO / "config/validation.yaml")
+    assert dry.returncode == 0, dry.stderr[-3000:]
+    assert "restore_" in dry.stdout and "simulate_" not in dry.stdout  # zero DEM steps
+    build = snakemake(tmp_path, target, config=REPO / "config/validation.yaml")
+    assert build.returncode == 0, build.stderr[-3000:]
+    for suffix in ("md", "csv"):
+        committed = (REPO / paths.campaign_table(study, suffix)).read_text()
+        regenerated = (tmp_path / paths.campaign_table(study, suffix)).read_text()
+        assert _without_provenance_of_the_day(regenerated) == _without_provenance_of_the_day(committed), suffix

@@ -195,6 +195,18 @@ rule figures:
         [paths.figure(RESULTS, name, fmt) for name in BUILT_FIGURES for fmt in paths.FIGURE_FORMATS],
 
 
+for _study in ("p1", "p2"):
+
+    rule:
+        """Every figure of one study and their CSVs (figures_p1, figures_p2): one study's figures at the papers'
+        sizes from the records while the other study's runs are still being made."""
+        name: f"figures_{_study}"
+        localrule: True
+        input:
+            [paths.figure(RESULTS, name, fmt) for name, (entry, _) in BUILT_FIGURES.items() if entry.study == _study
+             for fmt in paths.FIGURE_FORMATS],
+
+
 rule skipped_products:
     """The products this config does not make, or makes for fewer systems, and why (SKIPPED, common.smk)."""
     localrule: True
