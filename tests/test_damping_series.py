@@ -4,7 +4,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from forcenet.research.damping_series import approach_speeds
+from forcenet.research.damping_series import approach_speeds, median_approach_speed
 
 
 def test_approach_speeds_count_only_near_pairs_that_close():
@@ -17,6 +17,20 @@ def test_approach_speeds_count_only_near_pairs_that_close():
     np.testing.assert_allclose(speeds, [0.3])
     # a gap narrower than the 0.05 between disks 0 and 1 counts no pair at all
     assert approach_speeds(position, velocity, radius, gap=0.02).size == 0
+
+
+def test_the_median_approach_speed_needs_every_state_s_velocities():
+    """Two states of the three disks above (speeds 0.3, and 0.3 and 0.5 with disk 1 closing faster): the median over
+    both; a state restored from a campaign record (no velocities) or no state at all gives NaN, not a speed."""
+    position = np.array([[0.0, 0.0], [1.05, 0.0], [1.05, 1.08], [5.0, 5.0]])
+    radius = np.full(4, 0.5)
+    slow = np.array([[0.1, 0.2], [-0.2, -0.1], [0.0, 0.4], [-1.0, -1.0]])
+    fast = np.array([[0.1, 0.2], [-0.4, -0.1], [0.0, -0.6], [-1.0, -1.0]])  # 0-1 close at 0.5, 1-2 at 0.5
+    assert approach_speeds(position, fast, radius).tolist() == pytest.approx([0.5, 0.5])
+    assert median_approach_speed([(position, slow, radius), (position, fast, radius)]) == pytest.approx(0.5)
+    assert median_approach_speed([(position, slow, radius)]) == pytest.approx(0.3)
+    assert np.isnan(median_approach_speed([(position, slow, radius), (position, None, radius)]))
+    assert np.isnan(median_approach_speed([]))
 
 
 def test_approach_speeds_match_a_slow_reference():

@@ -11,7 +11,8 @@ its run cost, and returns one row:
 * the restitution of two mean particles colliding head-on (m_eff = m̄/2, `dem.calibration`) at P1's v0 and at
   the median approach speed of near-contact pairs in the relaxed snapshots around jamming (pairs closer than
   `NEAR_CONTACT_GAP` and approaching; the snapshots hold the velocities at the end of each relaxation, so this
-  is the speed at which particles still meet when the relaxation criterion is met);
+  is the speed at which particles still meet when the relaxation criterion is met; NaN for a run restored from
+  its campaign record, which keeps no velocities: the run's own snapshots give them);
 * ρ_J of the box and of the bulk (the inner box 1 d_ave from the walls), from the logistic fit of Z(ρ);
 * the particles with ≥ 2 contacts (P1's non-rattlers) in the last two grid states before the jump: below ρ_J
   and with Z < `UNJAMMED_Z` (clusters below jamming, P1 §3; the inflection of Z(ρ) can fall just above a
@@ -95,6 +96,16 @@ class SeriesRun:
         return cls(Path(folder), system, index)
 
 
+def median_approach_speed(states: list[tuple[np.ndarray, np.ndarray | None, np.ndarray]]) -> float:
+    """The median `approach_speeds` over the near-contact pairs of `states`, each (position (N, d), velocity
+    (N, d) or None, radius (N,)) [d_ave/τ_c]; NaN when there is no such pair or a state has no velocities (a run
+    restored from its campaign record)."""
+    if not states or any(velocity is None for _, velocity, _ in states):
+        return math.nan
+    speeds = np.concatenate([approach_speeds(*state) for state in states])
+    return float(np.median(speeds)) if speeds.size else math.nan
+
+
 def _snapshot_states(run: SeriesRun) -> list[dict]:
     """`survey.snapshot_row` of every snapshot of the run, in grid order: the published ones, or, for a run that
     stopped (a blow-up publishes nothing), the ones it left in its staging folder."""
@@ -109,7 +120,9 @@ def _snapshot_states(run: SeriesRun) -> list[dict]:
             row["grid_rho"] = float(path.stem.removeprefix("rho"))
             row["config"] = json.loads(snap.attrs["config"])
             row["normal_damping"] = float(snap.attrs["dem_normal_damping"])
-            row["arrays"] = (snap.position.values, snap.velocity.values, snap.radius.values)
+            # a snapshot restored from a campaign record keeps no velocities: no approach speeds from it
+            velocity = snap["velocity"].values if "velocity" in snap else None
+            row["arrays"] = (snap.position.values, velocity, snap.radius.values)
             states.append(row)
     return sorted(states, key=lambda row: row["grid_rho"])
 
@@ -143,8 +156,7 @@ def series_row(run: SeriesRun) -> dict:
     below = [s for s in states if s["rho"] < rho_j and s["Z"] < UNJAMMED_Z] if math.isfinite(rho_j) else []
     n = len(states[0]["arrays"][2])
     near = [s for s in states if math.isfinite(rho_j) and abs(s["rho"] - rho_j) <= NEAR_JAMMING + 1e-9]
-    speeds = np.concatenate([approach_speeds(*s["arrays"]) for s in near]) if near else np.empty(0)
-    median_speed = float(np.median(speeds)) if speeds.size else math.nan
+    median_speed = median_approach_speed([s["arrays"] for s in near])
 
     def restitution(speed: float) -> float:
         if not math.isfinite(speed) or speed <= 0:
