@@ -16,7 +16,7 @@ PACKAGE = Path(__file__).resolve().parents[1] / "src" / "forcenet"
 
 #: docs/architecture.md, "Layers", top to bottom: the top-level modules and packages of each layer
 LAYERS = (
-    ("foundations", {"__init__", "errors", "_numba", "_lazy", "units", "boxes"}),
+    ("foundations", {"__init__", "errors", "_digest", "_numba", "_lazy", "units", "boxes"}),
     ("data model", {"datasets"}),
     ("configuration", {"catalog", "systems"}),
     ("importers", {"importers"}),

@@ -207,6 +207,33 @@ def test_changing_fill_tetrahedra_reruns_the_3d_analyses_only(smoke_run):
     assert not {rule for rule in rules if rule.startswith(("simulate_", "analyze_2d"))}, sorted(rules)
 
 
+def test_a_changed_judge_reruns_the_claim_tables_and_nothing_else(smoke_run, tmp_path):
+    """common.smk's JUDGES_DIGEST: a checkout whose `src/forcenet/report/` differs (one comment added to a judge)
+    plans the claim tables of the smoke build again and no analysis; the same checkout unchanged plans no table."""
+    checkout = tmp_path / "checkout"
+    checkout.mkdir()
+    shutil.copy2(REPO / "Snakefile", checkout)
+    for folder in ("workflow", "src", "config"):
+        shutil.copytree(REPO / folder, checkout / folder, ignore=shutil.ignore_patterns("__pycache__"))
+
+    def planned_rules() -> set[str]:
+        command = [sys.executable, "-m", "snakemake", "-n", "--snakefile", str(checkout / "Snakefile"), "--directory",
+                   str(smoke_run), "--cores", "1", "--configfile", str(REPO / "config/smoke.yaml")]
+        dry = subprocess.run(command, capture_output=True, text=True, timeout=300,
+                             env=dict(os.environ, PYTHONPATH=str(checkout / "src")))
+        assert dry.returncode == 0, dry.stderr[-3000:]
+        return set(re.findall(r"^\s*rule (\w+):", dry.stdout, re.M))
+
+    tables = {"p1_validation_table", "p2_tables", "p2_validation"}
+    unchanged = planned_rules()  # a copy elsewhere: at most the rules that record where the workflow lies
+    assert not unchanged & tables and not {r for r in unchanged if r.startswith(("simulate_", "analyze_"))}, unchanged
+    judge = checkout / "src/forcenet/report/p1_judging.py"
+    judge.write_text(judge.read_text() + "# a changed judge\n")
+    rules = planned_rules()
+    assert tables <= rules, sorted(rules)
+    assert not {rule for rule in rules if rule.startswith(("simulate_", "analyze_", "aggregate_"))}, sorted(rules)
+
+
 def planned_jobs(workdir: Path, target: str, config: Path) -> dict[str, list[str]]:
     """{rule: inputs of its (last) job} in a dry run of `target` on `config`."""
     dry = snakemake(workdir, target, "-n", "--forceall", config=config)

@@ -25,11 +25,12 @@ kernel sources (`KERNEL_SOURCES`, `kernel_cache_dir`): a change to any of them c
 folder sits under `NUMBA_CACHE_DIR` when that is set, else under the user's cache folder
 (`$XDG_CACHE_HOME/forcenet/numba`, `~/.cache/forcenet/numba`).
 """
-import hashlib
 import os
 from pathlib import Path
 
 import numba
+
+from forcenet._digest import sources_digest
 
 #: the files of every numba kernel and of the argument types in their signatures, relative to the package (globs)
 KERNEL_SOURCES = ("_numba.py", "dem/_kernels/*.py", "dem/kernel_arguments.py", "measures/_kernels.py",
@@ -37,11 +38,8 @@ KERNEL_SOURCES = ("_numba.py", "dem/_kernels/*.py", "dem/kernel_arguments.py", "
 
 
 def kernel_sources_digest(package: Path, patterns=KERNEL_SOURCES) -> str:
-    """sha256 (16 hex digits) of the files matching `patterns` under `package`, names and contents."""
-    digest = hashlib.sha256()
-    for path in sorted({path for pattern in patterns for path in package.glob(pattern)}):
-        digest.update(path.relative_to(package).as_posix().encode() + b"\0" + path.read_bytes() + b"\0")
-    return digest.hexdigest()[:16]
+    """sha256 (16 hex digits) of the kernel sources `patterns` under `package`, names and contents."""
+    return sources_digest(package, patterns)
 
 
 def kernel_cache_dir(package: Path = Path(__file__).resolve().parent, patterns=KERNEL_SOURCES,

@@ -111,6 +111,7 @@ if P1_CLAIMED or not P1_SYSTEMS:
             paper_size=paper_size_table("p1"),
             tetrahedra_reading=READINGS["tetrahedra"].label,
             counterparts=P1_COUNTERPARTS,
+            judges=JUDGES_DIGEST,  # common.smk: a changed judge reruns the table
         script:
             "../scripts/p1_validation.py"
 

@@ -181,6 +181,7 @@ for _suffix, _results, _state_rule, _states, _convention in P2_BUILDS:
         params:
             rattler_rule=P2_RATTLER_RULE,
             essential_convention=_convention,
+            judges=JUDGES_DIGEST,  # common.smk: changed table code reruns the tables
         script:
             "../scripts/p2_tables.py"
 
@@ -222,6 +223,7 @@ if not P2_SEQUENCES:
             essential_reading=READINGS["essential"].label,
             essential_drop_reading=READINGS["essential_drop"].label if "essential_drop" in READINGS else None,
             table_states_reading=READINGS["table_states"].label if "table_states" in READINGS else None,
+            judges=JUDGES_DIGEST,  # common.smk: a changed judge reruns the table
         script:
             "../scripts/p2_validation.py"
 
