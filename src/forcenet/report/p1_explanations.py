@@ -77,8 +77,8 @@ EXPLANATIONS: dict[str | tuple[str, str], tuple[str, str]] = {
     ("p1-4.3-contact-number-at-jamming", "3d_hertz"): (
         "P1's ~6 is the frictionless value: at its first jammed state the mu = 0 run (3d_hertz_mu0, one "
         "realization, rho_J 0.617) has rattler-free Z 5.74 (6.17 one step later), our mu = 0.5 runs 4.18 (4.80), "
-        "reaching 6 only at rho = 0.66. Z at rho_J itself interpolates across the one-step jump of Z (4.47 with "
-        "friction, 4.36 without).", FRICTIONLESS_3D),
+        "reaching 6 only at rho = 0.66. The judged Z at rho_J (4.47) interpolates across the one-step jump of Z "
+        "(0.29 -> 5.74 from 0.61 to 0.62 without friction).", FRICTIONLESS_3D),
     ("p1-4.3-phi-c-at-jamming", "3d_hertz"): (
         "phi_c = 1/(Z - 1) follows Z at rho_J (p1-4.3-contact-number-at-jamming): at the first jammed state it is "
         "0.21 without friction (3d_hertz_mu0, Z 5.74), P1's ~0.2, and 0.31 with mu = 0.5 (Z 4.18).",
