@@ -156,3 +156,18 @@ def test_the_shipped_catalog_describes_each_variant_by_its_difference():
     _, entries = read_catalog([REPO / "config/systems.yaml"])
     assert entries["2d_linear_mu0"] == {"like": "2d_linear", "label": "2D linear, μ = 0", "friction": 0.0}
     assert resolve_entry("2d_linear_mu0", entries)["box_length"] == 50
+
+
+def test_the_recorded_config_names_the_shipped_catalog_relative_to_the_repository(tmp_path, monkeypatch):
+    """Every output records the expanded config and its sha256: they must not depend on where the repository was
+    cloned or where the workflow runs, so the shipped catalog is recorded as config/systems.yaml (a catalog outside
+    the repository keeps its absolute path) and read back from there."""
+    from forcenet.catalog import catalog_files, repository_root
+    from forcenet.datasets.runs import config_sha256
+
+    monkeypatch.chdir(tmp_path)
+    config = load_run_config(repository_root() / "config/validation.yaml")
+    assert config["systems_from"] == ["config/systems.yaml"]
+    assert catalog_files(config) == [repository_root() / "config/systems.yaml"]
+    monkeypatch.chdir(repository_root())
+    assert config_sha256(load_run_config("config/validation.yaml")) == config_sha256(config)

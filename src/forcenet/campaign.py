@@ -455,9 +455,9 @@ def _same_size_base(config: Mapping[str, Any], system: str) -> str | None:
     if base is None:
         return None
     if base not in entries:  # the base is not run by this config: its entry from the catalog's files
-        from forcenet.catalog import read_catalog, resolve_entry
+        from forcenet.catalog import catalog_files, read_catalog, resolve_entry
 
-        base_entry = resolve_entry(base, read_catalog(config.get("systems_from", []))[1])
+        base_entry = resolve_entry(base, read_catalog(catalog_files(config))[1])
     else:
         base_entry = entries[base]
     same = all(base_entry.get(key) == entries[system].get(key) for key in ("box_length", "initial_state", "rho"))

@@ -96,6 +96,22 @@ def repository_root() -> Path:
     return Path(__file__).resolve().parents[2]
 
 
+def recorded_catalog_path(path: str | Path) -> str:
+    """A catalog file as an expanded config records it (``systems_from``): relative to the repository root when it
+    lies inside it, so that the config, and the config sha256 every output records, are the same in every clone;
+    absolute otherwise."""
+    path = Path(path).resolve()
+    try:
+        return path.relative_to(repository_root()).as_posix()
+    except ValueError:
+        return str(path)
+
+
+def catalog_files(config: Mapping[str, Any]) -> list[Path]:
+    """The catalog files an expanded config's systems come from (``systems_from``), as paths to read."""
+    return [Path(p) if Path(p).is_absolute() else repository_root() / p for p in config.get("systems_from", [])]
+
+
 def read_catalog(paths: Sequence[str | Path]) -> tuple[dict[str, Any], dict[str, dict[str, Any]]]:
     """(material, {name: raw entry}) of the catalog files; a name described twice is refused naming both files."""
     material: dict[str, Any] | None = None
@@ -213,7 +229,7 @@ def expand_config(run_config: Mapping[str, Any], *, source: str = "the config",
         config["system_info"][name] = {**info, "like": base} if base else info
     if config["system_info"] and "material" not in config and material:
         config["material"] = copy.deepcopy(material)
-    config["systems_from"] = [str(p) for p in paths]
+    config["systems_from"] = [recorded_catalog_path(p) for p in paths]
     return config
 
 
