@@ -151,6 +151,10 @@ def expected_smoke_outputs(results: str = "results") -> set[str]:
     for system in p2:  # P2's distances under the other never-dying conventions
         for key in ("essential", "essential_drop"):  # never-dying classes apart, and left out
             files |= {paths.distances(reading[key], system), paths.log(reading[key], "distances", system)}
+    for entry in FIGURES:  # P2's distance figures (Figs 6-10) again under `drop` (docs/validation/controls.md §3)
+        if entry.study == "p2" and entry.inputs == ("distances",):
+            files |= {paths.figure(reading["essential_drop"], entry.id, fmt) for fmt in paths.FIGURE_FORMATS}
+            files.add(paths.log(reading["essential_drop"], "figures", entry.id))
     for key in ("essential", "essential_drop", "table_states"):  # Tables I-III under each, and from other a, b, c
         files |= {paths.p2_table(reading[key], i, fmt) for i in paths.P2_TABLE_NUMBERS for fmt in ("csv", "md")}
         files.add(paths.log(reading[key], "tables", "p2_tables"))

@@ -91,6 +91,19 @@ def test_distance_figure_draws_realization_means_on_log_axes():
         plt.close(fig)
 
 
+@pytest.mark.parametrize("convention, named", [("minus_one", False), ("drop", True)])
+def test_a_distance_figure_names_a_never_dying_convention_other_than_p2s(convention, named):
+    # the figures of the `drop` reading beside (docs/validation/controls.md §3) must not pass for P2's own
+    ds = p2_shaped()
+    ds.attrs["essential_convention"] = convention
+    for name in ("p2_fig06_distances_normal_mu05", "p2_fig07_ratios_mu05"):
+        fig = make_p2_figure(name, ds)
+        try:
+            assert ("left out of the matching" in fig._suptitle.get_text()) is named
+        finally:
+            plt.close(fig)
+
+
 def test_tangential_figure_plots_tangential_distances():
     ds = p2_shaped()
     fig = make_p2_figure("p2_fig08_distances_tangential_mu05", ds)

@@ -967,6 +967,34 @@ def test_another_reading_is_set_beside_the_claims_it_changes():
     assert turned.loc["III.D-2", "verdict"] == claims.FAILS
 
 
+def _under(convention: str, systems: dict) -> dict:
+    for ds in systems.values():
+        ds.attrs["essential_convention"] = convention
+    return systems
+
+
+def test_a_miss_that_holds_without_the_never_dying_floor_has_the_floor_as_its_measured_cause():
+    # control 3 (docs/validation/controls.md §3): the claim judged again with never-dying classes left out; where
+    # it then holds the floor is the demonstrated cause, where it fails too the floor is ruled out
+    shipped = _under("minus_one", both_systems(frictional={"after": 3000.0}))  # IV.A-11a fails
+    label = "never-dying classes left out"
+    for drop, verdict, basis, words in (
+            (both_systems(), claims.HOLDS, p2_explanations.DROP_CONTROL, "is its demonstrated cause"),
+            (both_systems(frictional={"after": 3000.0}), claims.FAILS, p2_explanations.THIS_TABLE,
+             "is not what makes it fail")):
+        table = p2_validation.p2_validation(shipped, paper_tables(),
+                                            beside={label: {"distances": _under("drop", drop)}})
+        primary = table[table["reading"] == ""].set_index("claim_id").loc["IV.A-11a"]
+        assert primary["verdict"] == claims.FAILS
+        assert words in primary["explanation"] and primary["explanation_basis"] == f"{claims.MEASURED}: {basis}"
+        beside = table[table["reading"] == label].set_index("claim_id")
+        assert ("IV.A-11a" in beside.index) is (verdict == claims.HOLDS)  # a row beside only where it turns
+    # another reading beside (never-dying classes apart) is no control of the floor
+    table = p2_validation.p2_validation(shipped, paper_tables(),
+                                        beside={"apart": {"distances": _under("apart", both_systems())}})
+    assert "controls.md" not in table[table["reading"] == ""].set_index("claim_id").loc["IV.A-11a", "explanation"]
+
+
 # --- the judges changed after the verdicts were read (issue 53), each marked in the table --------------------------
 def _judged(tables=None, frictionless=None) -> pd.DataFrame:
     tables = tables if tables is not None else paper_tables()

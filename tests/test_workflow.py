@@ -280,6 +280,14 @@ def test_each_reading_beside_is_built_with_the_other_convention_and_judged(smoke
         assert open_dataset(paths.distances(folder["essential"], system)).attrs["essential_convention"] == "apart"
         assert open_dataset(paths.distances(folder["essential_drop"], system)).attrs["essential_convention"] == "drop"
         assert open_dataset(paths.distances(results, system)).attrs["essential_convention"] == "minus_one"
+    # P2's Figs 6-10 drawn again from the `drop` distances (docs/validation/controls.md §3), values as those read
+    from forcenet.plotting.p2 import METRIC_QUANTITY
+
+    drop_csv = pd.read_csv(paths.figure(folder["essential_drop"], "p2_fig06_distances_normal_mu05", "csv"))
+    bottleneck = drop_csv[(drop_csv["panel"] == 0) & (drop_csv["quantity"] == METRIC_QUANTITY["bottleneck"])]
+    drop_d = open_dataset(paths.distances(folder["essential_drop"], bottleneck["system"].iloc[0]))["distance"]
+    np.testing.assert_allclose(bottleneck["realization_mean"].to_numpy(), drop_d.sel(
+        force_kind="normal", homology_dim=0, metric="bottleneck").mean("realization").values)
     literal = pd.read_csv(paths.p2_table_states(folder["table_states"]))
     jammed = pd.read_csv(paths.p2_table_states(results))
     assert literal["rho_b"].iloc[0] == pytest.approx(config["studies"]["p2"]["table_rho"], abs=0.011)

@@ -147,15 +147,17 @@ def simulation_memory_mb(spec):
     return simulation_cost(spec).memory_mb
 
 
-def figure_outputs(name, category):
+def figure_outputs(name, category, results=RESULTS, reading=None):
     """The PDF, PNG and source-data CSV of one figure, both in the HTML report (`snakemake --report`): the PNG is what the report shows
-    inline (every browser draws it; a PDF is blank without a PDF viewer), and its caption links the PDF."""
+    inline (every browser draws it; a PDF is blank without a PDF viewer), and its caption links the PDF. A figure of a
+    reading beside (its label `reading`) lies in that reading's `results` folder, under its own report heading."""
+    beside = f", {reading}" if reading else ""
     return dict(
-        pdf=report(paths.figure(RESULTS, name, "pdf"), caption="../report/figure_pdf.rst", category=category,
-                   subcategory=REPORT_PDFS, labels={"figure": name, "format": "PDF"}),
-        png=report(paths.figure(RESULTS, name, "png"), caption="../report/figure.rst", category=category,
-                   subcategory=REPORT_FIGURES, labels={"figure": name, "format": "PNG"}),
-        csv=paths.figure(RESULTS, name, "csv"),  # the values the figure draws (forcenet.plotting.figure_data)
+        pdf=report(paths.figure(results, name, "pdf"), caption="../report/figure_pdf.rst", category=category,
+                   subcategory=REPORT_PDFS + beside, labels={"figure": name, "format": "PDF"}),
+        png=report(paths.figure(results, name, "png"), caption="../report/figure.rst", category=category,
+                   subcategory=REPORT_FIGURES + beside, labels={"figure": name, "format": "PNG"}),
+        csv=paths.figure(results, name, "csv"),  # the values the figure draws (forcenet.plotting.figure_data)
     )
 
 
@@ -170,6 +172,7 @@ def all_targets():
     targets += [paths.network_measures(RESULTS, s) for s in dict.fromkeys(P1_SYSTEMS + P2_SYSTEMS + list(SYSTEMS))
                 if not (s in P2_SYSTEMS and recorded_runs(s))]
     targets += [paths.figure(RESULTS, name, "pdf") for name in BUILT_FIGURES]  # figures.smk, from the registry
+    targets += [path for path in drop_figure_files() if path.endswith(".pdf")]  # figures.smk: P2's under `drop`
     if SKIPPED:
         targets += [paths.skipped_products(RESULTS)]
     if P1_SYSTEMS:

@@ -19,8 +19,9 @@ def figure_systems(entry):
     return [s for s in chosen if s]
 
 
-def figure_input_files(kind, systems):
-    """The files of one input kind (forcenet.plotting.registry.INPUT_KINDS) of a figure reading `systems`."""
+def figure_input_files(kind, systems, results=RESULTS):
+    """The files of one input kind (forcenet.plotting.registry.INPUT_KINDS) of a figure reading `systems` (the
+    distances of a reading beside from its own results folder, `results`)."""
     if kind == "measures":
         return [paths.network_measures(RESULTS, s) for s in systems]
     if kind == "diagrams":
@@ -32,7 +33,7 @@ def figure_input_files(kind, systems):
     if kind == "state_analysis":
         return p2_table_candidates(analysis_path, states="a")
     if kind == "distances":
-        return [paths.distances(RESULTS, systems[0])]
+        return [paths.distances(results, systems[0])]
     raise WorkflowError(f"figure input kind {kind!r} has no files in workflow/rules/figures.smk")
 
 
@@ -41,6 +42,14 @@ def figure_inputs(entry, systems):
     if {"state_snapshots", "state_analysis"} & set(entry.inputs):
         files["states"] = [P2_TABLE_STATES]  # which realization's states a, b, c
     return files
+
+
+def figure_params(figure, caption, systems):
+    """What workflow/scripts/figure.py needs besides its files: the figure's id, its report caption, its systems,
+    P1's force unit, the study's rattler rule (the networks the analysis measured) and the systems' labels."""
+    return dict(figure=figure, caption=caption, systems=systems, force_unit=FORCE_UNIT,
+                rattler_rule=study_rattler_rule(config, systems[0]),
+                system_info={name: config["system_info"][name] for name in systems if name in config["system_info"]})
 
 
 # the figures this config builds (every one of a study it lists), each with the systems it fits
@@ -69,14 +78,40 @@ for _figure, (_entry, _systems) in BUILT_FIGURES.items():
         log:
             paths.log(RESULTS, "figures", _figure),
         params:
-            figure=_figure,
-            caption=_entry.report_caption,
-            systems=_systems,
-            force_unit=FORCE_UNIT,
-            rattler_rule=study_rattler_rule(config, _systems[0]),  # the networks the analysis measured
-            system_info={name: config["system_info"][name] for name in _systems if name in config["system_info"]},
+            **figure_params(_figure, _entry.report_caption, _systems),
         script:
             "../scripts/figure.py"
+
+
+# P2's distance figures (Figs 6-10) again under the never-dying reading beside that leaves those classes out
+# (docs/validation/controls.md §3), in that reading's results folder; the figures draw nothing else a reading changes
+DROP_FIGURES = {name: built for name, built in BUILT_FIGURES.items()
+                if "essential_drop" in READINGS and built[0].study == "p2" and built[0].inputs == ("distances",)}
+DROP_RESULTS = READING_RESULTS.get("essential_drop")
+
+for _figure, (_entry, _systems) in DROP_FIGURES.items():
+
+    rule:
+        name:
+            f"figure_{_figure}_essential_drop"
+        localrule: True
+        input:
+            distances=figure_input_files("distances", _systems, DROP_RESULTS),
+        output:
+            **figure_outputs(_figure, _entry.study.upper(), DROP_RESULTS, READINGS["essential_drop"].label),
+        log:
+            paths.log(DROP_RESULTS, "figures", _figure),
+        params:
+            **figure_params(_figure, f"{_entry.report_caption} Reading beside: {READINGS['essential_drop'].label}.",
+                            _systems),
+        script:
+            "../scripts/figure.py"
+
+
+def drop_figure_files(study="p2"):
+    """The PDF, PNG and CSV of every figure drawn again under the `drop` reading (none for P1)."""
+    return [paths.figure(DROP_RESULTS, name, fmt) for name in DROP_FIGURES if study == "p2"
+            for fmt in paths.FIGURE_FORMATS]
 
 
 # P1's claims are judged on its compressions: a sequence (SEQUENCES) is left out, and a study of sequences alone gets a
@@ -193,7 +228,8 @@ rule figures:
     at the papers' sizes from the campaign records, data/validation/README.md)."""
     localrule: True
     input:
-        [paths.figure(RESULTS, name, fmt) for name in BUILT_FIGURES for fmt in paths.FIGURE_FORMATS],
+        [paths.figure(RESULTS, name, fmt) for name in BUILT_FIGURES for fmt in paths.FIGURE_FORMATS]
+        + drop_figure_files(),
 
 
 for _study in ("p1", "p2"):
@@ -205,7 +241,7 @@ for _study in ("p1", "p2"):
         localrule: True
         input:
             [paths.figure(RESULTS, name, fmt) for name, (entry, _) in BUILT_FIGURES.items() if entry.study == _study
-             for fmt in paths.FIGURE_FORMATS],
+             for fmt in paths.FIGURE_FORMATS] + drop_figure_files(_study),
 
 
 rule skipped_products:

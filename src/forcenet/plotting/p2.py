@@ -27,6 +27,7 @@ from forcenet.plotting.style import (FALLBACK_COLORS, FORCE_KIND_WORDS, LABELS, 
 from forcenet.report import p2 as report
 from forcenet.report.p1 import system_dimension
 from forcenet.datasets import diagram_points
+from forcenet.report.p2_distances import ESSENTIAL_CONVENTIONS_DOC
 from forcenet.report.realizations import realization_mean, realization_spread
 
 METRIC_COLORS = {metric: FALLBACK_COLORS[i] for i, metric in enumerate(report.METRICS)}
@@ -112,7 +113,14 @@ def _band_rows(mean: xr.DataArray, band_source: xr.DataArray, common: dict, quan
 
 def _layout(distances: xr.Dataset, kind: str, system: str, source: str, dimension: int, rho_j: float) -> dict:
     return {"kind": kind, "system": system, "source": source, "dimension": dimension, "rho_J": rho_j,
-            "realizations": _realizations_text(distances)}
+            "realizations": _realizations_text(distances),
+            "never_dying": _never_dying_words(distances)}
+
+
+def _never_dying_words(distances: xr.Dataset) -> str:
+    """How the never-dying classes entered the distances, for the title: nothing under P2's own death −1."""
+    convention = distances.attrs.get("essential_convention", "minus_one")
+    return "" if convention == "minus_one" else ESSENTIAL_CONVENTIONS_DOC.get(convention, convention)
 
 
 def draw_distances(data: FigureData) -> Figure:
@@ -142,8 +150,9 @@ def _draw_beta_panels(data: FigureData, size: tuple[float, float], curves: dict[
         ax.set_xlabel(state_axis_label(layout["system"]))
         if not is_sequence(layout["system"]):  # P2 quotes its levels over ρ
             _mark_quoted_levels(ax, layout["source"], h, rows[cols.RHO].values, layout["rho_J"])
+    never_dying = f"; {layout['never_dying']}" if layout.get("never_dying") else ""
     fig.suptitle(f"{system_label(layout['system'])}, {FORCE_KIND_WORDS.get(layout['kind'], layout['kind'])}: {what} "
-                 f"({layout['realizations']}; {layout['source']})")
+                 f"({layout['realizations']}; {layout['source']}{never_dying})")
     return fig, axes
 
 

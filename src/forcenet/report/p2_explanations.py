@@ -10,7 +10,7 @@ from typing import Callable
 
 import numpy as np
 
-from forcenet.report.claims import Explanation, NotEvaluated
+from forcenet.report.claims import FAILS, HOLDS, Explanation, JudgedClaim, NotEvaluated
 from forcenet.report.p2 import METRIC_SYMBOLS, jamming_density_per_realization
 from forcenet.report.p2_judging import B, NORMAL, W1, Context, fmt
 from forcenet.report.p2_tables import state_mean_force
@@ -82,10 +82,12 @@ def _table_state_diagnostic(ctx: Context) -> str:
             "(P2: Z and <F> almost identical)")
 
 
-def explain(claim_id: str, ctx: Context) -> Explanation:
+def explain(claim_id: str, ctx: Context, drop: JudgedClaim | None = None) -> Explanation:
     """Why a claim does not hold on these data: `EXPLANATIONS`' verdict on the cause, then its diagnostics measured
-    here (a diagnostic the data cannot give says why); its basis is the command that measured the cause, or none
-    (a hypothesis)."""
+    here (a diagnostic the data cannot give says why), then what the control of the never-dying floor found: the
+    same claim judged with never-dying classes left out of the distances (`drop`, its row under that reading;
+    docs/validation/controls.md §3). Its basis is the command that measured the cause, or none (a hypothesis); a
+    claim that holds under `drop` has the floor as its measured cause."""
     cause, command, diagnostics = EXPLANATIONS.get(claim_id, ("No explanation recorded.", HYPOTHESIS_ONLY, ()))
     measured = []
     for diagnostic in diagnostics:
@@ -93,7 +95,17 @@ def explain(claim_id: str, ctx: Context) -> Explanation:
             measured.append(diagnostic(ctx))
         except NotEvaluated as reason:
             measured.append(f"({reason})")
-    return Explanation(cause + (" Measured here: " + "; ".join(measured) + "." if measured else ""), command)
+    text = cause + (" Measured here: " + "; ".join(measured) + "." if measured else "")
+    if drop is None:
+        return Explanation(text, command)
+    control = "Control, never-dying classes left out of the distances (docs/validation/controls.md §3): "
+    if drop.verdict == HOLDS:
+        return Explanation(f"{text} {control}it holds (measured {fmt(drop.measured, 4)}, its row beside), so "
+                           "the floor of P2's death -1 is its demonstrated cause.", DROP_CONTROL)
+    if drop.verdict == FAILS:
+        return Explanation(f"{text} {control}it does not hold either (measured {fmt(drop.measured, 4)}): the floor "
+                           "of P2's death -1 is not what makes it fail.", command)
+    return Explanation(f"{text} {control}not evaluated ({drop.evidence}).", command)
 
 
 def _frictional(ctx: Context) -> str:
@@ -124,6 +136,7 @@ _NEVER_DYING = ("Not a small-system effect: after rho_J most consecutive pairs c
 SAMPLING = "python scripts/p2_sampling.py (docs/p2_sampling.md)"
 CAMPAIGN = "snakemake validation_report --configfile config/validation.yaml (docs/validation/p2.md)"
 THIS_TABLE = "snakemake p2_validation (its diagnostics, 'Measured here')"
+DROP_CONTROL = "snakemake p2_validation (the rows of the reading with never-dying classes left out)"
 HYPOTHESIS_ONLY = ""
 #: why each claim may not hold: {claim id: (cause, the command that measured it or HYPOTHESIS_ONLY, diagnostics
 #: measured on the data)}

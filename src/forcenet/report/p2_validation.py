@@ -113,21 +113,24 @@ def p2_validation(distances: Mapping[str, xr.Dataset], tables: Mapping[str, pd.D
             except ZeroDivisionError:  # a ratio of distances, one of them 0 (no never-dying class under `drop`, …)
                 raise NotEvaluated("a distance its criterion divides by is 0 here, so the ratio is undefined") from None
 
-        def explanation(verdict: str, claim=claim) -> Explanation | None:
+        changed = P2_CHANGES.get(claim.id)
+        beside_rows = [judge_claim(claim, systems[claim.scope], claim.paper_value(), claim.criterion_text(tol),
+                                   lambda judge=judge, o=other: judge(o), reading=name, changed=changed)
+                       for name, other in others]
+        # the control of the never-dying floor (docs/validation/controls.md §3): the claim under `drop`, if built
+        drop = next((row for row, (_, other) in zip(beside_rows, others) if _convention(other) == "drop"), None)
+
+        def explanation(verdict: str, claim=claim, drop=drop) -> Explanation | None:
             """Why the claim does not hold (nothing where it does, or where it is not judged on imported states)."""
-            return explain(claim.id, ctx) if verdict != HOLDS and not imported else None
+            return explain(claim.id, ctx, drop) if verdict != HOLDS and not imported else None
 
         # Tables I–III are one realization's: the verdict rests on that one run, and says so
         on_resamples = [] if claim.scope == "tables" else [lambda c=c, judge=judge: judge(c) for c in resampled]
-        changed = P2_CHANGES.get(claim.id)
         row = judge_claim(claim, systems[claim.scope], claim.paper_value(), claim.criterion_text(tol),
                           lambda judge=judge: judge(ctx), explanation, resampled=on_resamples, changed=changed,
                           one_run=(frictional,) if claim.scope == "tables" else ())
         judged.append(row)
-        for name, other in others:
-            judged += rows_beside([row], [judge_claim(claim, systems[claim.scope], claim.paper_value(),
-                                                      claim.criterion_text(tol), lambda judge=judge, o=other: judge(o),
-                                                      reading=name, changed=changed)])
+        judged += rows_beside([row] * len(beside_rows), beside_rows)
     curves = ctx.curves
     table = claims_frame(judged, P2_LAYOUT)
     table.attrs["systems"] = {name: {"rho_J": c.rho_j, "realizations": c.n_realizations,
@@ -138,6 +141,11 @@ def p2_validation(distances: Mapping[str, xr.Dataset], tables: Mapping[str, pd.D
                               for name, c in curves.items()}
     table.attrs["tolerances"] = tol
     return table
+
+
+def _convention(within: Context) -> str:
+    """The never-dying convention of the distances a context judges (every distances.nc records it)."""
+    return next((str(c.ds.attrs.get("essential_convention", "")) for c in within.curves.values()), "")
 
 
 def _dimension(ds: xr.Dataset) -> int:
