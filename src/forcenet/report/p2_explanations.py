@@ -155,9 +155,8 @@ EXPLANATIONS: dict[str, tuple[str, str, tuple[Callable[[Context], str], ...]]] =
     "IV.A-3": ("Sampling: the ratio needs P2's rule (rattlers kept) and step; with rattlers removed d_B/d_W1 is "
                "~0.5 and d_B/d_W2 ~0.8 (docs/p2_sampling.md, rattler rule).", SAMPLING, ()),
     "IV.A-4": ("Sampling and realizations: the ratio scatters from state to state (at paper size its median is "
-               f"0.17 but CV 0.64 > 0.5; {_PAPER}); with rattlers removed it is ~0.5 (docs/p2_sampling.md). The "
-               "mean of three paper-size realizations gives median 0.165, CV 0.48: it holds "
-               "(docs/validation/README.md, a third realization).", SAMPLING, ()),
+               f"0.17 but CV 0.64 > 0.5 in one realization; {_PAPER}); with rattlers removed it is ~0.5 "
+               "(docs/p2_sampling.md).", SAMPLING, ()),
     "IV.A-5": (f"Not a small-system effect (paper size: d_B 9.7 -> 6.8, needs a factor 2; {_PAPER}). It holds "
                "at paper size if rho is measured in the box between the wall-particle centres (rho_J would read "
                "0.767; docs/p2_sampling.md, rho scale): P2 does not say how it measures rho between rough walls.",
@@ -168,10 +167,9 @@ EXPLANATIONS: dict[str, tuple[str, str, tuple[Callable[[Context], str], ...]]] =
     "IV.A-7": ("Few realizations: the plateau and the plunge hold at paper size (one realization; "
                f"{_PAPER}).", HYPOTHESIS_ONLY, ()),
     "IV.A-8": ("Small system and slow compression: with 400 disks there are no loops before rho ~ 0.75 (beta1 "
-               "distances 0) and single events decide the trend. At paper size too, in few realizations: one shows "
-               f"no trend (Spearman ~0; {_PAPER}), the mean of two 0.28-0.35, the mean of three 0.58-0.66, which "
-               "holds (docs/validation/README.md, a third realization).",
-               CAMPAIGN, (_argmax_per_realization(_frictional, 1, B),)),
+               "distances 0) and single events decide the trend; one paper-size realization shows no trend either "
+               f"(Spearman ~0; {_PAPER}).",
+               SAMPLING, (_argmax_per_realization(_frictional, 1, B),)),
     "IV.A-9": ("Few realizations: single early loop events can make the largest beta1 d_B of a 3-realization mean; "
                f"paper size peaks at 0.791 (holds; {_PAPER}).", HYPOTHESIS_ONLY,
                (_argmax_per_realization(_frictional, 1, B),)),
