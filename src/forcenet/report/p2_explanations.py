@@ -87,7 +87,8 @@ def explain(claim_id: str, ctx: Context, drop: JudgedClaim | None = None) -> Exp
     here (a diagnostic the data cannot give says why), then what the control of the never-dying floor found: the
     same claim judged with never-dying classes left out of the distances (`drop`, its row under that reading;
     docs/validation/controls.md §3). Its basis is the command that measured the cause, or none (a hypothesis); a
-    claim that holds under `drop` has the floor as its measured cause."""
+    claim that holds under `drop` has the floor as its measured cause, and one whose cause was the floor and that
+    fails under `drop` too is left with none (a hypothesis)."""
     cause, command, diagnostics = EXPLANATIONS.get(claim_id, ("No explanation recorded.", HYPOTHESIS_ONLY, ()))
     measured = []
     for diagnostic in diagnostics:
@@ -102,6 +103,9 @@ def explain(claim_id: str, ctx: Context, drop: JudgedClaim | None = None) -> Exp
     if drop.verdict == HOLDS:
         return Explanation(f"{text} {control}it holds (measured {fmt(drop.measured, 4)}, its row beside), so "
                            "the floor of P2's death -1 is its demonstrated cause.", DROP_CONTROL)
+    if drop.verdict == FAILS and cause.startswith(_NEVER_DYING):  # the cause given above is refuted
+        return Explanation(f"{text} {control}it does not hold either (measured {fmt(drop.measured, 4)}): the floor "
+                           "of P2's death -1 is ruled out as its cause, and no other cause is measured.", HYPOTHESIS_ONLY)
     if drop.verdict == FAILS:
         return Explanation(f"{text} {control}it does not hold either (measured {fmt(drop.measured, 4)}): the floor "
                            "of P2's death -1 is not what makes it fail.", command)
