@@ -147,6 +147,7 @@ def _draw_beta_panels(data: FigureData, size: tuple[float, float], curves: dict[
         for quantity, (metric, label) in curves.items():
             _draw_band(ax, rows[rows[cols.QUANTITY] == quantity], METRIC_COLORS[metric], METRIC_MARKERS[metric], label)
         _log_panel_vs_rho(ax, h, ylabel, layout["rho_J"], layout["dimension"])
+        _say_when_nothing_is_drawn(ax, rows[rows[cols.QUANTITY].isin(list(curves))][cols.MEAN].to_numpy(float))
         ax.set_xlabel(state_axis_label(layout["system"]))
         if not is_sequence(layout["system"]):  # P2 quotes its levels over ρ
             _mark_quoted_levels(ax, layout["source"], h, rows[cols.RHO].values, layout["rho_J"])
@@ -190,6 +191,15 @@ def _log_panel_vs_rho(ax, h: int, ylabel: str, rho_j: float, dimension: int) -> 
     ax.set_xlabel(LABELS["rho"])
     ax.set_ylabel(ylabel)
     ax.set_title(rf"({'ab'[h]}) $\beta_{h}$")
+
+
+def _say_when_nothing_is_drawn(ax, values: np.ndarray) -> None:
+    """A log panel with no positive finite value (a diagram pair with nothing finite to match, e.g. under the `drop`
+    convention, gives 0 and 0/0) says so on the panel instead of failing to find a log axis range."""
+    if not np.any(np.isfinite(values) & (values > 0)):
+        ax.set_ylim(0.1, 10.0)
+        ax.text(0.5, 0.5, "no positive value to draw on a log axis\n(every distance 0, every ratio undefined)",
+                transform=ax.transAxes, ha="center", va="center", color="0.35")
 
 
 def _z_twin(ax, rows: pd.DataFrame, system: str, dimension: int):
