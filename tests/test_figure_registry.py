@@ -59,7 +59,13 @@ def test_the_default_build_makes_every_registered_figure(tmp_path):
     jobs = {name: (inputs.split(", "), outputs.split(", ")) for name, inputs, outputs in re.findall(
         r"^(?:local)?rule (\S+):\n    input: (.*)\n(?:    output: (.*)$)?", result.stdout, flags=re.M)}
     scheduled = {name for name in jobs if name.startswith("figure_")}
-    assert scheduled == {f"figure_{entry.id}" for entry in registry.FIGURES}
+    # and P2's distance figures (Figs 6-10) again under the `drop` reading beside (docs/validation/controls.md §3)
+    drop = {entry.id: f"figure_{entry.id}_essential_drop" for entry in registry.FIGURES
+            if entry.study == "p2" and entry.inputs == ("distances",)}
+    assert len(drop) == 5 and scheduled == {f"figure_{entry.id}" for entry in registry.FIGURES} | set(drop.values())
+    for figure, rule in drop.items():
+        drawn = f"results/readings/essential_convention-drop/figures/{figure}_essential_drop.pdf"
+        assert drawn in jobs[rule][1] and drawn in jobs["all"][0], (rule, jobs[rule][1])
     studies = load_config("config.yaml")["studies"]
     # where each input kind lies (INPUT_KINDS): an aggregate per system, or a run's snapshots or analyses
     kind_paths = {"measures": "results/{system}/network_measures.nc", "diagrams": "results/{system}/diagrams.nc",

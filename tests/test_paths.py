@@ -153,8 +153,9 @@ def expected_smoke_outputs(results: str = "results") -> set[str]:
             files |= {paths.distances(reading[key], system), paths.log(reading[key], "distances", system)}
     for entry in FIGURES:  # P2's distance figures (Figs 6-10) again under `drop` (docs/validation/controls.md §3)
         if entry.study == "p2" and entry.inputs == ("distances",):
-            files |= {paths.figure(reading["essential_drop"], entry.id, fmt) for fmt in paths.FIGURE_FORMATS}
-            files.add(paths.log(reading["essential_drop"], "figures", entry.id))
+            drawn = f"{entry.id}_essential_drop"  # named apart: the HTML report links a PDF by its file name
+            files |= {paths.figure(reading["essential_drop"], drawn, fmt) for fmt in paths.FIGURE_FORMATS}
+            files.add(paths.log(reading["essential_drop"], "figures", drawn))
     for key in ("essential", "essential_drop", "table_states"):  # Tables I-III under each, and from other a, b, c
         files |= {paths.p2_table(reading[key], i, fmt) for i in paths.P2_TABLE_NUMBERS for fmt in ("csv", "md")}
         files.add(paths.log(reading[key], "tables", "p2_tables"))

@@ -44,10 +44,11 @@ def figure_inputs(entry, systems):
     return files
 
 
-def figure_params(figure, caption, systems):
+def figure_params(figure, caption, systems, file_stem=None):
     """What workflow/scripts/figure.py needs besides its files: the figure's id, its report caption, its systems,
-    P1's force unit, the study's rattler rule (the networks the analysis measured) and the systems' labels."""
-    return dict(figure=figure, caption=caption, systems=systems, force_unit=FORCE_UNIT,
+    P1's force unit, the study's rattler rule (the networks the analysis measured) and the systems' labels; and the
+    name of its files (`file_stem`, the id unless drawn again under a reading beside), which the caption links."""
+    return dict(figure=figure, file_stem=file_stem or figure, caption=caption, systems=systems, force_unit=FORCE_UNIT,
                 rattler_rule=study_rattler_rule(config, systems[0]),
                 system_info={name: config["system_info"][name] for name in systems if name in config["system_info"]})
 
@@ -84,33 +85,34 @@ for _figure, (_entry, _systems) in BUILT_FIGURES.items():
 
 
 # P2's distance figures (Figs 6-10) again under the never-dying reading beside that leaves those classes out
-# (docs/validation/controls.md §3), in that reading's results folder; the figures draw nothing else a reading changes
-DROP_FIGURES = {name: built for name, built in BUILT_FIGURES.items()
-                if "essential_drop" in READINGS and built[0].study == "p2" and built[0].inputs == ("distances",)}
+# (docs/validation/controls.md §3), in that reading's results folder; the figures draw nothing else a reading changes.
+# Their files are named apart (<figure>_essential_drop.pdf): the HTML report links a figure's PDF by its file name.
+DROP_FIGURES = {f"{name}_essential_drop": (name, entry, systems) for name, (entry, systems) in BUILT_FIGURES.items()
+                if "essential_drop" in READINGS and entry.study == "p2" and entry.inputs == ("distances",)}
 DROP_RESULTS = READING_RESULTS.get("essential_drop")
 
-for _figure, (_entry, _systems) in DROP_FIGURES.items():
+for _drawn, (_figure, _entry, _systems) in DROP_FIGURES.items():
 
     rule:
         name:
-            f"figure_{_figure}_essential_drop"
+            f"figure_{_drawn}"
         localrule: True
         input:
             distances=figure_input_files("distances", _systems, DROP_RESULTS),
         output:
-            **figure_outputs(_figure, _entry.study.upper(), DROP_RESULTS, READINGS["essential_drop"].label),
+            **figure_outputs(_drawn, _entry.study.upper(), DROP_RESULTS, READINGS["essential_drop"].label),
         log:
-            paths.log(DROP_RESULTS, "figures", _figure),
+            paths.log(DROP_RESULTS, "figures", _drawn),
         params:
             **figure_params(_figure, f"{_entry.report_caption} Reading beside: {READINGS['essential_drop'].label}.",
-                            _systems),
+                            _systems, file_stem=_drawn),
         script:
             "../scripts/figure.py"
 
 
 def drop_figure_files(study="p2"):
     """The PDF, PNG and CSV of every figure drawn again under the `drop` reading (none for P1)."""
-    return [paths.figure(DROP_RESULTS, name, fmt) for name in DROP_FIGURES if study == "p2"
+    return [paths.figure(DROP_RESULTS, drawn, fmt) for drawn in DROP_FIGURES if study == "p2"
             for fmt in paths.FIGURE_FORMATS]
 
 
