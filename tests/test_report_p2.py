@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import math
+import re
 
 import numpy as np
 import pandas as pd
@@ -869,6 +870,29 @@ def test_table_state_diagnostic_reports_where_a_b_c_lie():
     assert "realization 0 (the quietest of 3" in text and "<F_n> x 4.00" in text and "Z 2.80 -> 3.00" in text
 
 
+def test_equal_depth_diagnostic_compares_each_system_above_its_own_jamming():
+    # after jamming both systems change at a rate set by the depth above their own rho_J alone: at equal depth the
+    # quotients are 1, though at equal rho the frictionless one (rho_J 0.80, later than 0.78) is faster
+    systems = both_systems()
+    for name, ds in systems.items():
+        rho_j = p2.jamming_density(ds, 2)
+        depth = ds["rho"] - rho_j
+        rate = xr.where(depth > 0, 5.0 * np.exp(-depth / 0.02), 1.0)
+        for metric in ("bottleneck", "wasserstein_1", "wasserstein_2"):
+            ds["distance"].loc[dict(force_kind="normal", homology_dim=0, metric=metric)] = rate
+    tol = claims.ClaimTolerances()
+    ctx = p2_judging.Context({name: p2_judging.Curves(name, ds, 2, tol) for name, ds in systems.items()}, None, tol,
+                             p2.FRICTIONAL, p2.FRICTIONLESS)
+    text = p2_explanations._at_equal_depth(0)(ctx)
+    assert text.endswith("d_B 1, d_W1 1, d_W2 1") and "0 < rho - rho_J <=" in text, text
+    at_equal_rho = [ctx.system(n).mean("normal", 0, "bottleneck") for n in (p2.FRICTIONLESS, p2.FRICTIONAL)]
+    beyond = at_equal_rho[0].index > max(ctx.system(n).jammed() for n in systems)
+    assert np.median(at_equal_rho[0][beyond]) > 1.5 * np.median(at_equal_rho[1][beyond])
+    with pytest.raises(claims.NotEvaluated):
+        p2_explanations._at_equal_depth(0)(p2_judging.Context({p2.FRICTIONAL: ctx.system(p2.FRICTIONAL)}, None,
+                                                               tol, p2.FRICTIONAL, p2.FRICTIONLESS))
+
+
 # --- issue 25: rates just before jamming, vacuous passes, markers, explanation basis, robustness ----------------
 def test_the_fall_after_jamming_is_measured_against_the_rates_just_before_it():
     # loops vanish in the dilute regime (rho < 0.74): the rates just before jamming, [rho_J - 0.05, rho_J), are
@@ -912,7 +936,11 @@ def test_every_explanation_says_measured_with_its_command_or_hypothesis():
         assert command in (p2_explanations.SAMPLING, p2_explanations.CAMPAIGN, p2_explanations.THIS_TABLE,
                            p2_explanations.HYPOTHESIS_ONLY), claim_id
     assert table.loc["IV.A-11a", "explanation_basis"] == f"measured: {p2_explanations.THIS_TABLE}"
-    assert table.loc["V-2", "explanation_basis"] == f"measured: {p2_explanations.SAMPLING}"
+    assert p2_explanations.EXPLANATIONS["IV.A-5"][1] == p2_explanations.SAMPLING
+    # a cause that only rules out another ("not a small-system effect") is no measured cause
+    for claim_id in ("IV.B-3", "V-1", "V-2"):
+        assert p2_explanations.EXPLANATIONS[claim_id][1] == p2_explanations.HYPOTHESIS_ONLY, claim_id
+        assert re.search("no cause measured|not measured", p2_explanations.EXPLANATIONS[claim_id][0], re.I), claim_id
     # V-1 fails with 2, 3, 5 and 20 paper-size realizations: not explained away as "few realizations"
     v1 = p2_explanations.EXPLANATIONS["V-1"][0]
     assert "Few realizations" not in v1 and "2, 3, 5 and 20 paper-size realizations" in v1
@@ -973,14 +1001,14 @@ def _under(convention: str, systems: dict) -> dict:
     return systems
 
 
-def test_a_miss_that_holds_without_the_never_dying_floor_has_the_floor_as_its_measured_cause():
+def test_a_miss_that_holds_without_the_never_dying_floor_has_the_floor_as_its_measured_cause(monkeypatch):
     # control 3 (docs/validation/controls.md §3): the claim judged again with never-dying classes left out; where
     # it then holds the floor is the demonstrated cause, where it fails too the floor is ruled out
     shipped = _under("minus_one", both_systems(frictional={"after": 3000.0}))  # IV.A-11a fails
     label = "never-dying classes left out"
     for drop, verdict, basis, words in (
             (both_systems(), claims.HOLDS, p2_explanations.DROP_CONTROL, "is its demonstrated cause"),
-            (both_systems(frictional={"after": 3000.0}), claims.FAILS, "", "ruled out as its cause")):
+            (both_systems(frictional={"after": 3000.0}), claims.FAILS, "", "ruled out as its only cause")):
         table = p2_validation.p2_validation(shipped, paper_tables(),
                                             beside={label: {"distances": _under("drop", drop)}})
         primary = table[table["reading"] == ""].set_index("claim_id").loc["IV.A-11a"]
@@ -990,17 +1018,20 @@ def test_a_miss_that_holds_without_the_never_dying_floor_has_the_floor_as_its_me
         assert primary["explanation_basis"] == (f"{claims.MEASURED}: {basis}" if basis else claims.HYPOTHESIS)
         beside = table[table["reading"] == label].set_index("claim_id")
         assert ("IV.A-11a" in beside.index) is (verdict == claims.HOLDS)  # a row beside only where it turns
-    # a miss with another cause, failing under `drop` too, keeps its cause and its basis
+    # a miss with another measured cause, failing under `drop` too, keeps its cause and its basis
+    monkeypatch.setitem(p2_explanations.EXPLANATIONS, "IV.B-3", ("A cause measured elsewhere.",
+                                                                 p2_explanations.SAMPLING, ()))
     alike = {"tangential_w_near": 1.0}  # IV.B-3: tangential d_W1, d_W2 as large as the normal ones near rho_J
     table = p2_validation.p2_validation(_under("minus_one", both_systems(frictional=alike)), paper_tables(),
                                         beside={label: {"distances": _under("drop", both_systems(frictional=alike))}})
     row = table[table["reading"] == ""].set_index("claim_id").loc["IV.B-3"]
-    assert row["verdict"] == claims.FAILS and "is not what makes it fail" in row["explanation"]
+    assert row["verdict"] == claims.FAILS and "is not all that makes it fail" in row["explanation"]
     assert row["explanation_basis"] == f"{claims.MEASURED}: {p2_explanations.SAMPLING}"
     # another reading beside (never-dying classes apart) is no control of the floor
     table = p2_validation.p2_validation(shipped, paper_tables(),
                                         beside={"apart": {"distances": _under("apart", both_systems())}})
-    assert "controls.md" not in table[table["reading"] == ""].set_index("claim_id").loc["IV.A-11a", "explanation"]
+    assert "Control, never-dying classes left out" not in table[table["reading"] == ""].set_index("claim_id").loc[
+        "IV.A-11a", "explanation"]
 
 
 # --- the judges changed after the verdicts were read (issue 53), each marked in the table --------------------------

@@ -12,7 +12,7 @@ import numpy as np
 
 from forcenet.report.claims import FAILS, HOLDS, Explanation, JudgedClaim, NotEvaluated
 from forcenet.report.p2 import METRIC_SYMBOLS, jamming_density_per_realization
-from forcenet.report.p2_judging import B, NORMAL, W1, Context, fmt
+from forcenet.report.p2_judging import B, NORMAL, W1, W2, Context, fmt
 from forcenet.report.p2_tables import state_mean_force
 
 
@@ -66,6 +66,31 @@ def _argmax_per_realization(name_of: Callable[[Context], str], dim: int, metric:
     return diagnostic
 
 
+def _at_equal_depth(dim: int) -> Callable[[Context], str]:
+    """Diagnostic: μ = 0 / μ = 0.5 quotients of the median normal-force rates after jamming, taken at equal depth
+    above each system's own ρ_J (0 < ρ − ρ_J <= the depth both reach) instead of at equal ρ beyond both ρ_J: the
+    frictionless system jams later, so at a given ρ it lies closer to its jamming, where the rates are higher."""
+    def diagnostic(ctx: Context) -> str:
+        """The three quotients at equal depth, and the depth range."""
+        frictional, frictionless = ctx.both()
+        depth = min(float(c.ds["rho"].max()) - c.jammed() for c in (frictional, frictionless))
+        quotients = []
+        for metric in (B, W1, W2):
+            medians = []
+            for c in (frictionless, frictional):
+                curve = c.mean(NORMAL, dim, metric)
+                above = curve.index.to_numpy(float) - c.jammed()
+                inside = curve.to_numpy(float)[(above > 0) & (above <= depth + 1e-12)]
+                if not inside.size:
+                    raise NotEvaluated(f"{c.name}: no state above rho_J")
+                medians.append(float(np.median(inside)))
+            quotient = medians[0] / medians[1] if medians[1] > 0 else float("nan")
+            quotients.append(f"{METRIC_SYMBOLS[metric]} {fmt(quotient, 2)}")
+        return (f"beta{dim} at equal depth above each system's own rho_J (0 < rho - rho_J <= {fmt(depth, 3)}), median "
+                "mu=0 / mu=0.5: " + ", ".join(quotients))
+    return diagnostic
+
+
 def _table_state_diagnostic(ctx: Context) -> str:
     """Diagnostic: where the states a, b, c of Tables I–III sit relative to their realization's ρ_J, and how much
     Z and ⟨F_n⟩ change over them (P2 Fig. 1: 'almost identical')."""
@@ -87,8 +112,8 @@ def explain(claim_id: str, ctx: Context, drop: JudgedClaim | None = None) -> Exp
     here (a diagnostic the data cannot give says why), then what the control of the never-dying floor found: the
     same claim judged with never-dying classes left out of the distances (`drop`, its row under that reading;
     docs/validation/controls.md §3). Its basis is the command that measured the cause, or none (a hypothesis); a
-    claim that holds under `drop` has the floor as its measured cause, and one whose cause was the floor and that
-    fails under `drop` too is left with none (a hypothesis)."""
+    claim that holds under `drop` has the floor as its measured cause, and one whose cause put to the test was the
+    floor (`_NEVER_DYING`) and that fails under `drop` too is left with none (a hypothesis)."""
     cause, command, diagnostics = EXPLANATIONS.get(claim_id, ("No explanation recorded.", HYPOTHESIS_ONLY, ()))
     measured = []
     for diagnostic in diagnostics:
@@ -103,12 +128,13 @@ def explain(claim_id: str, ctx: Context, drop: JudgedClaim | None = None) -> Exp
     if drop.verdict == HOLDS:
         return Explanation(f"{text} {control}it holds (measured {fmt(drop.measured, 4)}, its row beside), so "
                            "the floor of P2's death -1 is its demonstrated cause.", DROP_CONTROL)
-    if drop.verdict == FAILS and cause.startswith(_NEVER_DYING):  # the cause given above is refuted
+    if drop.verdict == FAILS and cause.startswith(_NEVER_DYING):  # the cause put to the test above is refuted
         return Explanation(f"{text} {control}it does not hold either (measured {fmt(drop.measured, 4)}): the floor "
-                           "of P2's death -1 is ruled out as its cause, and no other cause is measured.", HYPOTHESIS_ONLY)
+                           "of P2's death -1 is ruled out as its only cause, and no other cause is measured.",
+                           HYPOTHESIS_ONLY)
     if drop.verdict == FAILS:
         return Explanation(f"{text} {control}it does not hold either (measured {fmt(drop.measured, 4)}): the floor "
-                           "of P2's death -1 is not what makes it fail.", command)
+                           "of P2's death -1 is not all that makes it fail.", command)
     return Explanation(f"{text} {control}not evaluated ({drop.evidence}).", command)
 
 
@@ -130,12 +156,15 @@ _PAPER = "docs/p2_sampling.md, paper size"
 _AT_JAMMING = ("Not a small-system effect: P2's states near rho = 0.79 look alike ('Z and the average force almost "
                "identical'), i.e. they are jammed, and ours at 0.79 are not (rho_J 0.80, also at paper size; "
                f"{_PAPER}); the first three jammed samples (the table's states a, b, c) lie at the transition itself, "
-               "where Z and the forces still change fast, and each new or lost never-dying class (a rattler "
-               "joining, a defect loop opening) costs d_B >= 0.5 under P2's death -1.")
-_NEVER_DYING = ("Not a small-system effect: after rho_J most consecutive pairs change the number of never-dying "
-                "classes (rattlers joining, defect loops opening or closing as contacts form), and under P2's death "
-                "-1 each costs d_B >= 0.5, a floor the force changes alone (d_B ~ 0.03-0.1) stay far below; at paper "
-                f"size such changes are more frequent, not less ({_PAPER}).")
+               "where Z and the forces still change fast.")
+# the floor as the cause put to the test: the control of docs/validation/controls.md §3 demonstrates or refutes it
+_NEVER_DYING = ("The never-dying floor, put to the test by the control below: after rho_J most consecutive pairs "
+                "change the number of never-dying classes (rattlers joining, defect loops opening or closing as "
+                "contacts form), and under P2's death -1 each costs d_B >= 0.5, a floor the force changes alone "
+                f"(d_B ~ 0.03-0.1) stay far below; at paper size such changes are more frequent, not less ({_PAPER}).")
+# without the never-dying classes there is no finite loop before jamming (scripts/p2_finite_loops.py)
+_NO_FINITE_LOOPS = (" Without them there is almost no finite loop before jamming (docs/validation/controls.md §3), so "
+                    "the control tests the beta0 part alone.")
 # The commands that measured a cause (the basis column of the table); a cause with none is a hypothesis.
 SAMPLING = "python scripts/p2_sampling.py (docs/p2_sampling.md)"
 CAMPAIGN = "snakemake validation_report --configfile config/validation.yaml (docs/validation/p2.md)"
@@ -145,11 +174,11 @@ HYPOTHESIS_ONLY = ""
 #: why each claim may not hold: {claim id: (cause, the command that measured it or HYPOTHESIS_ONLY, diagnostics
 #: measured on the data)}
 EXPLANATIONS: dict[str, tuple[str, str, tuple[Callable[[Context], str], ...]]] = {
-    "III.D-1": (_AT_JAMMING, SAMPLING, (_table_state_diagnostic,)),
-    "III.D-2": (_AT_JAMMING, SAMPLING, (_table_state_diagnostic,)),
+    "III.D-1": (_AT_JAMMING, THIS_TABLE, (_table_state_diagnostic,)),
+    "III.D-2": (_AT_JAMMING, THIS_TABLE, (_table_state_diagnostic,)),
     "III.D-3": (_AT_JAMMING + " At the transition the (a,b) changes are system-wide, not in one quadrant.",
-                SAMPLING, (_table_state_diagnostic,)),
-    "III.D-4": (_AT_JAMMING, SAMPLING, (_table_state_diagnostic,)),
+                THIS_TABLE, (_table_state_diagnostic,)),
+    "III.D-4": (_AT_JAMMING, THIS_TABLE, (_table_state_diagnostic,)),
     "IV.A-1": ("Few realizations: each realization's d_W1 peaks near its own rho_J, but the rho_J scatter and the "
                f"peak of a mean of 3 blurs; one paper-size realization holds ({_PAPER}).",
                HYPOTHESIS_ONLY,
@@ -179,39 +208,48 @@ EXPLANATIONS: dict[str, tuple[str, str, tuple[Callable[[Context], str], ...]]] =
                (_argmax_per_realization(_frictional, 1, B),)),
     "IV.A-10": (f"Few realizations: holds at paper size ({_PAPER}).", HYPOTHESIS_ONLY, ()),
     "IV.A-11a": (_NEVER_DYING + " The rates are compared with those just before jamming ([rho_J - 0.05, rho_J)), "
-                 "where the loops already change; the beta1 d_B after jamming sits on that floor.",
+                 "where the loops already change; the beta1 d_B after jamming sits on that floor." + _NO_FINITE_LOOPS,
                  THIS_TABLE, (_never_dying_events(_frictional, 1, "after"),)),
-    "IV.A-11b": (_NEVER_DYING + " Without friction loops exist only from jamming on (beta1 distances 0 before "
-                 f"rho_J, also at paper size), and beta0 d_W1 falls only 2.5-3x ({_PAPER}).",
+    "IV.A-11b": (_NEVER_DYING + " Without friction the beta1 d_W1 and d_W2 rise after jamming instead of "
+                 "falling: before it almost every loop is a never-dying class, after it finite loops form and fill; "
+                 "beta0 d_W1 falls less than the judge's 10x (this row's evidence)." + _NO_FINITE_LOOPS,
                  THIS_TABLE,
                  (_never_dying_events(_frictionless, 0, "after"), _never_dying_events(_frictionless, 1, "after"))),
     "IV.A-12a": (_NEVER_DYING + " d_B after jamming sits on that floor, so d_B/d_W1 cannot fall 3 decades.",
                  THIS_TABLE, (_never_dying_events(_frictional, 0, "after"),)),
-    "IV.A-12b": (_NEVER_DYING + " d_B after jamming sits on that floor, so d_B/d_W1 cannot fall 3 decades.",
-                 THIS_TABLE, (_never_dying_events(_frictional, 1, "after"),)),
+    "IV.A-12b": ("Both sides of the quotient are the floor's: after jamming the beta1 d_B sits on it (measured "
+                 "below), and before jamming almost every loop is a never-dying class (docs/validation/controls.md "
+                 "§3), so the control leaves no finite beta1 ratio below rho = 0.75 to compare; what the ratio would "
+                 "do without the floor is not measured.",
+                 HYPOTHESIS_ONLY, (_never_dying_events(_frictional, 1, "after"),)),
     "IV.B-1": (f"Few realizations: holds at paper size ({_PAPER}).", HYPOTHESIS_ONLY, ()),
     "IV.B-2": ("Not a small-system effect: at paper size the tangential and normal curves differ as little near "
                f"rho_J as elsewhere ({_PAPER}); not reproduced.", SAMPLING, ()),
     "IV.B-3": ("Not a small-system effect: at paper size tangential/normal d_W1 and d_W2 near rho_J are 1.0 "
-               f"({_PAPER}); not reproduced.", SAMPLING, ()),
+               f"({_PAPER}). No cause measured.", HYPOTHESIS_ONLY, ()),
     "IV.B-4": (f"Few realizations: holds at paper size ({_PAPER}).", HYPOTHESIS_ONLY, ()),
     "IV.C-1": (f"Holds at every size and speed measured ({_PAPER}).", SAMPLING, ()),
     "IV.C-2": ("Sampling: below rho = 0.65 there are 7 states with almost no contacts (Z < 0.4), so the distances "
                "count single collisions and rattlers joining and leaving; also fails at paper size (d_B 1.7, d_W1 "
                f"0.36, d_W2 1.1; {_PAPER}).", SAMPLING, ()),
     "IV.C-3": ("Not a small-system effect: at paper size d_B/d_W1 is larger without friction at 43 % of the "
-               f"points, as here ({_PAPER}); not reproduced.", SAMPLING, ()),
+               f"points, as here ({_PAPER}).", SAMPLING, ()),
     "IV.C-4": ("Not a small-system effect: at paper size both systems' d_B and d_W2 peak 0.035 below their "
-               f"rho_J ({_PAPER}); not reproduced.",
+               f"rho_J ({_PAPER}).",
                SAMPLING, (_argmax_per_realization(_frictional, 0, B), _argmax_per_realization(_frictionless, 0, B))),
     "IV.C-5": ("Small system: with 400 disks neither system has loops well before jamming (beta1 distances 0: "
                f"nothing to compare); holds at paper size ({_PAPER}).", SAMPLING, ()),
     "IV.C-6": ("Not a small-system effect: at paper size the largest beta1 changes near rho_J are alike with and "
-               f"without friction (0.93-1.3; {_PAPER}); not reproduced.", SAMPLING, ()),
-    "IV.C-7": (_NEVER_DYING + " d_B after jamming is that floor in both systems, so its ratio is ~1; the d_W1 and "
-               f"d_W2 ratios are 2-3.4 (paper size 2.8 and 2.2; {_PAPER}).",
+               f"without friction (0.93-1.3; {_PAPER}).", SAMPLING, ()),
+    "IV.C-7": ("Two parts, each measured. d_B: after jamming nearly every consecutive pair of both systems changes "
+               "its number of never-dying loops, each costing d_B >= 0.5 under P2's death -1, so both d_B sit on "
+               "that floor and their quotient is ~1 (measured below; without the never-dying classes it is 1.7, "
+               "the control's row beside). d_W1: the judge compares at equal rho beyond both rho_J, where the "
+               "frictionless system, jamming later, is still nearer its transition; at equal depth above each "
+               "system's own rho_J its d_W1 and d_W2 quotients are about P2's 2 (measured below).",
                THIS_TABLE,
-               (_never_dying_events(_frictional, 1, "after"), _never_dying_events(_frictionless, 1, "after"))),
+               (_never_dying_events(_frictional, 1, "after"), _never_dying_events(_frictionless, 1, "after"),
+                _at_equal_depth(1))),
     "IV.C-8a": ("Without friction loops exist only from jamming on, and the frictionless system jams later (rho_J "
                 "0.832 against 0.803): over all states its median PD1 count is 1.1 against 7.2, while over the states "
                 "beyond both rho_J it has more loops (IV.C-8b: median 1350 against 1293 normal-force PD1 points per "
@@ -226,8 +264,12 @@ EXPLANATIONS: dict[str, tuple[str, str, tuple[Callable[[Context], str], ...]]] =
     "V-1": ("Not a few-realization effect: it fails with 2, 3, 5 and 20 paper-size realizations (robustness 0.2 with 5, "
             "0.01 with P2's 20); "
             "the d_B and d_W2 peaks before jamming are as high or higher without friction (docs/validation/p2.md); "
-            "no cause measured.", CAMPAIGN, ()),
+            "no cause measured.", HYPOTHESIS_ONLY, ()),
     "V-2": ("Not a small-system effect: after jamming the frictionless packing keeps changing 2-4x more (d_W1, "
-            f"d_W2; paper size 3.1 and 2.2, d_B 1.0; {_PAPER}); not reproduced.",
-            SAMPLING, (_never_dying_events(_frictional, 0, "after"), _never_dying_events(_frictionless, 0, "after"))),
+            f"d_W2; paper size 3.1 and 2.2, d_B 1.0; {_PAPER}). Part of it is where the judge compares, at equal rho "
+            "beyond both rho_J, where the frictionless system is nearer its later jamming: at equal depth above each "
+            "system's own rho_J the quotients come closer to 1 (measured below); what keeps d_W1 apart is not "
+            "measured.",
+            HYPOTHESIS_ONLY, (_never_dying_events(_frictional, 0, "after"), _never_dying_events(_frictionless, 0, "after"),
+                              _at_equal_depth(0))),
 }
