@@ -163,8 +163,8 @@ _NEVER_DYING = ("The never-dying floor, put to the test by the control below: af
                 "contacts form), and under P2's death -1 each costs d_B >= 0.5, a floor the force changes alone "
                 f"(d_B ~ 0.03-0.1) stay far below; at paper size such changes are more frequent, not less ({_PAPER}).")
 # without the never-dying classes there is no finite loop before jamming (scripts/p2_finite_loops.py)
-_NO_FINITE_LOOPS = (" Without them there is almost no finite loop before jamming (docs/validation/controls.md §3), so "
-                    "the control tests the beta0 part alone.")
+_NO_FINITE_LOOPS = (" Without the never-dying classes there is almost no finite loop before jamming "
+                    "(docs/validation/controls.md §3), so the control tests the beta0 part alone.")
 # The commands that measured a cause (the basis column of the table); a cause with none is a hypothesis.
 SAMPLING = "python scripts/p2_sampling.py (docs/p2_sampling.md)"
 CAMPAIGN = "snakemake validation_report --configfile config/validation.yaml (docs/validation/p2.md)"
