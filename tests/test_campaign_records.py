@@ -29,6 +29,14 @@ def test_the_validation_config_keeps_its_records_in_the_repository():
     assert campaign.SIZE_TABLE_START in readme and campaign.SIZE_TABLE_END in readme
 
 
+def test_the_size_table_in_the_records_readme_is_the_manifests(monkeypatch):
+    # records imported from another branch (or a manifest edited by hand) must not leave the README's sizes behind
+    monkeypatch.chdir(REPO)  # records_dir is relative to the repository root
+    readme = (RECORDS / "README.md").read_text()
+    committed = readme.partition(campaign.SIZE_TABLE_START)[2].partition(campaign.SIZE_TABLE_END)[0].strip()
+    assert committed == campaign.size_table(CONFIG), "run forcenet-campaign sizes --write"
+
+
 def test_every_committed_record_can_be_restored_under_the_validation_config(monkeypatch):
     monkeypatch.chdir(REPO)  # records_dir is relative to the repository root
     assert campaign.verify_records(CONFIG) == []

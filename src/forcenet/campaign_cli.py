@@ -6,7 +6,7 @@
     forcenet-campaign run --jobs 2 --hours 2.5        the missing runs, one core each, niced, each recorded as it lands
                       [--first SYSTEM …] [--only SYSTEM[:rNN] …] [--commit]
     forcenet-campaign verify                          every record against the manifest and the config
-    forcenet-campaign sizes                           the records' size per system
+    forcenet-campaign sizes [--write]                 the records' size per system [written into its README]
     forcenet-campaign drop SYSTEM REALIZATION         remove a record (the run is simulated again)
     forcenet-campaign recode [--commit]               rewrite records of an earlier layout in this one (same values)
 
@@ -208,7 +208,8 @@ def main(argv: Sequence[str] | None = None) -> int:
                      help="these systems or runs alone (another process makes the others)")
     run.add_argument("--commit", action="store_true", help="git-commit each record as it lands")
     commands.add_parser("verify", help="every record against the manifest and the config")
-    commands.add_parser("sizes", help="the records' size per system (the table of the records folder's README)")
+    sizes = commands.add_parser("sizes", help="the records' size per system (the table of the records folder's README)")
+    sizes.add_argument("--write", action="store_true", help="also write it into the records folder's README")
     drop = commands.add_parser("drop", help="remove a run's record (it is simulated again)")
     drop.add_argument("system")
     drop.add_argument("realization")
@@ -229,6 +230,8 @@ def main(argv: Sequence[str] | None = None) -> int:
             return 1 if problems else 0
         elif args.command == "sizes":
             print(size_table(config))
+            if args.write and write_size_table(config) is None:
+                raise ForcenetError(f"{records_folder(config)}/README.md has no size table to write")
         elif args.command == "drop":
             print(f"removed {drop_record(config, args.system, args.realization)}")
         elif args.command == "recode":
