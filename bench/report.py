@@ -331,11 +331,29 @@ def dem_ab_table(recs: dict) -> str:
     return lines_with_provenance(body, [(stem, record)])
 
 
+def dem_particle_order_table(recs: dict) -> str:
+    """Our step with the particles in the order a state was made against relabelled along a Morton curve
+    (bench/dem_particle_order.py): throughput of each and their ratio per case, runs alternated."""
+    record = recs.get("dem_particle_order")
+    if not measured(record):
+        return not_measured(record, "bench/dem_particle_order.py") + "\n"
+    rows = []
+    for case in DEM_CASES:
+        m = record["measured"].get(case)
+        if m:
+            runs = ", ".join(f"{r:.3f}" for r in m["ratio_runs"])
+            rows.append([f"{case.upper()} Hertz, N = {m['N']}", sci(m["as_made"]), sci(m["morton"]),
+                         f"**{m['ratio']:.3f}** (runs: {runs})"])
+    body = table(["state (of `bench/dem_vs_lammps.py`)", "as made (particle-steps per CPU-s)", "Morton order",
+                  "Morton / as made"], rows)
+    return lines_with_provenance(body, [("dem_particle_order", record)])
+
+
 TABLES = {"lammps_same_state": same_state_table, "dem_vs_lammps": dem_vs_lammps_table,
           "dem_scaling": dem_scaling_table, "dem_profile": dem_profile_table,
           "analysis": analysis_table, "p1_table": p1_table_table,
           "workflow_overhead": workflow_table, "commands": commands_table, "import_dry_run": import_dry_run_table,
-          "dem_ab": dem_ab_table}
+          "dem_ab": dem_ab_table, "dem_particle_order": dem_particle_order_table}
 
 
 def render(page: str, recs: dict) -> str:

@@ -8,6 +8,7 @@ import json
 import os
 import sys
 
+import numpy as np
 import pytest
 
 from conftest import REPO
@@ -18,7 +19,7 @@ import report  # noqa: E402  (bench/report.py)
 
 #: the benchmark scripts of bench/ that each leave at least one record
 BENCHMARKS = ("analysis", "dem_profile", "dem_scaling", "dem_vs_lammps", "lammps_same_state", "p1_table",
-              "workflow_overhead", "dem_ab")
+              "workflow_overhead", "dem_ab", "dem_particle_order")
 
 
 def fixture_record(benchmark: str, variant: str | None, measured: dict, *, settings: dict | None = None,
@@ -192,3 +193,17 @@ def test_the_performance_page_is_what_the_committed_records_make():
     assert {m.group("name") for m in report.MARKER.finditer(page)} == set(report.TABLES)
     assert report.render(page, records.read_records()) == page, (
         "docs/performance.md differs from bench/results/*.json: run .venv/bin/python bench/report.py")
+
+
+def test_the_morton_order_puts_neighbours_in_space_next_to_each_other():
+    # bench/dem_particle_order.py: four particles, one per quadrant, given in the order top right, bottom left,
+    # top left, bottom right; the Z curve visits bottom left, bottom right, top left, top right (x the low bit)
+    import dem_particle_order
+
+    position = np.array([[0.75, 0.75], [0.25, 0.25], [0.25, 0.75], [0.75, 0.25]])
+    order = dem_particle_order.morton_order(position, np.zeros(2), np.ones(2))
+    assert order.tolist() == [1, 3, 2, 0]
+    state = {"positions": position, "radii": np.arange(4.0), "box_lo": np.zeros(2), "n_steps": 5}
+    moved = dem_particle_order.relabelled(state, order)
+    assert moved["radii"].tolist() == [1.0, 3.0, 2.0, 0.0] and moved["positions"][0].tolist() == [0.25, 0.25]
+    assert moved["box_lo"] is state["box_lo"] and moved["n_steps"] == 5  # the box and settings are not particles
