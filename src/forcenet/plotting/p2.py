@@ -146,8 +146,8 @@ def _draw_beta_panels(data: FigureData, size: tuple[float, float], curves: dict[
         rows = data.panel(h)
         for quantity, (metric, label) in curves.items():
             _draw_band(ax, rows[rows[cols.QUANTITY] == quantity], METRIC_COLORS[metric], METRIC_MARKERS[metric], label)
-        _log_panel_vs_rho(ax, h, ylabel, layout["rho_J"], layout["dimension"])
         _say_when_nothing_is_drawn(ax, rows[rows[cols.QUANTITY].isin(list(curves))][cols.MEAN].to_numpy(float))
+        _log_panel_vs_rho(ax, h, ylabel, layout["rho_J"], layout["dimension"])
         ax.set_xlabel(state_axis_label(layout["system"]))
         if not is_sequence(layout["system"]):  # P2 quotes its levels over ρ
             _mark_quoted_levels(ax, layout["source"], h, rows[cols.RHO].values, layout["rho_J"])
