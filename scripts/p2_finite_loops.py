@@ -36,7 +36,11 @@ def loop_row(results: Path, system: str) -> str:
     cells = []
     rho_j = np.nan
     for folder in (results, results / DROP_FOLDER):
-        with open_dataset(folder / system / "distances.nc") as ds:
+        path = folder / system / "distances.nc"
+        if not path.exists():
+            raise SystemExit(f"error: {path} is missing: make it with `snakemake validation_report_p2 "
+                             "--configfile config/validation.yaml` (or pass that build's results folder)")
+        with open_dataset(path) as ds:
             rho_j = jamming_density(ds, 2) if folder == results else rho_j
             d_b = ds["distance"].sel(force_kind="normal", homology_dim=1, metric="bottleneck")
             rho = ds["rho"].values

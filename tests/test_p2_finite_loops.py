@@ -3,6 +3,8 @@ from __future__ import annotations
 
 import sys
 
+import pytest
+
 from conftest import REPO
 from test_report_p2 import p2_shaped
 
@@ -27,3 +29,8 @@ def test_the_loops_before_jamming_are_counted_under_each_convention(tmp_path):
     share = 100 / (before.size * shipped.sizes["realization"])
     assert row == ["2d_poly_mu05", f"{rho_j:.4f}", "100.0 %", f"{shipped['rho'].values[0]:.3f}", f"{share:.1f} %",
                    f"{before[-1]:.3f}"]
+
+
+def test_a_missing_distances_file_is_named_in_one_line(tmp_path):
+    with pytest.raises(SystemExit, match=r"2d_poly_mu05/distances.nc is missing: make it with"):
+        p2_finite_loops.loop_row(tmp_path, "2d_poly_mu05")
