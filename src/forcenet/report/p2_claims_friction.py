@@ -4,7 +4,7 @@ distance curves of the frictional and the frictionless system (`forcenet.report.
 from __future__ import annotations
 
 import math
-from typing import Callable, Sequence
+from typing import Callable
 
 import numpy as np
 import pandas as pd
@@ -13,8 +13,8 @@ from forcenet.report.claims import (Claim, ClaimTolerances, Judgement, NotEvalua
                                     contrast_margin, ratio_margin, relative_margin, smallest_margin)
 from forcenet.report.p2 import (METRIC_SYMBOLS, METRICS, P2_HOMOLOGY_DIMS, diagram_point_counts,
                                 jamming_density_per_realization)
-from forcenet.report.p2_judging import (B, NORMAL, W1, W2, Context, Curves, fmt, on_grid, per_metric_text,
-                                        rate_quotient, within_factor, within_factor_margin)
+from forcenet.report.p2_judging import (B, NORMAL, W1, W2, Context, Curves, fmt, median_quotient, on_grid,
+                                        per_metric_text, rate_quotient, within_factor, within_factor_margin)
 from forcenet.report.realizations import realization_mean
 
 
@@ -38,20 +38,6 @@ def _c_jams_later(ctx: Context) -> Judgement:
                               f"{spread}", rn > rf, grid_step=f.by_one_step(rn - rf, 0.0))
 
 
-def _median_quotient(ctx: Context, dim: int, metrics: Sequence[str], lo: float = -np.inf, hi: float = np.inf, *,
-                     closed_lo: bool = True) -> dict[str, float]:
-    """{metric: median of the mu = 0 curve / median of the mu = 0.5 curve} (normal forces, PD_dim), both over
-    the same rho `window`."""
-    f, n = ctx.both()
-
-    def median(c: Curves, metric: str) -> float:
-        """Median of one system's curve over the window."""
-        return float(c.window(c.mean(NORMAL, dim, metric), lo, hi, closed_lo=closed_lo).median())
-
-    return {m: rate_quotient(median(n, m), median(f, m), f"beta{dim} {METRIC_SYMBOLS[m]} medians of both systems")
-            for m in metrics}
-
-
 def _peak_quotient(ctx: Context, dim: int, bounds: Callable[[Curves], tuple[float, float]], *,
                    numerator: str) -> dict[str, float]:
     """{metric: largest value of one system's curve / largest value of the other's} (normal forces, PD_dim), each
@@ -73,7 +59,7 @@ def _peak_quotient(ctx: Context, dim: int, bounds: Callable[[Curves], tuple[floa
        paper="mu=0/mu=0.5: 1, 1, 0.6", scope="both")
 def _c_low_density(ctx: Context) -> Judgement:
     """Judge of claim IV.C-2 by its criterion."""
-    ratio = _median_quotient(ctx, 0, METRICS, hi=0.65)
+    ratio = median_quotient(ctx, 0, METRICS, hi=0.65)
     tol = ctx.tol.value_factor
     ok = within_factor(ratio[B], 1.0, tol) and within_factor(ratio[W2], 1.0, tol) and within_factor(ratio[W1], 0.6, tol)
     margin = smallest_margin(within_factor_margin(ratio[B], 1.0, tol), within_factor_margin(ratio[W2], 1.0, tol),
@@ -144,7 +130,7 @@ def _c_loops_below_jamming(ctx: Context) -> Judgement:
     """Judge of claim IV.C-5 by its criterion."""
     f, n = ctx.both()
     hi = min(f.jammed(), n.jammed()) - ctx.tol.well_below
-    ratio = _median_quotient(ctx, 1, (B, W2), hi=hi)
+    ratio = median_quotient(ctx, 1, (B, W2), hi=hi)
     largest = max(ratio.values())
     loops = {m: float(n.window(n.mean(NORMAL, 1, m), hi=hi).abs().max()) for m in (B, W2)}
     return Judgement(largest, f"median over rho < {fmt(hi)} (beta1), mu=0 / mu=0.5: {per_metric_text(ratio)}; "
@@ -180,7 +166,7 @@ def _quotient_after_jamming(dim: int, reference: float):
     def evaluate(ctx: Context) -> Judgement:
         """The medians' quotients over rho above both rho_J (the key number: their median)."""
         f, n = ctx.both()
-        ratio = _median_quotient(ctx, dim, METRICS, lo=max(f.jammed(), n.jammed()), closed_lo=False)
+        ratio = median_quotient(ctx, dim, METRICS, lo=max(f.jammed(), n.jammed()), closed_lo=False)
         return Judgement(float(np.median(list(ratio.values()))),
                          f"median over rho > both rho_J (beta{dim}), mu=0 / mu=0.5: {per_metric_text(ratio)}",
                          all(within_factor(v, reference, ctx.tol.value_factor) for v in ratio.values()),
@@ -244,7 +230,7 @@ def _c_friction_matters_more_for_loops(ctx: Context) -> Judgement:
     f, n = ctx.both()
     lo = max(f.jammed(), n.jammed())
     influence = {dim: float(np.median([abs(math.log10(v)) if 0 < v < math.inf else math.inf for v in
-                                       _median_quotient(ctx, dim, METRICS, lo=lo, closed_lo=False).values()]))
+                                       median_quotient(ctx, dim, METRICS, lo=lo, closed_lo=False).values()]))
                  for dim in P2_HOMOLOGY_DIMS}
     return Judgement(influence[1] - influence[0],
                      f"median |log10(mu=0 / mu=0.5)| over rho > {fmt(lo)}: beta0 {fmt(influence[0], 2)}, beta1 "

@@ -12,7 +12,7 @@ import numpy as np
 
 from forcenet.report.claims import FAILS, HOLDS, Explanation, JudgedClaim, NotEvaluated
 from forcenet.report.p2 import METRIC_SYMBOLS, jamming_density_per_realization
-from forcenet.report.p2_judging import B, NORMAL, W1, W2, Context, fmt
+from forcenet.report.p2_judging import B, NORMAL, W1, W2, Context, fmt, median_quotient
 from forcenet.report.p2_tables import state_mean_force
 
 
@@ -72,22 +72,12 @@ def _at_equal_depth(dim: int) -> Callable[[Context], str]:
     frictionless system jams later, so at a given ρ it lies closer to its jamming, where the rates are higher."""
     def diagnostic(ctx: Context) -> str:
         """The three quotients at equal depth, and the depth range."""
-        frictional, frictionless = ctx.both()
-        depth = min(float(c.ds["rho"].max()) - c.jammed() for c in (frictional, frictionless))
-        quotients = []
-        for metric in (B, W1, W2):
-            medians = []
-            for c in (frictionless, frictional):
-                curve = c.mean(NORMAL, dim, metric)
-                above = curve.index.to_numpy(float) - c.jammed()
-                inside = curve.to_numpy(float)[(above > 0) & (above <= depth + 1e-12)]
-                if not inside.size:
-                    raise NotEvaluated(f"{c.name}: no state above rho_J")
-                medians.append(float(np.median(inside)))
-            quotient = medians[0] / medians[1] if medians[1] > 0 else float("nan")
-            quotients.append(f"{METRIC_SYMBOLS[metric]} {fmt(quotient, 2)}")
+        depth = min(float(c.ds["rho"].max()) - c.jammed() for c in ctx.both())
+        # (rho_J, rho_J + depth]; 1e-12 keeps the limiting system's last state whatever the rounding of the sum
+        quotient = median_quotient(ctx, dim, (B, W1, W2), closed_lo=False, closed_hi=True,
+                                   bounds=lambda c: (c.jammed(), c.jammed() + depth + 1e-12))
         return (f"beta{dim} at equal depth above each system's own rho_J (0 < rho - rho_J <= {fmt(depth, 3)}), median "
-                "mu=0 / mu=0.5: " + ", ".join(quotients))
+                "mu=0 / mu=0.5: " + ", ".join(f"{METRIC_SYMBOLS[m]} {fmt(q, 2)}" for m, q in quotient.items()))
     return diagnostic
 
 
@@ -243,8 +233,8 @@ EXPLANATIONS: dict[str, tuple[str, str, tuple[Callable[[Context], str], ...]]] =
                f"without friction (0.93-1.3; {_PAPER}).", SAMPLING, ()),
     "IV.C-7": ("Two parts, each measured. d_B: after jamming nearly every consecutive pair of both systems changes "
                "its number of never-dying loops, each costing d_B >= 0.5 under P2's death -1, so both d_B sit on "
-               "that floor and their quotient is ~1 (measured below; without the never-dying classes it is 1.7, "
-               "the control's row beside). d_W1: the judge compares at equal rho beyond both rho_J, where the "
+               "that floor and their quotient is ~1 (measured below; the control's row beside gives it without the "
+               "never-dying classes). d_W1: the judge compares at equal rho beyond both rho_J, where the "
                "frictionless system, jamming later, is still nearer its transition; at equal depth above each "
                "system's own rho_J its d_W1 and d_W2 quotients are about P2's 2 (measured below).",
                THIS_TABLE,

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Mapping
+from typing import Callable, Mapping, Sequence
 
 import numpy as np
 import pandas as pd
@@ -217,3 +217,20 @@ class Context:
 
 NORMAL, TANGENTIAL = "normal", "tangential"
 B, W1, W2 = "bottleneck", "wasserstein_1", "wasserstein_2"
+
+
+def median_quotient(ctx: Context, dim: int, metrics: Sequence[str], lo: float = -np.inf, hi: float = np.inf, *,
+                    closed_lo: bool = True, closed_hi: bool = False,
+                    bounds: Callable[[Curves], tuple[float, float]] | None = None) -> dict[str, float]:
+    """{metric: median of the mu = 0 curve / median of the mu = 0.5 curve} (normal forces, PD_dim), both over the
+    same rho window [lo, hi) (`closed_lo`, `closed_hi` as `Curves.window`), or each over its own window
+    ``bounds(curves)`` (e.g. the same depth above each system's own rho_J); `rate_quotient` where a median is 0."""
+    f, n = ctx.both()
+
+    def median(c: Curves, metric: str) -> float:
+        """Median of one system's curve over its window."""
+        low, high = bounds(c) if bounds is not None else (lo, hi)
+        return float(c.window(c.mean(NORMAL, dim, metric), low, high, closed_lo=closed_lo, closed_hi=closed_hi).median())
+
+    return {m: rate_quotient(median(n, m), median(f, m), f"beta{dim} {METRIC_SYMBOLS[m]} medians of both systems")
+            for m in metrics}
