@@ -33,9 +33,10 @@ def contact(n, overlap, v_rel, w_sum, m_eff, xi, law, dt, scale=1.0):
     return f_n * n, f_t, xi
 
 
-def pair_forces(position, velocity, omega, radius, mass, springs, law, dt):
+def pair_forces(position, velocity, omega, radius, mass, springs, law, dt, radius_scaled=False):
     """Every pair i < j: forces (N, dim), torques (N, 1|3), new springs {(i, j): xi (dim,)}, contacts
-    {(i, j): (normal, tangential)} (force on i from j)."""
+    {(i, j): (normal, tangential)} (force on i from j). radius_scaled: every term × √R_eff (the LAMMPS
+    convention), R_eff = r_i r_j / (r_i + r_j)."""
     n_part, dim = position.shape
     force = np.zeros((n_part, 3))
     torque = np.zeros((n_part, 3))
@@ -53,7 +54,8 @@ def pair_forces(position, velocity, omega, radius, mass, springs, law, dt):
             w_sum = a_i * _spin3(omega[i], dim) + a_j * _spin3(omega[j], dim)
             m_eff = mass[i] * mass[j] / (mass[i] + mass[j])
             xi = _as3(springs.get((i, j), np.zeros(dim)))
-            f_n, f_t, xi = contact(n, overlap, v_rel, w_sum, m_eff, xi, law, dt)
+            scale = np.sqrt(radius[i] * radius[j] / (radius[i] + radius[j])) if radius_scaled else 1.0
+            f_n, f_t, xi = contact(n, overlap, v_rel, w_sum, m_eff, xi, law, dt, scale)
             force[i] += f_n + f_t
             force[j] -= f_n + f_t
             torque[i] += np.cross(-a_i * n, f_t)

@@ -15,11 +15,13 @@ LAWS = {
     "linear": dict(k_n=9.87, k_t=8.46, gamma_n=2.3, gamma_t=2.3, mu=0.5, beta=0.0),
     "hertz": dict(k_n=845.0, k_t=724.0, gamma_n=40.0, gamma_t=40.0, mu=0.3, beta=0.5),
 }
+#: β of neither paper: the pair loops' law at run time instead of as constants
+POWER_LAW = dict(k_n=300.0, k_t=250.0, gamma_n=10.0, gamma_t=10.0, mu=0.4, beta=0.3)
 
 
-def law_array(law: dict, wall_stiffness_factor: float = 1.0) -> np.ndarray:
+def law_array(law: dict, wall_stiffness_factor: float = 1.0, radius_scaled: bool = False) -> np.ndarray:
     return ContactLaw(law["k_n"], law["k_t"], law["gamma_n"], law["gamma_t"], law["mu"], law["beta"],
-                      wall_stiffness_factor=wall_stiffness_factor).as_array()
+                      radius_scaled=radius_scaled, wall_stiffness_factor=wall_stiffness_factor).as_array()
 
 
 def random_configuration(dim: int, n: int, seed: int):
@@ -38,9 +40,12 @@ def random_configuration(dim: int, n: int, seed: int):
 
 
 @pytest.mark.parametrize("dim", [2, 3])
-@pytest.mark.parametrize("law_name", ["linear", "hertz"])
-def test_pair_forces_match_naive_reference(dim, law_name):
-    law = LAWS[law_name]
+@pytest.mark.parametrize("law_name, radius_scaled", [("linear", False), ("hertz", False), ("hertz", True),
+                                                     ("linear", True), ("power", False)])
+def test_pair_forces_match_naive_reference(dim, law_name, radius_scaled):
+    """Every version of the pair loops' law (Hertz and linear, with and without the LAMMPS convention's √R_eff,
+    and any other β), over more touching pairs than one block, open pairs among them."""
+    law = POWER_LAW if law_name == "power" else LAWS[law_name]
     position, radius, mass, velocity, omega, pairs, springs, _ = random_configuration(dim, 60, seed=dim)
     dt = 0.01
     pair_i = np.array([p[0] for p in pairs], dtype=np.int32)
@@ -52,11 +57,13 @@ def test_pair_forces_match_naive_reference(dim, law_name):
     record = PairRecord(np.zeros(len(pairs)), np.zeros(len(pairs)), np.zeros((len(pairs), dim)),
                         np.zeros((len(pairs), dim)))
     kernel(Motion(position, velocity, omega.reshape(60, -1), 1.0), Bodies(radius, 1.0 / mass, 60),
-           Pairs(pair_i, pair_j, len(pairs), spring), tuple(law_array(law)), dt, Loads(force, torque), record)
+           Pairs(pair_i, pair_j, len(pairs), spring), tuple(law_array(law, radius_scaled=radius_scaled)), dt,
+           Loads(force, torque), record)
     overlap = record.overlap
     ref_force, ref_torque, ref_springs, ref_contacts = naive_dem.pair_forces(
-        position, velocity, omega, radius, mass, springs, law, dt)
-    assert len(ref_contacts) > 40, "the configuration should have many contacts"
+        position, velocity, omega, radius, mass, springs, law, dt, radius_scaled)
+    assert len(ref_contacts) > max(40, contacts.PAIR_BLOCK), "the configuration should have many contacts"
+    assert len(ref_contacts) < len(pairs), "and listed pairs that do not touch"
     assert np.count_nonzero(overlap > 0) == len(ref_contacts)
     np.testing.assert_allclose(force, ref_force, rtol=1e-10, atol=1e-12)
     np.testing.assert_allclose(torque, ref_torque, rtol=1e-10, atol=1e-12)
