@@ -1,10 +1,12 @@
 """Contact forces: the particle pairs of the Verlet list (`pair_forces_2d`, `pair_forces_3d`) and the flat walls
 (`flat_wall_forces`), each written once and used both by the time step (`stepping.advance`, record = None) and to
 record the forces of a snapshot (record = a `PairRecord` / `WallRecord`), with the contact law of `law.py`
-inlined. numba compiles one specialization per kind of record; the time step's has no recording code at all, so
-both compute the same forces to the last bit (`tests/test_dem_stepping.py`). For that, the recording stores only
-values the step computes anyway (F_n and n, not the product F_n n: a second use of that multiplication would keep
-LLVM from fusing it into F_n n + F_t, and the two specializations would round differently).
+inlined. The 3D pair loop runs in blocks of touching pairs, with the law vectorised over a block (see the
+comment above `PAIR_BLOCK`). numba compiles one specialization per kind of record; the time step's has no
+recording code at all, so both compute the same forces to the last bit (`tests/test_dem_stepping.py`). For that,
+the recording stores only values the step computes anyway (F_n and n, not the product F_n n: a second use of that
+multiplication would keep LLVM from fusing it into F_n n + F_t, and the two specializations would round
+differently).
 
 Arguments are named tuples of `forcenet.dem.kernel_arguments` (fields in reduced units: d_ave, m̄, τ_c):
 
@@ -18,7 +20,8 @@ Arguments are named tuples of `forcenet.dem.kernel_arguments` (fields in reduced
   release_band, and state (shift, speed, shift_max, speed of the last step);
 * loads (`Loads`): force (N, d) and torque (N, 1|3), accumulated;
 * law: the LAW_* values of `law.py`, as a tuple for the pair loops (`advance` makes it once per call; its values
-  are then arguments, held in registers across the loop); the flat walls read theirs per contact from the float64
+  are then arguments, held in registers across the loop; the 3D loop passes β and the LAMMPS convention of the
+  laws in use to its law pass as constants); the flat walls read theirs per contact from the float64
   array walls.law. Each loop takes the law as it always has: under NJIT_DEM's contraction LLVM's choice of which
   multiply-adds to fuse depends on it, and so the trajectories stay bit-identical to those of earlier versions.
 
@@ -42,103 +45,57 @@ U1 = np.uint64(1)
 U2 = np.uint64(2)
 U3 = np.uint64(3)
 
-# A pair loop runs in blocks of up to PAIR_BLOCK touching pairs, in three passes over each block:
+# Both pair loops read flat views of the per-particle arrays at unsigned offsets, which drops the stride and
+# negative-index arithmetic from every access (−5 to −9 % on the pair loop). The engine lists the pairs touching at
+# a rebuild first, so the distance test mispredicts only where a contact opened or closed since.
+#
+# The 3D loop runs in blocks of up to PAIR_BLOCK touching pairs, in three passes over each block:
 #   1. gather (scalar): each listed pair's distance test; an open pair's spring is zeroed there, a touching pair's
-#      per-particle values (separation, radii, relative velocity, spins, 1/m_i + 1/m_j, spring) go to the block
-#      buffer, one contiguous row per value;
-#   2. law (vectorised): the contact law of every pair of the block, from and to the buffer's rows only;
+#      values (separation, radii, relative velocity, spins, 1/m_i + 1/m_j, spring) go to the block buffer, one
+#      contiguous row per value;
+#   2. law (vectorised, `_block_law_3d`): the contact law of every pair of the block, from and to the buffer only;
 #   3. scatter (scalar): springs back, force and torque sums, the worst overlap, the record.
-# Pass 2 reads and writes nothing but the buffer, at constant row offsets, so LLVM can prove it free of aliasing
-# and vectorises it (with the particle arrays in the same loop it cannot: a gathered load may alias any store).
-# Its square roots and divisions then run several pairs to an instruction, and they bound a touching pair's
-# cost. Every pair meets the same operations in the same order as in a one-pass loop, so the forces, springs and
-# trajectories are the same to the last bit. The law's β and LAMMPS convention are made constants of pass 2 for
-# the laws in use (`_block_law_*`: x^β without pow, no √R_eff when off), since a pow call or a per-pair choice
-# would keep it scalar or do work it discards. The engine lists the pairs touching at a rebuild first, so the
-# distance test mispredicts only where a contact opened or closed since. Measured and dropped, in a one-pass
-# loop: a per-pair table of m_eff (more memory traffic than the division it saves), accumulating particle i's
-# sums over its row in registers, branch-free and two-at-a-time loops, an interleaved per-particle layout; and
-# particles re-ordered along a space-filling curve (bench/dem_particle_order.py).
+# Pass 2 touches nothing but the buffer, at constant row offsets, so LLVM can prove it free of aliasing and
+# vectorises it (with the particle arrays in the same loop it cannot: a gathered load may alias any store); its
+# square roots and divisions then run four pairs to an instruction. Every pair meets the same operations in the
+# same order as in a one-pass loop, so forces, springs and trajectories are the same to the last bit. β and the
+# LAMMPS convention are constants of pass 2 for the laws in use (x^β without pow, no √R_eff when off): a pow call
+# would keep it scalar, and a per-pair choice would do work it discards. The 2D law is short: there the buffer's
+# stores and loads cost what vectorising saves (docs/performance.md), and the 2D loop stays one pass.
+#
+# Measured and dropped (docs/performance.md): in the blocks, every listed pair through pass 2, blocks of 64 or
+# 128, a per-pair table of m_eff, particle i's sums kept in registers over its row; in a one-pass loop, a per-pair
+# table of m_eff (more memory traffic than the division it saves), a row-wise loop, branch-free and
+# two-at-a-time loops, an interleaved per-particle layout; particles re-ordered along a space-filling curve.
 
-#: touching pairs per block (measured: 32 beats 64 and 128 on the 3D step; the buffer stays in L1)
+#: touching pairs per block of the 3D loop (32 beat 64 and 128 on its pair loop; the buffer stays in L1)
 PAIR_BLOCK = 32
 
 
-def _rows(names: str) -> tuple:
-    """Offsets (uint64) of consecutive PAIR_BLOCK-long rows of the block buffer, one per name."""
-    return tuple(np.uint64(k * PAIR_BLOCK) for k in range(len(names.split())))
-
-
-# the block buffer's rows: gathered (in), computed (out), and kept only when recording (rec)
-(D2_X, D2_Y, D2_SQ, D2_RI, D2_RJ, D2_VX, D2_VY, D2_WI, D2_WJ, D2_IM, D2_SX, D2_SY,
- D2_FX, D2_FY, D2_TC, D2_LI, D2_LJ, D2_EXCESS, D2_XI_X, D2_XI_Y,
- D2_OVERLAP, D2_FN, D2_NX, D2_NY, D2_FTX, D2_FTY) = _rows(
-    "x y sq ri rj vx vy wi wj im sx sy  fx fy tc li lj excess xix xiy  overlap fn nx ny ftx fty")
-(D3_X, D3_Y, D3_Z, D3_SQ, D3_RI, D3_RJ, D3_VX, D3_VY, D3_VZ, D3_WIX, D3_WIY, D3_WIZ, D3_WJX, D3_WJY, D3_WJZ, D3_IM,
- D3_SX, D3_SY, D3_SZ,
- D3_FX, D3_FY, D3_FZ, D3_CX, D3_CY, D3_CZ, D3_LI, D3_LJ, D3_EXCESS, D3_XI_X, D3_XI_Y, D3_XI_Z,
- D3_OVERLAP, D3_FN, D3_NX, D3_NY, D3_NZ, D3_FTX, D3_FTY, D3_FTZ) = _rows(
-    "x y z sq ri rj vx vy vz wix wiy wiz wjx wjy wjz im sx sy sz  fx fy fz cx cy cz li lj excess xix xiy xiz"
-    "  overlap fn nx ny nz ftx fty ftz")
-#: length of the block buffer (the 3D layout, the longer one)
-BLOCK_BUFFER = 39 * PAIR_BLOCK
-
-
-@numba.njit(**NJIT_DEM_INLINE)
-def _block_law_2d(n, buf, law, velocity_scale, spring_dt, record):
-    """Pass 2 of `pair_forces_2d` on the first n pairs of the block buffer buf (rows D2_*)."""
-    for k in range(n):
-        b = np.uint64(k)
-        dx = buf[D2_X + b]
-        dy = buf[D2_Y + b]
-        r_i = buf[D2_RI + b]
-        r_j = buf[D2_RJ + b]
-        distance = math.sqrt(buf[D2_SQ + b])
-        overlap = (r_i + r_j) - distance  # P1: x = d_ij − r_ij
-        inv_distance = 1.0 / distance
-        nx = dx * inv_distance
-        ny = dy * inv_distance
-        lever_i = r_i - 0.5 * overlap  # centre to contact point
-        lever_j = r_j - 0.5 * overlap
-        vx = buf[D2_VX + b] * velocity_scale
-        vy = buf[D2_VY + b] * velocity_scale
-        v_normal = vx * nx + vy * ny
-        spin = (lever_i * buf[D2_WI + b] + lever_j * buf[D2_WJ + b]) * velocity_scale
-        # slip of the contact points: v_ij − v_n n − (a_i ω_i + a_j ω_j) ẑ × n
-        slip_x = vx - v_normal * nx + spin * ny
-        slip_y = vy - v_normal * ny - spin * nx
-        m_eff = 1.0 / buf[D2_IM + b]  # `pair_constants`
-        scale = math.sqrt(r_i * r_j / (r_i + r_j)) if law[LAW_RADIUS_SCALED] != 0.0 else 1.0
-        f_n, f_tx, f_ty, xi_x, xi_y = contact_2d(law, nx, ny, overlap, v_normal, slip_x, slip_y, m_eff, scale,
-                                                 buf[D2_SX + b], buf[D2_SY + b], spring_dt)
-        buf[D2_XI_X + b] = xi_x
-        buf[D2_XI_Y + b] = xi_y
-        buf[D2_FX + b] = f_n * nx + f_tx
-        buf[D2_FY + b] = f_n * ny + f_ty
-        buf[D2_TC + b] = nx * f_ty - ny * f_tx  # n × F_t: τ_i = −a_i n × F_t, τ_j = −a_j n × F_t
-        buf[D2_LI + b] = lever_i
-        buf[D2_LJ + b] = lever_j
-        buf[D2_EXCESS + b] = overlap - MAX_OVERLAP_FRACTION * 2.0 * min(r_i, r_j)  # blow-up check, no division
-        if record is not None:  # only values the step computes anyway: the recorded forces are the step's
-            buf[D2_OVERLAP + b] = overlap
-            buf[D2_FN + b] = f_n
-            buf[D2_NX + b] = nx
-            buf[D2_NY + b] = ny
-            buf[D2_FTX + b] = f_tx
-            buf[D2_FTY + b] = f_ty
+# the block buffer's rows, PAIR_BLOCK values each: gathered (pass 1), computed (pass 2), computed for a record only
+_ROW_NAMES = ("x y z sq ri rj vx vy vz wix wiy wiz wjx wjy wjz im sx sy sz "
+              "fx fy fz cx cy cz li lj excess xix xiy xiz "
+              "overlap fn nx ny nz ftx fty ftz").split()
+(ROW_X, ROW_Y, ROW_Z, ROW_SQ, ROW_RI, ROW_RJ, ROW_VX, ROW_VY, ROW_VZ, ROW_WIX, ROW_WIY, ROW_WIZ, ROW_WJX, ROW_WJY,
+ ROW_WJZ, ROW_IM, ROW_SX, ROW_SY, ROW_SZ,
+ ROW_FX, ROW_FY, ROW_FZ, ROW_CX, ROW_CY, ROW_CZ, ROW_LI, ROW_LJ, ROW_EXCESS, ROW_XI_X, ROW_XI_Y, ROW_XI_Z,
+ ROW_OVERLAP, ROW_FN, ROW_NX, ROW_NY, ROW_NZ, ROW_FTX, ROW_FTY, ROW_FTZ) = (
+    np.uint64(k * PAIR_BLOCK) for k in range(len(_ROW_NAMES)))  # uint64 offsets: no negative-index arithmetic
+#: length of the block buffer
+BLOCK_BUFFER = len(_ROW_NAMES) * PAIR_BLOCK
 
 
 @numba.njit(**NJIT_DEM_INLINE)
 def _block_law_3d(n, buf, law, velocity_scale, spring_dt, record):
-    """Pass 2 of `pair_forces_3d` on the first n pairs of the block buffer buf (rows D3_*)."""
+    """Pass 2 of `pair_forces_3d` on the first n pairs of the block buffer buf (rows ROW_*)."""
     for k in range(n):
         b = np.uint64(k)
-        dx = buf[D3_X + b]
-        dy = buf[D3_Y + b]
-        dz = buf[D3_Z + b]
-        r_i = buf[D3_RI + b]
-        r_j = buf[D3_RJ + b]
-        distance = math.sqrt(buf[D3_SQ + b])
+        dx = buf[ROW_X + b]
+        dy = buf[ROW_Y + b]
+        dz = buf[ROW_Z + b]
+        r_i = buf[ROW_RI + b]
+        r_j = buf[ROW_RJ + b]
+        distance = math.sqrt(buf[ROW_SQ + b])
         overlap = (r_i + r_j) - distance
         inv_distance = 1.0 / distance
         nx = dx * inv_distance
@@ -146,53 +103,53 @@ def _block_law_3d(n, buf, law, velocity_scale, spring_dt, record):
         nz = dz * inv_distance
         lever_i = r_i - 0.5 * overlap
         lever_j = r_j - 0.5 * overlap
-        vx = buf[D3_VX + b] * velocity_scale
-        vy = buf[D3_VY + b] * velocity_scale
-        vz = buf[D3_VZ + b] * velocity_scale
+        vx = buf[ROW_VX + b] * velocity_scale
+        vy = buf[ROW_VY + b] * velocity_scale
+        vz = buf[ROW_VZ + b] * velocity_scale
         v_normal = vx * nx + vy * ny + vz * nz
-        wx = (lever_i * buf[D3_WIX + b] + lever_j * buf[D3_WJX + b]) * velocity_scale
-        wy = (lever_i * buf[D3_WIY + b] + lever_j * buf[D3_WJY + b]) * velocity_scale
-        wz = (lever_i * buf[D3_WIZ + b] + lever_j * buf[D3_WJZ + b]) * velocity_scale
+        wx = (lever_i * buf[ROW_WIX + b] + lever_j * buf[ROW_WJX + b]) * velocity_scale
+        wy = (lever_i * buf[ROW_WIY + b] + lever_j * buf[ROW_WJY + b]) * velocity_scale
+        wz = (lever_i * buf[ROW_WIZ + b] + lever_j * buf[ROW_WJZ + b]) * velocity_scale
         # slip: v_ij − v_n n − (a_i ω_i + a_j ω_j) × n
         slip_x = vx - v_normal * nx - (wy * nz - wz * ny)
         slip_y = vy - v_normal * ny - (wz * nx - wx * nz)
         slip_z = vz - v_normal * nz - (wx * ny - wy * nx)
-        m_eff = 1.0 / buf[D3_IM + b]
+        m_eff = 1.0 / buf[ROW_IM + b]
         scale = math.sqrt(r_i * r_j / (r_i + r_j)) if law[LAW_RADIUS_SCALED] != 0.0 else 1.0
         f_n, f_tx, f_ty, f_tz, xi_x, xi_y, xi_z = contact_3d(
             law, nx, ny, nz, overlap, v_normal, slip_x, slip_y, slip_z, m_eff, scale,
-            buf[D3_SX + b], buf[D3_SY + b], buf[D3_SZ + b], spring_dt)
-        buf[D3_XI_X + b] = xi_x
-        buf[D3_XI_Y + b] = xi_y
-        buf[D3_XI_Z + b] = xi_z
-        buf[D3_FX + b] = f_n * nx + f_tx
-        buf[D3_FY + b] = f_n * ny + f_ty
-        buf[D3_FZ + b] = f_n * nz + f_tz
-        buf[D3_CX + b] = ny * f_tz - nz * f_ty  # n × F_t
-        buf[D3_CY + b] = nz * f_tx - nx * f_tz
-        buf[D3_CZ + b] = nx * f_ty - ny * f_tx
-        buf[D3_LI + b] = lever_i
-        buf[D3_LJ + b] = lever_j
-        buf[D3_EXCESS + b] = overlap - MAX_OVERLAP_FRACTION * 2.0 * min(r_i, r_j)
+            buf[ROW_SX + b], buf[ROW_SY + b], buf[ROW_SZ + b], spring_dt)
+        buf[ROW_XI_X + b] = xi_x
+        buf[ROW_XI_Y + b] = xi_y
+        buf[ROW_XI_Z + b] = xi_z
+        buf[ROW_FX + b] = f_n * nx + f_tx
+        buf[ROW_FY + b] = f_n * ny + f_ty
+        buf[ROW_FZ + b] = f_n * nz + f_tz
+        buf[ROW_CX + b] = ny * f_tz - nz * f_ty  # n × F_t
+        buf[ROW_CY + b] = nz * f_tx - nx * f_tz
+        buf[ROW_CZ + b] = nx * f_ty - ny * f_tx
+        buf[ROW_LI + b] = lever_i
+        buf[ROW_LJ + b] = lever_j
+        buf[ROW_EXCESS + b] = overlap - MAX_OVERLAP_FRACTION * 2.0 * min(r_i, r_j)
         if record is not None:
-            buf[D3_OVERLAP + b] = overlap
-            buf[D3_FN + b] = f_n
-            buf[D3_NX + b] = nx
-            buf[D3_NY + b] = ny
-            buf[D3_NZ + b] = nz
-            buf[D3_FTX + b] = f_tx
-            buf[D3_FTY + b] = f_ty
-            buf[D3_FTZ + b] = f_tz
+            buf[ROW_OVERLAP + b] = overlap
+            buf[ROW_FN + b] = f_n
+            buf[ROW_NX + b] = nx
+            buf[ROW_NY + b] = ny
+            buf[ROW_NZ + b] = nz
+            buf[ROW_FTX + b] = f_tx
+            buf[ROW_FTY + b] = f_ty
+            buf[ROW_FTZ + b] = f_tz
 
 
 @numba.njit(**NJIT_DEM)
 def pair_forces_2d(motion, bodies, pairs, law, spring_dt, loads, record):
     """Add the particle–particle contact forces of the Verlet list to loads.force and loads.torque (2D).
 
-    law: the LAW_* values as a tuple. record: None, or a `PairRecord` whose overlap (≥ count,) receives every
-    pair's overlap (0 if apart) and, for the touching pairs, normal_force (≥ count,) F_n ≥ 0, normal (≥ count, 2)
-    the unit normal n and tangential (≥ count, 2) F_t on i. Returns (largest excess of an overlap over the
-    blow-up threshold, its pair; −inf and −1 when no pair touches): see `worst_pair_fraction`.
+    record: None, or a `PairRecord` whose overlap (≥ count,) receives every pair's overlap (0 if apart) and, for
+    the touching pairs, normal_force (≥ count,) F_n ≥ 0, normal (≥ count, 2) the unit normal n and tangential
+    (≥ count, 2) F_t on i. Returns (largest excess of an overlap over the blow-up threshold, its pair; −inf and
+    −1 when no pair touches): see `worst_pair_fraction`.
     """
     worst_excess = -np.inf
     worst_pair = -1
@@ -207,100 +164,74 @@ def pair_forces_2d(motion, bodies, pairs, law, spring_dt, loads, record):
     radius = bodies.radius
     inv_mass = bodies.inv_mass
     velocity_scale = motion.velocity_scale
-    count = pairs.count
-    buf = np.empty(BLOCK_BUFFER)
-    block_pair = np.empty(PAIR_BLOCK, dtype=np.int64)
-    k_n = law[LAW_K_N]  # the law's values; β and the LAMMPS convention pick the version of pass 2
-    k_t = law[LAW_K_T]
-    gamma_n = law[LAW_GAMMA_N]
-    gamma_t = law[LAW_GAMMA_T]
-    mu = law[LAW_MU]
-    beta = law[LAW_BETA]
-    radius_scaled = law[LAW_RADIUS_SCALED]
-    p = 0
-    while p < count:
-        n = 0  # 1. gather the next PAIR_BLOCK touching pairs
-        while p < count and n < PAIR_BLOCK:
-            i = np.uint32(pair_i[p])
-            j = np.uint32(pair_j[p])
-            i0 = U2 * i
-            j0 = U2 * j
-            s = U2 * np.uint64(p)
-            dx = x[i0] - x[j0]
-            dy = x[i0 + U1] - x[j0 + U1]
-            r_i = radius[i]
-            r_j = radius[j]
-            contact_distance = r_i + r_j
-            distance_sq = dx * dx + dy * dy
-            if not distance_sq < contact_distance * contact_distance:
-                spring[s] = 0.0  # the contact opened (or never formed): the spring is removed
-                spring[s + U1] = 0.0
-                if record is not None:
-                    record.overlap[p] = 0.0
-                p += 1
-                continue
-            b = np.uint64(n)
-            block_pair[n] = p
-            buf[D2_X + b] = dx
-            buf[D2_Y + b] = dy
-            buf[D2_SQ + b] = distance_sq
-            buf[D2_RI + b] = r_i
-            buf[D2_RJ + b] = r_j
-            buf[D2_VX + b] = v[i0] - v[j0]
-            buf[D2_VY + b] = v[i0 + U1] - v[j0 + U1]
-            buf[D2_WI + b] = w[i]
-            buf[D2_WJ + b] = w[j]
-            buf[D2_IM + b] = inv_mass[i] + inv_mass[j]
-            buf[D2_SX + b] = spring[s]
-            buf[D2_SY + b] = spring[s + U1]
-            n += 1
-            p += 1
-        # 2. the law, vectorised: β and the LAMMPS convention as constants for the laws in use
-        if beta == 0.5 and radius_scaled == 0.0:
-            _block_law_2d(n, buf, (k_n, k_t, gamma_n, gamma_t, mu, 0.5, 0.0), velocity_scale, spring_dt, record)
-        elif beta == 0.0 and radius_scaled == 0.0:
-            _block_law_2d(n, buf, (k_n, k_t, gamma_n, gamma_t, mu, 0.0, 0.0), velocity_scale, spring_dt, record)
-        elif beta == 0.5:
-            _block_law_2d(n, buf, (k_n, k_t, gamma_n, gamma_t, mu, 0.5, 1.0), velocity_scale, spring_dt, record)
-        else:
-            _block_law_2d(n, buf, law, velocity_scale, spring_dt, record)
-        for k in range(n):  # 3. scatter
-            b = np.uint64(k)
-            q = block_pair[k]
-            s = U2 * np.uint64(q)
-            spring[s] = buf[D2_XI_X + b]
-            spring[s + U1] = buf[D2_XI_Y + b]
-            i = np.uint32(pair_i[q])
-            j = np.uint32(pair_j[q])
-            i0 = U2 * i
-            j0 = U2 * j
-            excess = buf[D2_EXCESS + b]
-            if excess > worst_excess:
-                worst_excess = excess
-                worst_pair = q
-            fx = buf[D2_FX + b]
-            fy = buf[D2_FY + b]
-            f[i0] += fx
-            f[i0 + U1] += fy
-            f[j0] -= fx
-            f[j0 + U1] -= fy
-            n_cross_ft = buf[D2_TC + b]
-            t[i] -= buf[D2_LI + b] * n_cross_ft
-            t[j] -= buf[D2_LJ + b] * n_cross_ft
+    radius_scaled = law[LAW_RADIUS_SCALED] != 0.0
+    for p in range(pairs.count):
+        i = np.uint32(pair_i[p])
+        j = np.uint32(pair_j[p])
+        i0 = U2 * i
+        i1 = i0 + U1
+        j0 = U2 * j
+        j1 = j0 + U1
+        dx = x[i0] - x[j0]
+        dy = x[i1] - x[j1]
+        r_i = radius[i]
+        r_j = radius[j]
+        contact_distance = r_i + r_j
+        distance_sq = dx * dx + dy * dy
+        if not distance_sq < contact_distance * contact_distance:
+            spring[2 * p] = 0.0  # the contact opened (or never formed): the spring is removed
+            spring[2 * p + 1] = 0.0
             if record is not None:
-                record.overlap[q] = buf[D2_OVERLAP + b]
-                record.normal_force[q] = buf[D2_FN + b]
-                record.normal[q, 0] = buf[D2_NX + b]
-                record.normal[q, 1] = buf[D2_NY + b]
-                record.tangential[q, 0] = buf[D2_FTX + b]
-                record.tangential[q, 1] = buf[D2_FTY + b]
+                record.overlap[p] = 0.0
+            continue
+        distance = math.sqrt(distance_sq)
+        overlap = contact_distance - distance  # P1: x = d_ij − r_ij
+        inv_distance = 1.0 / distance
+        nx = dx * inv_distance
+        ny = dy * inv_distance
+        excess = overlap - MAX_OVERLAP_FRACTION * 2.0 * min(r_i, r_j)  # blow-up check, no division
+        if excess > worst_excess:
+            worst_excess = excess
+            worst_pair = p
+        lever_i = r_i - 0.5 * overlap  # centre to contact point
+        lever_j = r_j - 0.5 * overlap
+        vx = (v[i0] - v[j0]) * velocity_scale
+        vy = (v[i1] - v[j1]) * velocity_scale
+        v_normal = vx * nx + vy * ny
+        spin = (lever_i * w[i] + lever_j * w[j]) * velocity_scale
+        # slip of the contact points: v_ij − v_n n − (a_i ω_i + a_j ω_j) ẑ × n
+        slip_x = vx - v_normal * nx + spin * ny
+        slip_y = vy - v_normal * ny - spin * nx
+        m_eff = 1.0 / (inv_mass[i] + inv_mass[j])  # `pair_constants`, formed here: cheaper than a per-pair table
+        scale = math.sqrt(r_i * r_j / (r_i + r_j)) if radius_scaled else 1.0
+        f_n, f_tx, f_ty, xi_x, xi_y = contact_2d(law, nx, ny, overlap, v_normal, slip_x, slip_y, m_eff, scale,
+                                                 spring[2 * p], spring[2 * p + 1], spring_dt)
+        spring[2 * p] = xi_x
+        spring[2 * p + 1] = xi_y
+        fx = f_n * nx + f_tx
+        fy = f_n * ny + f_ty
+        f[i0] += fx
+        f[i1] += fy
+        f[j0] -= fx
+        f[j1] -= fy
+        n_cross_ft = nx * f_ty - ny * f_tx  # torques: τ_i = −a_i n × F_t, τ_j = −a_j n × F_t
+        t[i] -= lever_i * n_cross_ft
+        t[j] -= lever_j * n_cross_ft
+        if record is not None:  # only values the step computes anyway: the recorded forces are the step's
+            record.overlap[p] = overlap
+            record.normal_force[p] = f_n
+            record.normal[p, 0] = nx
+            record.normal[p, 1] = ny
+            record.tangential[p, 0] = f_tx
+            record.tangential[p, 1] = f_ty
     return worst_excess, worst_pair
 
 
 @numba.njit(**NJIT_DEM)
 def pair_forces_3d(motion, bodies, pairs, law, spring_dt, loads, record):
     """3D version of `pair_forces_2d`: position, velocity, spin, force, torque, spring and the recorded normal
-    and tangential (·, 3)."""
+    and tangential (·, 3). Runs in blocks of PAIR_BLOCK touching pairs, the law vectorised over each block (see
+    the comment above PAIR_BLOCK); the same forces and springs, to the last bit, as a one-pass loop."""
     worst_excess = -np.inf
     worst_pair = -1
     x = motion.position.reshape(-1)  # flat views indexed by unsigned offsets, as in the 2D loop
@@ -350,25 +281,25 @@ def pair_forces_3d(motion, bodies, pairs, law, spring_dt, loads, record):
                 continue
             b = np.uint64(n)
             block_pair[n] = p
-            buf[D3_X + b] = dx
-            buf[D3_Y + b] = dy
-            buf[D3_Z + b] = dz
-            buf[D3_SQ + b] = distance_sq
-            buf[D3_RI + b] = r_i
-            buf[D3_RJ + b] = r_j
-            buf[D3_VX + b] = v[i0] - v[j0]
-            buf[D3_VY + b] = v[i0 + U1] - v[j0 + U1]
-            buf[D3_VZ + b] = v[i0 + U2] - v[j0 + U2]
-            buf[D3_WIX + b] = w[i0]
-            buf[D3_WIY + b] = w[i0 + U1]
-            buf[D3_WIZ + b] = w[i0 + U2]
-            buf[D3_WJX + b] = w[j0]
-            buf[D3_WJY + b] = w[j0 + U1]
-            buf[D3_WJZ + b] = w[j0 + U2]
-            buf[D3_IM + b] = inv_mass[i] + inv_mass[j]
-            buf[D3_SX + b] = spring[s]
-            buf[D3_SY + b] = spring[s + U1]
-            buf[D3_SZ + b] = spring[s + U2]
+            buf[ROW_X + b] = dx
+            buf[ROW_Y + b] = dy
+            buf[ROW_Z + b] = dz
+            buf[ROW_SQ + b] = distance_sq
+            buf[ROW_RI + b] = r_i
+            buf[ROW_RJ + b] = r_j
+            buf[ROW_VX + b] = v[i0] - v[j0]
+            buf[ROW_VY + b] = v[i0 + U1] - v[j0 + U1]
+            buf[ROW_VZ + b] = v[i0 + U2] - v[j0 + U2]
+            buf[ROW_WIX + b] = w[i0]
+            buf[ROW_WIY + b] = w[i0 + U1]
+            buf[ROW_WIZ + b] = w[i0 + U2]
+            buf[ROW_WJX + b] = w[j0]
+            buf[ROW_WJY + b] = w[j0 + U1]
+            buf[ROW_WJZ + b] = w[j0 + U2]
+            buf[ROW_IM + b] = inv_mass[i] + inv_mass[j]
+            buf[ROW_SX + b] = spring[s]
+            buf[ROW_SY + b] = spring[s + U1]
+            buf[ROW_SZ + b] = spring[s + U2]
             n += 1
             p += 1
         # 2. the law, vectorised (as in 2D)
@@ -384,29 +315,29 @@ def pair_forces_3d(motion, bodies, pairs, law, spring_dt, loads, record):
             b = np.uint64(k)
             q = block_pair[k]
             s = U3 * np.uint64(q)
-            spring[s] = buf[D3_XI_X + b]
-            spring[s + U1] = buf[D3_XI_Y + b]
-            spring[s + U2] = buf[D3_XI_Z + b]
+            spring[s] = buf[ROW_XI_X + b]
+            spring[s + U1] = buf[ROW_XI_Y + b]
+            spring[s + U2] = buf[ROW_XI_Z + b]
             i0 = U3 * np.uint32(pair_i[q])
             j0 = U3 * np.uint32(pair_j[q])
-            excess = buf[D3_EXCESS + b]
+            excess = buf[ROW_EXCESS + b]
             if excess > worst_excess:
                 worst_excess = excess
                 worst_pair = q
-            fx = buf[D3_FX + b]
-            fy = buf[D3_FY + b]
-            fz = buf[D3_FZ + b]
+            fx = buf[ROW_FX + b]
+            fy = buf[ROW_FY + b]
+            fz = buf[ROW_FZ + b]
             f[i0] += fx
             f[i0 + U1] += fy
             f[i0 + U2] += fz
             f[j0] -= fx
             f[j0 + U1] -= fy
             f[j0 + U2] -= fz
-            cx = buf[D3_CX + b]
-            cy = buf[D3_CY + b]
-            cz = buf[D3_CZ + b]
-            lever_i = buf[D3_LI + b]
-            lever_j = buf[D3_LJ + b]
+            cx = buf[ROW_CX + b]
+            cy = buf[ROW_CY + b]
+            cz = buf[ROW_CZ + b]
+            lever_i = buf[ROW_LI + b]
+            lever_j = buf[ROW_LJ + b]
             t[i0] -= lever_i * cx
             t[i0 + U1] -= lever_i * cy
             t[i0 + U2] -= lever_i * cz
@@ -414,14 +345,14 @@ def pair_forces_3d(motion, bodies, pairs, law, spring_dt, loads, record):
             t[j0 + U1] -= lever_j * cy
             t[j0 + U2] -= lever_j * cz
             if record is not None:
-                record.overlap[q] = buf[D3_OVERLAP + b]
-                record.normal_force[q] = buf[D3_FN + b]
-                record.normal[q, 0] = buf[D3_NX + b]
-                record.normal[q, 1] = buf[D3_NY + b]
-                record.normal[q, 2] = buf[D3_NZ + b]
-                record.tangential[q, 0] = buf[D3_FTX + b]
-                record.tangential[q, 1] = buf[D3_FTY + b]
-                record.tangential[q, 2] = buf[D3_FTZ + b]
+                record.overlap[q] = buf[ROW_OVERLAP + b]
+                record.normal_force[q] = buf[ROW_FN + b]
+                record.normal[q, 0] = buf[ROW_NX + b]
+                record.normal[q, 1] = buf[ROW_NY + b]
+                record.normal[q, 2] = buf[ROW_NZ + b]
+                record.tangential[q, 0] = buf[ROW_FTX + b]
+                record.tangential[q, 1] = buf[ROW_FTY + b]
+                record.tangential[q, 2] = buf[ROW_FTZ + b]
     return worst_excess, worst_pair
 
 
