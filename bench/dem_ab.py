@@ -1,12 +1,13 @@
 #!/usr/bin/env python
 """A/B of the DEM step loop between two source trees (benchmark, not a test): is a change as fast as before it?
 
-usage: python bench/dem_ab.py BEFORE_TREE [AFTER_TREE] [--pairs 5] [--cpu C] [--steps S] [--label NAME]
-                              [--no-record]
+usage: python bench/dem_ab.py BEFORE_TREE [AFTER_TREE] [--pairs 5] [--cpu C] [--steps S] [--only 2d|3d]
+                              [--label NAME] [--no-record]
 
 Runs `bench/dem_vs_lammps.py --ours-only --repeat 1` (our engine on its 2D and 3D states: N = 2000 disks,
 N = 4000 spheres, Hertz, flat walls moving inward) alternately with each tree's src/ on PYTHONPATH, A B A B …,
-`--pairs` times, every run pinned to the same core (`taskset -c C`) and at this process's priority. A tree is a
+`--pairs` times, every run pinned to the same core (`taskset -c C`) and at this process's priority; `--only` runs one
+case (a change that touches one dimension's loop, and twice the pairs in the same time). A tree is a
 checkout, e.g. `git worktree add /tmp/before <commit>`; AFTER_TREE defaults to this one. Each tree compiles its
 own kernels once (numba's cache folder is named after the kernel sources), before the first timed run.
 
@@ -34,12 +35,15 @@ def tree_commit(tree: Path) -> str:
                           check=True).stdout.strip()
 
 
-def run_tree(tree: Path, cpu: int, steps: int | None) -> dict:
-    """{"ours_2d": …, "ours_3d": …} particle-steps per CPU-second of one run of our engine from `tree`'s src/."""
+def run_tree(tree: Path, cpu: int, steps: int | None, only: str | None = None) -> dict:
+    """{"ours_2d": …, "ours_3d": …} (or the `only` case's) particle-steps per CPU-second of one run of our engine
+    from `tree`'s src/."""
     command = ["taskset", "-c", str(cpu), sys.executable, str(HERE / "dem_vs_lammps.py"), "--ours-only",
                "--repeat", "1", "--cpu", str(cpu), "--no-record"]
     if steps:
         command += ["--steps", str(steps)]
+    if only:
+        command += ["--only", only]
     env = dict(os.environ, PYTHONPATH=str(tree / "src"))
     result = subprocess.run(command, capture_output=True, text=True, env=env, check=True)
     return json.loads(result.stdout.strip().splitlines()[-1])
@@ -52,23 +56,24 @@ def main(argv=None) -> int:
     ap.add_argument("--pairs", type=int, default=5)
     ap.add_argument("--cpu", type=int, default=max(os.sched_getaffinity(0)))
     ap.add_argument("--steps", type=int, help="override the states' 20000 steps")
+    ap.add_argument("--only", choices=("2d", "3d"), help="run one case only")
     ap.add_argument("--label", default="step_loop")
     records.add_no_record(ap)
     args = ap.parse_args(argv)
     trees = {"before": args.before.resolve(), "after": args.after.resolve()}
     commits = {side: tree_commit(tree) for side, tree in trees.items()}
     run = records.Run("dem_ab", variant=args.label, enabled=records.wanted(args, argv),
-                      settings=dict(pairs=args.pairs, cpu=args.cpu, steps=args.steps, before=commits["before"],
+                      settings=dict(pairs=args.pairs, cpu=args.cpu, steps=args.steps, only=args.only, before=commits["before"],
                                     after=commits["after"], after_dirty=records.git_state(trees["after"])[1]))
     for side, tree in trees.items():  # compile each tree's kernels outside the timed runs
-        run_tree(tree, args.cpu, 200)
+        run_tree(tree, args.cpu, 200, args.only)
     rates = {side: [] for side in trees}
     for pair in range(args.pairs):
         for side, tree in trees.items():
-            rates[side].append(run_tree(tree, args.cpu, args.steps))
+            rates[side].append(run_tree(tree, args.cpu, args.steps, args.only))
             print(json.dumps({"pair": pair, "side": side, **rates[side][-1]}), flush=True)
     summary = {}
-    for case in ("2d", "3d"):
+    for case in [args.only] if args.only else ["2d", "3d"]:
         key = f"ours_{case}"
         ratios = [a[key] / b[key] for a, b in zip(rates["after"], rates["before"])]
         summary[case] = dict(ratio_median=statistics.median(ratios), ratio_min=min(ratios), ratio_max=max(ratios),
