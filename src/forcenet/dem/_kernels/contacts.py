@@ -35,7 +35,7 @@ import numpy as np
 
 from forcenet._numba import NJIT_DEM, NJIT_DEM_INLINE
 from forcenet.dem._kernels.law import (LAW_BETA, LAW_GAMMA_N, LAW_GAMMA_T, LAW_K_N, LAW_K_T, LAW_MU, LAW_RADIUS_SCALED,
-                                      contact_2d, contact_3d)
+                                      contact_2d, contact_3d, contact_3d_uncapped, coulomb_cap_3d, sliding_3d)
 
 #: blow-up threshold: overlap / diameter (smaller diameter of the pair)
 MAX_OVERLAP_FRACTION = 0.2
@@ -53,15 +53,18 @@ U3 = np.uint64(3)
 #   1. gather (scalar): each listed pair's distance test; an open pair's spring is zeroed there, a touching pair's
 #      values (separation, radii, relative velocity, spins, 1/m_i + 1/m_j, spring) go to the block buffer, one
 #      contiguous row per value;
-#   2. law (vectorised, `_block_law_3d`): the contact law of every pair of the block, from and to the buffer only;
-#   3. scatter (scalar): springs back, force and torque sums, the worst overlap, the record.
+#   2. law (vectorised, `_block_law_3d`): the contact law of every pair of the block without the Coulomb cap,
+#      from and to the buffer only;
+#   3. scatter (scalar): the cap on the few sliding contacts (P1 Eq. 3), springs back, force and torque sums, the
+#      worst overlap, the record.
 # Pass 2 touches nothing but the buffer, at constant row offsets, so LLVM can prove it free of aliasing and
 # vectorises it (with the particle arrays in the same loop it cannot: a gathered load may alias any store); its
-# square roots and divisions then run four pairs to an instruction. Every pair meets the same operations in the
-# same order as in a one-pass loop, so forces, springs and trajectories are the same to the last bit. β and the
-# LAMMPS convention are constants of pass 2 for the laws in use (x^β without pow, no √R_eff when off): a pow call
-# would keep it scalar, and a per-pair choice would do work it discards. The 2D law is short: there the buffer's
-# stores and loads cost what vectorising saves (docs/performance.md), and the 2D loop stays one pass.
+# square roots and divisions then run four pairs to an instruction, and the cap's are paid by the sliding
+# contacts only. Every pair meets the same operations in the same order as in a one-pass loop, so forces,
+# springs and trajectories are the same to the last bit. β and the LAMMPS convention are constants of pass 2 for
+# the Hertz law (x^β as a square root, no √R_eff when off): a pow call would keep it scalar, and a per-pair choice
+# would do work it discards. The 2D law is short: there the buffer's stores and loads cost what vectorising
+# saves (docs/performance.md), and the 2D loop stays one pass.
 #
 # Measured and dropped (docs/performance.md): in the blocks, every listed pair through pass 2, blocks of 64 or
 # 128, a per-pair table of m_eff, particle i's sums kept in registers over its row; in a one-pass loop, a per-pair
@@ -74,12 +77,13 @@ PAIR_BLOCK = 32
 
 # the block buffer's rows, PAIR_BLOCK values each: gathered (pass 1), computed (pass 2), computed for a record only
 _ROW_NAMES = ("x y z sq ri rj vx vy vz wix wiy wiz wjx wjy wjz im sx sy sz "
-              "fx fy fz cx cy cz li lj excess xix xiy xiz "
-              "overlap fn nx ny nz ftx fty ftz").split()
+              "fx fy fz cx cy cz li lj excess xix xiy xiz fn nx ny nz ftx fty ftz sliding "
+              "overlap").split()
 (ROW_X, ROW_Y, ROW_Z, ROW_SQ, ROW_RI, ROW_RJ, ROW_VX, ROW_VY, ROW_VZ, ROW_WIX, ROW_WIY, ROW_WIZ, ROW_WJX, ROW_WJY,
  ROW_WJZ, ROW_IM, ROW_SX, ROW_SY, ROW_SZ,
  ROW_FX, ROW_FY, ROW_FZ, ROW_CX, ROW_CY, ROW_CZ, ROW_LI, ROW_LJ, ROW_EXCESS, ROW_XI_X, ROW_XI_Y, ROW_XI_Z,
- ROW_OVERLAP, ROW_FN, ROW_NX, ROW_NY, ROW_NZ, ROW_FTX, ROW_FTY, ROW_FTZ) = (
+ ROW_FN, ROW_NX, ROW_NY, ROW_NZ, ROW_FTX, ROW_FTY, ROW_FTZ, ROW_SLIDING,
+ ROW_OVERLAP) = (
     np.uint64(k * PAIR_BLOCK) for k in range(len(_ROW_NAMES)))  # uint64 offsets: no negative-index arithmetic
 #: length of the block buffer
 BLOCK_BUFFER = len(_ROW_NAMES) * PAIR_BLOCK
@@ -116,30 +120,41 @@ def _block_law_3d(n, buf, law, velocity_scale, spring_dt, record):
         slip_z = vz - v_normal * nz - (wx * ny - wy * nx)
         m_eff = 1.0 / buf[ROW_IM + b]
         scale = math.sqrt(r_i * r_j / (r_i + r_j)) if law[LAW_RADIUS_SCALED] != 0.0 else 1.0
-        f_n, f_tx, f_ty, f_tz, xi_x, xi_y, xi_z = contact_3d(
+        # the law without the Coulomb cap: a sliding contact (a few per cent) is capped in the scatter, so that
+        # the cap's square root and division are not paid for every pair of the block
+        f_n, f_tx, f_ty, f_tz, xi_x, xi_y, xi_z = contact_3d_uncapped(
             law, nx, ny, nz, overlap, v_normal, slip_x, slip_y, slip_z, m_eff, scale,
             buf[ROW_SX + b], buf[ROW_SY + b], buf[ROW_SZ + b], spring_dt)
+        fx, fy, fz, cx, cy, cz = _force_and_moment_3d(f_n, nx, ny, nz, f_tx, f_ty, f_tz)
         buf[ROW_XI_X + b] = xi_x
         buf[ROW_XI_Y + b] = xi_y
         buf[ROW_XI_Z + b] = xi_z
-        buf[ROW_FX + b] = f_n * nx + f_tx
-        buf[ROW_FY + b] = f_n * ny + f_ty
-        buf[ROW_FZ + b] = f_n * nz + f_tz
-        buf[ROW_CX + b] = ny * f_tz - nz * f_ty  # n × F_t
-        buf[ROW_CY + b] = nz * f_tx - nx * f_tz
-        buf[ROW_CZ + b] = nx * f_ty - ny * f_tx
+        buf[ROW_FX + b] = fx
+        buf[ROW_FY + b] = fy
+        buf[ROW_FZ + b] = fz
+        buf[ROW_CX + b] = cx
+        buf[ROW_CY + b] = cy
+        buf[ROW_CZ + b] = cz
         buf[ROW_LI + b] = lever_i
         buf[ROW_LJ + b] = lever_j
         buf[ROW_EXCESS + b] = overlap - MAX_OVERLAP_FRACTION * 2.0 * min(r_i, r_j)
+        buf[ROW_FN + b] = f_n  # what the cap needs, and the record
+        buf[ROW_NX + b] = nx
+        buf[ROW_NY + b] = ny
+        buf[ROW_NZ + b] = nz
+        buf[ROW_FTX + b] = f_tx
+        buf[ROW_FTY + b] = f_ty
+        buf[ROW_FTZ + b] = f_tz
+        buf[ROW_SLIDING + b] = 1.0 if sliding_3d(law[LAW_MU], f_n, f_tx, f_ty, f_tz) else 0.0
         if record is not None:
             buf[ROW_OVERLAP + b] = overlap
-            buf[ROW_FN + b] = f_n
-            buf[ROW_NX + b] = nx
-            buf[ROW_NY + b] = ny
-            buf[ROW_NZ + b] = nz
-            buf[ROW_FTX + b] = f_tx
-            buf[ROW_FTY + b] = f_ty
-            buf[ROW_FTZ + b] = f_tz
+
+
+@numba.njit(**NJIT_DEM_INLINE)
+def _force_and_moment_3d(f_n, nx, ny, nz, f_tx, f_ty, f_tz):
+    """The force on i, F_n n + F_t, and n × F_t (τ_i = −a_i n × F_t, τ_j = −a_j n × F_t)."""
+    return (f_n * nx + f_tx, f_n * ny + f_ty, f_n * nz + f_tz,
+            ny * f_tz - nz * f_ty, nz * f_tx - nx * f_tz, nx * f_ty - ny * f_tx)
 
 
 @numba.njit(**NJIT_DEM)
@@ -302,11 +317,12 @@ def pair_forces_3d(motion, bodies, pairs, law, spring_dt, loads, record):
             buf[ROW_SZ + b] = spring[s + U2]
             n += 1
             p += 1
-        # 2. the law, vectorised (as in 2D)
+        # 2. the law, vectorised: Hertz (the 3D law of P1) with β and the LAMMPS convention as constants; any
+        # other law as it comes. Not the linear law with constants: x^β = 1 would let LLVM fold the sign of
+        # F_t = −x^β(…) into n × F_t and round it differently from the one-pass loop (the linear 3D law is used by
+        # the benchmarks and tests only).
         if beta == 0.5 and radius_scaled == 0.0:
             _block_law_3d(n, buf, (k_n, k_t, gamma_n, gamma_t, mu, 0.5, 0.0), velocity_scale, spring_dt, record)
-        elif beta == 0.0 and radius_scaled == 0.0:
-            _block_law_3d(n, buf, (k_n, k_t, gamma_n, gamma_t, mu, 0.0, 0.0), velocity_scale, spring_dt, record)
         elif beta == 0.5:
             _block_law_3d(n, buf, (k_n, k_t, gamma_n, gamma_t, mu, 0.5, 1.0), velocity_scale, spring_dt, record)
         else:
@@ -315,27 +331,40 @@ def pair_forces_3d(motion, bodies, pairs, law, spring_dt, loads, record):
             b = np.uint64(k)
             q = block_pair[k]
             s = U3 * np.uint64(q)
-            spring[s] = buf[ROW_XI_X + b]
-            spring[s + U1] = buf[ROW_XI_Y + b]
-            spring[s + U2] = buf[ROW_XI_Z + b]
+            xi_x = buf[ROW_XI_X + b]
+            xi_y = buf[ROW_XI_Y + b]
+            xi_z = buf[ROW_XI_Z + b]
+            f_tx = buf[ROW_FTX + b]
+            f_ty = buf[ROW_FTY + b]
+            f_tz = buf[ROW_FTZ + b]
+            fx = buf[ROW_FX + b]
+            fy = buf[ROW_FY + b]
+            fz = buf[ROW_FZ + b]
+            cx = buf[ROW_CX + b]
+            cy = buf[ROW_CY + b]
+            cz = buf[ROW_CZ + b]
+            if buf[ROW_SLIDING + b] != 0.0:  # P1 Eq. 3, then the force and moment again
+                f_n = buf[ROW_FN + b]
+                nx = buf[ROW_NX + b]
+                ny = buf[ROW_NY + b]
+                nz = buf[ROW_NZ + b]
+                f_tx, f_ty, f_tz, xi_x, xi_y, xi_z = coulomb_cap_3d(mu, f_n, f_tx, f_ty, f_tz, xi_x, xi_y, xi_z)
+                fx, fy, fz, cx, cy, cz = _force_and_moment_3d(f_n, nx, ny, nz, f_tx, f_ty, f_tz)
+            spring[s] = xi_x
+            spring[s + U1] = xi_y
+            spring[s + U2] = xi_z
             i0 = U3 * np.uint32(pair_i[q])
             j0 = U3 * np.uint32(pair_j[q])
             excess = buf[ROW_EXCESS + b]
             if excess > worst_excess:
                 worst_excess = excess
                 worst_pair = q
-            fx = buf[ROW_FX + b]
-            fy = buf[ROW_FY + b]
-            fz = buf[ROW_FZ + b]
             f[i0] += fx
             f[i0 + U1] += fy
             f[i0 + U2] += fz
             f[j0] -= fx
             f[j0 + U1] -= fy
             f[j0 + U2] -= fz
-            cx = buf[ROW_CX + b]
-            cy = buf[ROW_CY + b]
-            cz = buf[ROW_CZ + b]
             lever_i = buf[ROW_LI + b]
             lever_j = buf[ROW_LJ + b]
             t[i0] -= lever_i * cx
@@ -350,9 +379,9 @@ def pair_forces_3d(motion, bodies, pairs, law, spring_dt, loads, record):
                 record.normal[q, 0] = buf[ROW_NX + b]
                 record.normal[q, 1] = buf[ROW_NY + b]
                 record.normal[q, 2] = buf[ROW_NZ + b]
-                record.tangential[q, 0] = buf[ROW_FTX + b]
-                record.tangential[q, 1] = buf[ROW_FTY + b]
-                record.tangential[q, 2] = buf[ROW_FTZ + b]
+                record.tangential[q, 0] = f_tx
+                record.tangential[q, 1] = f_ty
+                record.tangential[q, 2] = f_tz
     return worst_excess, worst_pair
 
 

@@ -93,7 +93,19 @@ def contact_2d(law, nx, ny, overlap, v_normal, slip_x, slip_y, m_eff, scale, xi_
 @numba.njit(**NJIT_DEM_INLINE)
 def contact_3d(law, nx, ny, nz, overlap, v_normal, slip_x, slip_y, slip_z, m_eff, scale, xi_x, xi_y, xi_z,
                spring_dt):
-    """3D version of `contact_2d` (P1 Eq. 1–3); returns (F_n, F_t (3), spring (3))."""
+    """3D version of `contact_2d` (P1 Eq. 1–3); returns (F_n, F_t (3), spring (3)). The uncapped law and the
+    Coulomb cap are apart (`contact_3d_uncapped`, `coulomb_cap_3d`) for the 3D pair loop, which applies the cap
+    to the few sliding contacts after its vectorised pass."""
+    f_n, f_tx, f_ty, f_tz, xi_x, xi_y, xi_z = contact_3d_uncapped(
+        law, nx, ny, nz, overlap, v_normal, slip_x, slip_y, slip_z, m_eff, scale, xi_x, xi_y, xi_z, spring_dt)
+    f_tx, f_ty, f_tz, xi_x, xi_y, xi_z = coulomb_cap_3d(law[LAW_MU], f_n, f_tx, f_ty, f_tz, xi_x, xi_y, xi_z)
+    return f_n, f_tx, f_ty, f_tz, xi_x, xi_y, xi_z
+
+
+@numba.njit(**NJIT_DEM_INLINE)
+def contact_3d_uncapped(law, nx, ny, nz, overlap, v_normal, slip_x, slip_y, slip_z, m_eff, scale, xi_x, xi_y, xi_z,
+                        spring_dt):
+    """P1 Eq. 1–2 in 3D, before the Coulomb cap: (F_n, F_t (3), spring (3)); arguments as in `contact_2d`."""
     xi_x += slip_x * spring_dt
     xi_y += slip_y * spring_dt
     xi_z += slip_z * spring_dt
@@ -109,17 +121,30 @@ def contact_3d(law, nx, ny, nz, overlap, v_normal, slip_x, slip_y, slip_z, m_eff
     f_tx = -x_beta * (law[LAW_K_T] * xi_x + gamma_t_m * slip_x)  # P1 Eq. 2
     f_ty = -x_beta * (law[LAW_K_T] * xi_y + gamma_t_m * slip_y)
     f_tz = -x_beta * (law[LAW_K_T] * xi_z + gamma_t_m * slip_z)
+    return f_n, f_tx, f_ty, f_tz, xi_x, xi_y, xi_z
+
+
+@numba.njit(**NJIT_DEM_INLINE)
+def sliding_3d(mu, f_n, f_tx, f_ty, f_tz):
+    """Whether |F_t| > μ F_n, the test of P1 Eq. 3 (without a square root)."""
     f_t_sq = f_tx * f_tx + f_ty * f_ty + f_tz * f_tz
-    f_t_max = law[LAW_MU] * f_n
-    if f_t_sq > f_t_max * f_t_max:  # P1 Eq. 3
-        ratio = f_t_max / math.sqrt(f_t_sq)
+    f_t_max = mu * f_n
+    return f_t_sq > f_t_max * f_t_max
+
+
+@numba.njit(**NJIT_DEM_INLINE)
+def coulomb_cap_3d(mu, f_n, f_tx, f_ty, f_tz, xi_x, xi_y, xi_z):
+    """P1 Eq. 3: |F_t| ≤ μ F_n; F_t and the spring rescaled by the same factor when the cap applies (P2 Eq. A5).
+    Returns (F_t (3), spring (3))."""
+    if sliding_3d(mu, f_n, f_tx, f_ty, f_tz):
+        ratio = mu * f_n / math.sqrt(f_tx * f_tx + f_ty * f_ty + f_tz * f_tz)
         f_tx *= ratio
         f_ty *= ratio
         f_tz *= ratio
         xi_x *= ratio
         xi_y *= ratio
         xi_z *= ratio
-    return f_n, f_tx, f_ty, f_tz, xi_x, xi_y, xi_z
+    return f_tx, f_ty, f_tz, xi_x, xi_y, xi_z
 
 
 # --- two-particle collision (calibration of γ_n) ------------------------------------------------------------
