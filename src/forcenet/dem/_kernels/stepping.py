@@ -154,21 +154,49 @@ def _step_status(gear_position, bad, energy, worst_excess, worst_pair, pairs, ra
 @numba.njit(**NJIT_DEM)
 def check_positions(position, reference, n_mobile, lo, hi, escape_margin):
     """Largest squared displacement since the last rebuild, and the first particle whose centre is not
-    finite or lies outside [lo − margin, hi + margin] (−1 if none)."""
-    dim = position.shape[1]
+    finite or lies outside [lo − margin, hi + margin] (−1 if none).
+
+    One loop per dimension over flat views, the bounds tested without short-circuit (a NaN coordinate fails
+    every test): no inner loop over the dimension and one rarely taken branch per particle."""
+    x = position.reshape(-1)  # flat views: particle i's coordinates at d·i, d·i + 1, …
+    r = reference.reshape(-1)
     max_sq = 0.0
     bad = -1
+    if position.shape[1] == 2:
+        lo_x, lo_y = lo[0] - escape_margin, lo[1] - escape_margin
+        hi_x, hi_y = hi[0] + escape_margin, hi[1] + escape_margin
+        for i in range(n_mobile):
+            px = x[2 * i]
+            py = x[2 * i + 1]
+            dx = px - r[2 * i]
+            dy = py - r[2 * i + 1]
+            d_sq = 0.0
+            d_sq += dx * dx
+            d_sq += dy * dy
+            inside = (px >= lo_x) & (px <= hi_x) & (py >= lo_y) & (py <= hi_y)
+            if not inside and bad < 0:
+                bad = i
+            if d_sq > max_sq:  # a branch, not max(): no dependency from one particle to the next
+                max_sq = d_sq
+        return max_sq, bad
+    lo_x, lo_y, lo_z = lo[0] - escape_margin, lo[1] - escape_margin, lo[2] - escape_margin
+    hi_x, hi_y, hi_z = hi[0] + escape_margin, hi[1] + escape_margin, hi[2] + escape_margin
     for i in range(n_mobile):
+        px = x[3 * i]
+        py = x[3 * i + 1]
+        pz = x[3 * i + 2]
+        dx = px - r[3 * i]
+        dy = py - r[3 * i + 1]
+        dz = pz - r[3 * i + 2]
         d_sq = 0.0
-        inside = True
-        for k in range(dim):
-            x = position[i, k]
-            inside = inside and x >= lo[k] - escape_margin and x <= hi[k] + escape_margin
-            d = x - reference[i, k]
-            d_sq += d * d
+        d_sq += dx * dx
+        d_sq += dy * dy
+        d_sq += dz * dz
+        inside = (px >= lo_x) & (px <= hi_x) & (py >= lo_y) & (py <= hi_y) & (pz >= lo_z) & (pz <= hi_z)
         if not inside and bad < 0:
             bad = i
-        max_sq = max(max_sq, d_sq)
+        if d_sq > max_sq:
+            max_sq = d_sq
     return max_sq, bad
 
 
