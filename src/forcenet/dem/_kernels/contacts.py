@@ -21,7 +21,7 @@ Arguments are named tuples of `forcenet.dem.kernel_arguments` (fields in reduced
 * loads (`Loads`): force (N, d) and torque (N, 1|3), accumulated;
 * law: the LAW_* values of `law.py`, as a tuple for the pair loops (`advance` makes it once per call; its values
   are then arguments, held in registers across the loop; the 3D loop passes β and the LAMMPS convention of the
-  laws in use to its law pass as constants); the flat walls read theirs per contact from the float64
+  Hertz law to its law pass as constants); the flat walls read theirs per contact from the float64
   array walls.law. Each loop takes the law as it always has: under NJIT_DEM's contraction LLVM's choice of which
   multiply-adds to fuse depends on it, and so the trajectories stay bit-identical to those of earlier versions.
 
@@ -120,8 +120,8 @@ def _block_law_3d(n, buf, law, velocity_scale, spring_dt, record):
         slip_z = vz - v_normal * nz - (wx * ny - wy * nx)
         m_eff = 1.0 / buf[ROW_IM + b]
         scale = math.sqrt(r_i * r_j / (r_i + r_j)) if law[LAW_RADIUS_SCALED] != 0.0 else 1.0
-        # the law without the Coulomb cap: a sliding contact (a few per cent) is capped in the scatter, so that
-        # the cap's square root and division are not paid for every pair of the block
+        # the law without the Coulomb cap: a sliding contact (1–2 % of them on the benchmark states) is capped in
+        # the scatter, so that the cap's square root and division are not paid for every pair of the block
         f_n, f_tx, f_ty, f_tz, xi_x, xi_y, xi_z = contact_3d_uncapped(
             law, nx, ny, nz, overlap, v_normal, slip_x, slip_y, slip_z, m_eff, scale,
             buf[ROW_SX + b], buf[ROW_SY + b], buf[ROW_SZ + b], spring_dt)
