@@ -46,8 +46,9 @@ def _pairs_2d(n, motion, bodies, pairs, law, dt, loads):
 
 @numba.njit
 def _pairs_3d(n, motion, bodies, pairs, law, dt, loads):
+    block = contacts.new_pair_block()  # as the step: its scratch made once
     for _ in range(n):
-        contacts.pair_forces_3d(motion, bodies, pairs, law, dt, loads, None)
+        contacts.pair_forces_3d(motion, bodies, pairs, law, dt, loads, None, block)
 
 
 @numba.njit

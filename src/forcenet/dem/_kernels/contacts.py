@@ -89,6 +89,12 @@ _ROW_NAMES = ("x y z sq ri rj vx vy vz wix wiy wiz wjx wjy wjz im sx sy sz "
 BLOCK_BUFFER = len(_ROW_NAMES) * PAIR_BLOCK
 
 
+@numba.njit(**NJIT_DEM)
+def new_pair_block():
+    """Scratch of `pair_forces_3d`: the block buffer (BLOCK_BUFFER,) and the block's pair indices (PAIR_BLOCK,)."""
+    return np.empty(BLOCK_BUFFER), np.empty(PAIR_BLOCK, dtype=np.int64)
+
+
 @numba.njit(**NJIT_DEM_INLINE)
 def _block_law_3d(n, buf, law, velocity_scale, spring_dt, record):
     """Pass 2 of `pair_forces_3d` on the first n pairs of the block buffer buf (rows ROW_*)."""
@@ -243,10 +249,12 @@ def pair_forces_2d(motion, bodies, pairs, law, spring_dt, loads, record):
 
 
 @numba.njit(**NJIT_DEM)
-def pair_forces_3d(motion, bodies, pairs, law, spring_dt, loads, record):
+def pair_forces_3d(motion, bodies, pairs, law, spring_dt, loads, record, block=None):
     """3D version of `pair_forces_2d`: position, velocity, spin, force, torque, spring and the recorded normal
     and tangential (·, 3). Runs in blocks of PAIR_BLOCK touching pairs, the law vectorised over each block (see
-    the comment above PAIR_BLOCK); the same forces and springs, to the last bit, as a one-pass loop."""
+    the comment above PAIR_BLOCK); the same forces and springs, to the last bit, as a one-pass loop. block: the
+    scratch of a block, `new_pair_block()` (the time step makes it once per call of `advance`), or None to make
+    it here."""
     worst_excess = -np.inf
     worst_pair = -1
     x = motion.position.reshape(-1)  # flat views indexed by unsigned offsets, as in the 2D loop
@@ -261,8 +269,10 @@ def pair_forces_3d(motion, bodies, pairs, law, spring_dt, loads, record):
     inv_mass = bodies.inv_mass
     velocity_scale = motion.velocity_scale
     count = pairs.count
-    buf = np.empty(BLOCK_BUFFER)
-    block_pair = np.empty(PAIR_BLOCK, dtype=np.int64)
+    if block is None:
+        buf, block_pair = new_pair_block()
+    else:
+        buf, block_pair = block
     k_n = law[LAW_K_N]  # the law's values; β and the LAMMPS convention pick the version of pass 2
     k_t = law[LAW_K_T]
     gamma_n = law[LAW_GAMMA_N]

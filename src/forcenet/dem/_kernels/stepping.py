@@ -24,8 +24,8 @@ import numba
 import numpy as np
 
 from forcenet._numba import NJIT_DEM
-from forcenet.dem._kernels.contacts import (MAX_OVERLAP_FRACTION, flat_wall_forces, pair_forces_2d, pair_forces_3d,
-                                            worst_pair_fraction)
+from forcenet.dem._kernels.contacts import (MAX_OVERLAP_FRACTION, flat_wall_forces, new_pair_block, pair_forces_2d,
+                                            pair_forces_3d, worst_pair_fraction)
 from forcenet.dem._kernels.gear import gear_correct_predict, gear_predict, gear_unpredict
 
 # --- status codes returned by `advance` ------------------------------------------------------------------------
@@ -83,6 +83,7 @@ def advance(gear, motion, loads, bodies, pairs, walls, law, watch, n_steps, kine
     lo = np.empty(dim)
     hi = np.empty(dim)
     law_values = (law[0], law[1], law[2], law[3], law[4], law[5], law[6])  # LAW_*, see contacts.py
+    pair_block = new_pair_block()  # the 3D pair loop's scratch, once per call
     status[0] = STATUS_DONE
     status[1] = -1
     gear_predict(gear_position, n_mobile, force_velocity, force)
@@ -112,7 +113,7 @@ def advance(gear, motion, loads, bodies, pairs, walls, law, watch, n_steps, kine
         if dim == 2:
             worst_excess, worst_pair = pair_forces_2d(motion, bodies, pairs, law_values, dt, loads, None)
         else:
-            worst_excess, worst_pair = pair_forces_3d(motion, bodies, pairs, law_values, dt, loads, None)
+            worst_excess, worst_pair = pair_forces_3d(motion, bodies, pairs, law_values, dt, loads, None, pair_block)
         energy = (gear_correct_predict(gear_position, force, accel_position, half_mass, n_mobile, force_velocity)
                   + gear_correct_predict(gear_rotation, torque, accel_rotation, half_inertia, n_mobile, force_spin))
         kinetic_energy[step] = energy * inv_dt * inv_dt
