@@ -60,17 +60,18 @@ def _walls(n, motion, bodies, walls, lo, hi, dt, loads):
 @numba.njit
 def _gear(n, position, rotation, force, torque, accel_position, accel_rotation, half_mass, half_inertia, n_mobile,
           velocity, spin):
+    block = gear.new_gear_block()  # as the step: its scratch made once
     for _ in range(n):
-        gear.gear_correct_predict(position, force, accel_position, half_mass, n_mobile, velocity)
-        gear.gear_correct_predict(rotation, torque, accel_rotation, half_inertia, n_mobile, spin)
+        gear.gear_correct_predict(position, force, accel_position, half_mass, n_mobile, velocity, block)
+        gear.gear_correct_predict(rotation, torque, accel_rotation, half_inertia, n_mobile, spin, block)
 
 
 @numba.njit
-def _check(n, position, reference, n_mobile, lo, hi, margin):
+def _check(n, position, reference, n_mobile, lo, hi, margin, limit_sq):
     total = 0.0  # used, so that the compiler keeps the loop
     for _ in range(n):
-        max_sq, bad = stepping.check_positions(position, reference, n_mobile, lo, hi, margin)
-        total += max_sq + bad
+        n_far, bad = stepping.check_positions(position, reference, n_mobile, lo, hi, margin, limit_sq)
+        total += n_far + bad
         reference[0, 0] += 1e-300 * total  # a value the next call reads: no call can be hoisted out of the loop
     return total
 
@@ -123,8 +124,9 @@ def profile(state: dict, steps: int) -> dict:
         steps, position, rotation, loads.force, loads.torque, work.accel_position, work.accel_rotation,
         work.half_mass, work.half_inertia, sim.n_mobile, motion.velocity, motion.spin), 1) / steps
     reference = position[0].copy()
+    half_skin = 0.5 * sim.contacts.skin
     parts["displacement check"] = timed(lambda: _check(steps, position[0], reference, sim.n_mobile, lo, hi,
-                                                       sim.walls.escape_margin), 1) / steps
+                                                       sim.walls.escape_margin, half_skin * half_skin), 1) / steps
     rebuild = timed(sim.rebuild, max(3, steps // 200), warm=False)
     parts["neighbour-list rebuilds"] = rebuild * rebuilds[0] / steps
     parts["other"] = whole - sum(parts.values())

@@ -183,12 +183,15 @@ GEAR_CORRECTOR = np.array([19 / 120, 3 / 4, 1.0, 1 / 2, 1 / 12])  # 5-value Gear
 PASCAL = np.array([[1, 1, 1, 1, 1], [0, 1, 2, 3, 4], [0, 0, 1, 3, 6], [0, 0, 0, 1, 4], [0, 0, 0, 0, 1]], float)
 
 
-@pytest.mark.parametrize("components", [1, 2, 3])
-def test_fused_gear_pass_matches_corrector_then_predictor(components):
+@pytest.mark.parametrize("components, n_total, n_mobile, scratch", [
+    (1, 23, 19, False), (2, 23, 19, False), (3, 23, 19, True),  # within one block; the four lanes have a tail
+    (3, 150, 131, True), (2, 150, 131, False), (1, 140, 129, False), (1, 257, 256, True)])  # several blocks: a short
+    # last one, one of a single component, none short
+def test_fused_gear_pass_matches_corrector_then_predictor(components, n_total, n_mobile, scratch):
     """`gear_correct_predict` = the textbook corrector r_k += C_k (Δt²/2 · F/m − r2), then the Taylor (Pascal)
-    step, for the first n_mobile particles; kinetic energy of the corrected state; loads cleared."""
-    rng = np.random.default_rng(components)
-    n_total, n_mobile = 23, 19  # odd sizes: the four-lane blocks have a tail
+    step, for the first n_mobile particles; kinetic energy of the corrected state; loads cleared; the other
+    particles' rows untouched; the same with the scratch made by the caller (as the step does) or by the kernel."""
+    rng = np.random.default_rng(components + n_total)
     gear = rng.normal(0.0, 1e-3, (5, n_total, components))
     load = rng.normal(0.0, 1.0, (n_total, components))
     accel_scale = rng.uniform(1e-6, 1e-5, (n_total, components))
@@ -201,9 +204,12 @@ def test_fused_gear_pass_matches_corrector_then_predictor(components):
     velocity = corrected[1] + 2.0 * corrected[2]
     flat[:] = PASCAL @ corrected
     force_velocity = np.zeros((n_total, components))
-    result = gear_kernels.gear_correct_predict(gear, load, accel_scale, half_weight, n_mobile, force_velocity)
+    block = (gear_kernels.new_gear_block(),) if scratch else ()
+    result = gear_kernels.gear_correct_predict(gear, load, accel_scale, half_weight, n_mobile, force_velocity,
+                                               *block)
     np.testing.assert_allclose(gear, expected, rtol=1e-13, atol=1e-18)
     np.testing.assert_allclose(force_velocity[:n_mobile].ravel(), velocity, rtol=1e-13, atol=1e-18)
+    assert not force_velocity[n_mobile:].any()
     assert result == pytest.approx(energy, rel=1e-13)
     assert not load[:n_mobile].any() and load[n_mobile:].all()
     gear_kernels.gear_unpredict(gear, n_mobile)  # and back to the corrected state

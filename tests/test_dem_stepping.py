@@ -194,34 +194,45 @@ def test_advance_is_the_recording_kernels_step_by_step(dim, walls, law_name):
         assert np.any(sim.work.loads.force[n:] != 0.0), "the wall particles should carry forces"
 
 
-def slow_check_positions(position, reference, n_mobile, lo, hi, margin):
-    """`stepping.check_positions` written the obvious way: (largest |r − r_ref|², first particle outside
-    [lo − margin, hi + margin] or not finite, else −1)."""
+def slow_check_positions(position, reference, n_mobile, lo, hi, margin, limit_sq):
+    """`stepping.check_positions` written the obvious way: (how many finite |r − r_ref|² exceed limit_sq, first
+    particle outside [lo − margin, hi + margin] or not finite, else −1)."""
     displacement_sq = [float(np.sum((position[i] - reference[i]) ** 2)) for i in range(n_mobile)]
     outside = [i for i in range(n_mobile)
                if not (np.all(position[i] >= lo - margin) and np.all(position[i] <= hi + margin))]
-    finite = [d for i, d in enumerate(displacement_sq) if i not in outside]
-    return max(finite, default=0.0), (outside[0] if outside else -1)
+    return sum(d > limit_sq for d in displacement_sq), (outside[0] if outside else -1)
 
 
 @pytest.mark.parametrize("dim", [2, 3])
-def test_check_positions_finds_the_largest_displacement_and_the_first_escape(dim):
+def test_check_positions_counts_the_far_moved_and_finds_the_first_escape(dim):
     rng = np.random.default_rng(dim)
     n = 50
     lo, hi, margin = np.zeros(dim), np.full(dim, 10.0), 0.25
     position = rng.uniform(0.0, 10.0, (n, dim))
     reference = position + rng.normal(0.0, 0.01, position.shape)
-    reference[17] = position[17] + 0.3  # the largest displacement: 0.09 per axis
-    max_sq, bad = stepping.check_positions(position, reference, n, lo, hi, margin)
-    assert (max_sq, bad) == (pytest.approx(0.09 * dim, rel=1e-12), -1)
-    assert (max_sq, bad) == slow_check_positions(position, reference, n, lo, hi, margin)
+    reference[17] = position[17] + 0.3  # the largest displacements: 0.09 per axis, then 0.04 per axis
+    reference[23] = position[23] - 0.2
+    for limit_sq, moved in [(0.09 * dim * 1.001, 0), (0.09 * dim * 0.999, 1), (0.04 * dim * 0.999, 2), (0.0, n)]:
+        result = stepping.check_positions(position, reference, n, lo, hi, margin, limit_sq)
+        assert result == (moved, -1)
+        assert result == slow_check_positions(position, reference, n, lo, hi, margin, limit_sq)
+    for axis in range(dim):  # each bound alone, a particle in the margin before it: the escape is the later one
+        for side, (in_margin, beyond) in enumerate([(-0.2, -0.3), (10.2, 10.3)]):
+            moved = position.copy()
+            moved[5, axis] = in_margin
+            assert stepping.check_positions(moved, reference, n, lo, hi, margin, 1.0)[1] == -1, (axis, side)
+            moved[9, axis] = beyond
+            assert stepping.check_positions(moved, reference, n, lo, hi, margin, 1.0)[1] == 9, (axis, side)
     position[40, dim - 1] = 10.0 + margin  # on the margin: still inside
-    assert stepping.check_positions(position, reference, n, lo, hi, margin)[1] == -1
+    assert stepping.check_positions(position, reference, n, lo, hi, margin, 1.0)[1] == -1
     position[40, dim - 1] = 10.3  # beyond it
     position[45, 0] = -0.3
-    assert stepping.check_positions(position, reference, n, lo, hi, margin)[1] == 40
-    position[30, 1] = np.nan  # not finite: fails every bound
+    assert stepping.check_positions(position, reference, n, lo, hi, margin, 1.0)[1] == 40
+    position[30, 1] = np.nan  # not finite: fails every bound, and does not count as moved
     position[35, 0] = np.inf
-    assert stepping.check_positions(position, reference, n, lo, hi, margin)[1] == 30
-    assert stepping.check_positions(position, reference, 30, lo, hi, margin) == slow_check_positions(
-        position, reference, 30, lo, hi, margin)  # only the first n_mobile particles count
+    position[36, 0] = -np.inf
+    moved_far = [i for i in (35, 36, 40, 45) if np.sum((position[i] - reference[i]) ** 2) > 1.0]  # 35, 36: by inf
+    assert stepping.check_positions(position, reference, n, lo, hi, margin, 1.0) == (len(moved_far), 30)
+    for n_mobile in (30, 36, 37):  # only the first n_mobile particles count
+        assert stepping.check_positions(position, reference, n_mobile, lo, hi, margin, 1.0) == slow_check_positions(
+            position, reference, n_mobile, lo, hi, margin, 1.0)

@@ -26,7 +26,7 @@ import numpy as np
 from forcenet._numba import NJIT_DEM
 from forcenet.dem._kernels.contacts import (MAX_OVERLAP_FRACTION, flat_wall_forces, new_pair_block, pair_forces_2d,
                                             pair_forces_3d, worst_pair_fraction)
-from forcenet.dem._kernels.gear import gear_correct_predict, gear_predict, gear_unpredict
+from forcenet.dem._kernels.gear import gear_correct_predict, gear_predict, gear_unpredict, new_gear_block
 
 # --- status codes returned by `advance` ------------------------------------------------------------------------
 STATUS_DONE = 0          # all requested steps done
@@ -83,7 +83,8 @@ def advance(gear, motion, loads, bodies, pairs, walls, law, watch, n_steps, kine
     lo = np.empty(dim)
     hi = np.empty(dim)
     law_values = (law[0], law[1], law[2], law[3], law[4], law[5], law[6])  # LAW_*, see contacts.py
-    pair_block = new_pair_block()  # the 3D pair loop's scratch, once per call
+    pair_block = new_pair_block()  # the scratch of the 3D pair loop and of the Gear pass, once per call
+    gear_block = new_gear_block()
     status[0] = STATUS_DONE
     status[1] = -1
     gear_predict(gear_position, n_mobile, force_velocity, force)
@@ -114,12 +115,15 @@ def advance(gear, motion, loads, bodies, pairs, walls, law, watch, n_steps, kine
             worst_excess, worst_pair = pair_forces_2d(motion, bodies, pairs, law_values, dt, loads, None)
         else:
             worst_excess, worst_pair = pair_forces_3d(motion, bodies, pairs, law_values, dt, loads, None, pair_block)
-        energy = (gear_correct_predict(gear_position, force, accel_position, half_mass, n_mobile, force_velocity)
-                  + gear_correct_predict(gear_rotation, torque, accel_rotation, half_inertia, n_mobile, force_spin))
+        energy = (gear_correct_predict(gear_position, force, accel_position, half_mass, n_mobile, force_velocity,
+                                       gear_block)
+                  + gear_correct_predict(gear_rotation, torque, accel_rotation, half_inertia, n_mobile, force_spin,
+                                         gear_block))
         kinetic_energy[step] = energy * inv_dt * inv_dt
-        max_sq, bad = check_positions(gear_position[0], reference_position, n_mobile, lo, hi, escape_margin)
+        n_far, bad = check_positions(gear_position[0], reference_position, n_mobile, lo, hi, escape_margin,
+                                     half_skin * half_skin)
         code, particle = _step_status(gear_position, bad, energy, worst_excess, worst_pair, pairs, radius, worst_wall,
-                                      wall_particle, max_sq, shift - reference_shift, half_skin)
+                                      wall_particle, n_far, shift - reference_shift, half_skin)
         if code != STATUS_DONE:
             gear_unpredict(gear_position, n_mobile)  # back to the corrected state of this step
             gear_unpredict(gear_rotation, n_mobile)
@@ -133,7 +137,7 @@ def advance(gear, motion, loads, bodies, pairs, walls, law, watch, n_steps, kine
 
 @numba.njit(**NJIT_DEM)
 def _step_status(gear_position, bad, energy, worst_excess, worst_pair, pairs, radius, worst_wall, wall_particle,
-                 max_sq, wall_travel, half_skin):
+                 n_far, wall_travel, half_skin):
     """Whether `advance` must stop after a step, and why: (status code, particle slot or −1). A particle outside
     the walls or not finite (`check_positions`), a non-finite energy, an overlap above MAX_OVERLAP_FRACTION of a
     diameter (pair or wall), or a displacement / wall travel beyond half the skin (rebuild)."""
@@ -147,58 +151,81 @@ def _step_status(gear_position, bad, energy, worst_excess, worst_pair, pairs, ra
     worst_pair_overlap = worst_pair_fraction(worst_excess, worst_pair, pairs, radius)
     if worst_pair_overlap > MAX_OVERLAP_FRACTION or worst_wall > MAX_OVERLAP_FRACTION:
         return STATUS_OVERLAP, (pairs.i[worst_pair] if worst_pair_overlap >= worst_wall else wall_particle)
-    if max_sq > half_skin * half_skin or wall_travel > half_skin:
+    if n_far > 0 or wall_travel > half_skin:
         return STATUS_REBUILD, -1
     return STATUS_DONE, -1
 
 
 @numba.njit(**NJIT_DEM)
-def check_positions(position, reference, n_mobile, lo, hi, escape_margin):
-    """Largest squared displacement since the last rebuild, and the first particle whose centre is not
-    finite or lies outside [lo − margin, hi + margin] (−1 if none).
+def check_positions(position, reference, n_mobile, lo, hi, escape_margin, limit_sq):
+    """(how many particles moved by more than √limit_sq since the last rebuild, the first particle whose centre is
+    not finite or lies outside [lo − margin, hi + margin], −1 if none).
 
-    One loop per dimension over flat views, the bounds tested without short-circuit (a NaN coordinate fails
-    every test): no inner loop over the dimension and one rarely taken branch per particle."""
+    Counts, not a largest displacement and a first index: a count is a sum over the particles in any order, so
+    LLVM vectorises the loop (four particles to an instruction); the first particle outside is looked for only when
+    there is one (a blow-up). A NaN displacement counts as not moved, but its particle fails every bound."""
     x = position.reshape(-1)  # flat views: particle i's coordinates at d·i, d·i + 1, …
     r = reference.reshape(-1)
-    max_sq = 0.0
-    bad = -1
     if position.shape[1] == 2:
-        lo_x, lo_y = lo[0] - escape_margin, lo[1] - escape_margin
-        hi_x, hi_y = hi[0] + escape_margin, hi[1] + escape_margin
-        for i in range(n_mobile):
-            px = x[2 * i]
-            py = x[2 * i + 1]
-            dx = px - r[2 * i]
-            dy = py - r[2 * i + 1]
-            d_sq = 0.0
-            d_sq += dx * dx
-            d_sq += dy * dy
-            inside = (px >= lo_x) & (px <= hi_x) & (py >= lo_y) & (py <= hi_y)
-            if not inside and bad < 0:
-                bad = i
-            if d_sq > max_sq:  # a branch, not max(): no dependency from one particle to the next
-                max_sq = d_sq
-        return max_sq, bad
-    lo_x, lo_y, lo_z = lo[0] - escape_margin, lo[1] - escape_margin, lo[2] - escape_margin
-    hi_x, hi_y, hi_z = hi[0] + escape_margin, hi[1] + escape_margin, hi[2] + escape_margin
+        n_far, n_outside = _count_moved_and_outside_2d(x, r, n_mobile, lo[0] - escape_margin, lo[1] - escape_margin,
+                                                       hi[0] + escape_margin, hi[1] + escape_margin, limit_sq)
+    else:
+        n_far, n_outside = _count_moved_and_outside_3d(x, r, n_mobile, lo[0] - escape_margin, lo[1] - escape_margin,
+                                                       lo[2] - escape_margin, hi[0] + escape_margin,
+                                                       hi[1] + escape_margin, hi[2] + escape_margin, limit_sq)
+    if n_outside == 0:
+        return n_far, -1
+    dim = position.shape[1]
     for i in range(n_mobile):
-        px = x[3 * i]
-        py = x[3 * i + 1]
-        pz = x[3 * i + 2]
-        dx = px - r[3 * i]
-        dy = py - r[3 * i + 1]
-        dz = pz - r[3 * i + 2]
+        for k in range(dim):
+            if not (position[i, k] >= lo[k] - escape_margin and position[i, k] <= hi[k] + escape_margin):
+                return n_far, i
+    return n_far, -1
+
+
+# The two loops below read flat views at unsigned offsets, test the bounds without short-circuit (a NaN coordinate
+# fails every test) and only count: no branch and no dependency from one particle to the next.
+
+@numba.njit(**NJIT_DEM)
+def _count_moved_and_outside_2d(x, r, n_mobile, lo_x, lo_y, hi_x, hi_y, limit_sq):
+    n_far = 0
+    n_outside = 0
+    for i in range(n_mobile):
+        a = np.uint64(2 * i)
+        b = a + np.uint64(1)
+        px = x[a]
+        py = x[b]
+        dx = px - r[a]
+        dy = py - r[b]
+        d_sq = 0.0
+        d_sq += dx * dx
+        d_sq += dy * dy
+        n_far += d_sq > limit_sq
+        n_outside += not ((px >= lo_x) & (px <= hi_x) & (py >= lo_y) & (py <= hi_y))
+    return n_far, n_outside
+
+
+@numba.njit(**NJIT_DEM)
+def _count_moved_and_outside_3d(x, r, n_mobile, lo_x, lo_y, lo_z, hi_x, hi_y, hi_z, limit_sq):
+    n_far = 0
+    n_outside = 0
+    for i in range(n_mobile):
+        a = np.uint64(3 * i)
+        b = a + np.uint64(1)
+        c = a + np.uint64(2)
+        px = x[a]
+        py = x[b]
+        pz = x[c]
+        dx = px - r[a]
+        dy = py - r[b]
+        dz = pz - r[c]
         d_sq = 0.0
         d_sq += dx * dx
         d_sq += dy * dy
         d_sq += dz * dz
-        inside = (px >= lo_x) & (px <= hi_x) & (py >= lo_y) & (py <= hi_y) & (pz >= lo_z) & (pz <= hi_z)
-        if not inside and bad < 0:
-            bad = i
-        if d_sq > max_sq:
-            max_sq = d_sq
-    return max_sq, bad
+        n_far += d_sq > limit_sq
+        n_outside += not ((px >= lo_x) & (px <= hi_x) & (py >= lo_y) & (py <= hi_y) & (pz >= lo_z) & (pz <= hi_z))
+    return n_far, n_outside
 
 
 @numba.njit(**NJIT_DEM)
