@@ -3,6 +3,7 @@
 state, beside the whole step.
 
 usage: python bench/dem_profile.py [--only 2d|3d] [--steps 2000] [--repeat 3] [--cpu C] [--no-record]
+       python bench/dem_profile.py --record 3d_hertz/r00 [--states 3,8,12,20] [--steps 2000] [--repeat 3] …
 
 On the states of bench/dem_vs_lammps.py (bench/out/{2d,3d}_state.npz: N = 2000 disks, 4000 spheres, Hertz, near
 jamming; made by that benchmark's harness) it times, per step and in CPU seconds (median of --repeat runs):
@@ -14,9 +15,14 @@ jamming; made by that benchmark's harness) it times, per step and in CPU seconds
 * the displacement and escape check (`stepping.check_positions`);
 * a neighbour-list rebuild (`Simulation.rebuild`), and how many the whole-step run made;
 
-each kernel called --steps times, from one compiled loop, on copies of the state's arrays. "other" is the whole step less the parts: the
-wall motion, the step status, the calls into numba. The record (bench/records.py) lands in
+each kernel called --steps times, from one compiled loop, on copies of the state's arrays. "other" is the whole
+step less the parts: the wall motion, the step status, the calls into numba. The record (bench/records.py) lands in
 bench/results/dem_profile-<case>.json and the table in docs/performance.md (bench/report.py).
+
+With --record, the states are snapshots of a committed campaign record instead (default indices: ρ = 0.53, 0.58,
+0.62, 0.70 of the 4096-sphere run of P1, 3d_hertz r00), set up as `bench/dem_ab_states.py` sets them up: the
+recorded positions and walls at rest, small random velocities; one record for all of them,
+bench/results/dem_profile-<system>-<rNN>.json. A quasi-static paper run spends its steps in such states, loose ones and jammed ones.
 """
 from __future__ import annotations
 
@@ -29,9 +35,12 @@ from pathlib import Path
 
 import numba
 import numpy as np
+import xarray as xr
 
 import records  # bench/records.py
+from dem_ab_states import simulation_at
 from dem_vs_lammps import CASES, OUT, build_engine
+from forcenet.campaign_cli import load_config
 from forcenet.dem._kernels import contacts, gear, stepping
 from forcenet.dem.kernel_arguments import Loads, Motion
 
@@ -86,9 +95,10 @@ def timed(call, n: int, warm: bool = True) -> float:
     return (time.process_time() - start) / n
 
 
-def profile(state: dict, steps: int) -> dict:
-    """{part: CPU seconds per step} and the rebuild count of `steps` whole steps from the state."""
-    sim = build_engine(state)
+def profile(make_sim, steps: int) -> dict:
+    """{part: CPU seconds per step} and the rebuild count of `steps` whole steps from the state of the Simulation
+    that make_sim() returns."""
+    sim = make_sim()
     sim.advance(20)  # JIT compilation (cached on disk after the first run) and a first rebuild
     rebuilds = [0]
     original = sim.rebuild
@@ -140,10 +150,14 @@ def main(argv=None) -> int:
     ap.add_argument("--steps", type=int, default=2000)
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--cpu", type=int, help="pin the run to this CPU")
+    ap.add_argument("--record", help="SYSTEM/rNN: profile states of this committed campaign record instead")
+    ap.add_argument("--states", default="3,8,12,20", help="with --record: its state indices")
     records.add_no_record(ap)
     args = ap.parse_args(argv)
     if args.cpu is not None:
         os.sched_setaffinity(0, {args.cpu})
+    if args.record:
+        return profile_record(args, argv)
     for case in [args.only] if args.only else sorted(CASES):
         path = OUT / f"{case}_state.npz"
         run = records.Run("dem_profile", variant=case, settings={"steps": args.steps, "repeat": args.repeat,
@@ -155,18 +169,48 @@ def main(argv=None) -> int:
             continue
         with np.load(path, allow_pickle=False) as z:
             state = {k: z[k] for k in z.files}
-        runs = [profile(state, args.steps) for _ in range(args.repeat)]
-        median = {part: statistics.median(r["parts"][part] for r in runs) for part in runs[0]["parts"]}
-        whole = statistics.median(r["whole step"] for r in runs)
-        measured = {"whole_step_cpu_s": whole, "parts_cpu_s": median,
-                    "shares": {part: value / whole for part, value in median.items()},
-                    "rebuilds": runs[0]["rebuilds"], "rebuild_cpu_s": statistics.median(r["rebuild_s"] for r in runs),
-                    "N": runs[0]["N"], "pairs": runs[0]["pairs"], "steps": args.steps}
+        measured = summary([profile(lambda: build_engine(state), args.steps) for _ in range(args.repeat)], args.steps)
         run.write(measured=measured, peer=None)
-        print(f"{case}: N = {measured['N']}, {measured['pairs']} listed pairs, whole step {whole * 1e3:.3f} ms "
-              f"(CPU), {measured['rebuilds']} rebuilds in {args.steps} steps")
-        for part, value in median.items():
-            print(f"  {part:28s} {value * 1e3:8.3f} ms  {100 * value / whole:5.1f} %")
+        show(case, measured)
+    return 0
+
+
+def summary(runs: list[dict], steps: int) -> dict:
+    """The record's figures from --repeat profiles of one state: medians of each part and of the whole step."""
+    median = {part: statistics.median(r["parts"][part] for r in runs) for part in runs[0]["parts"]}
+    whole = statistics.median(r["whole step"] for r in runs)
+    return {"whole_step_cpu_s": whole, "parts_cpu_s": median,
+            "shares": {part: value / whole for part, value in median.items()},
+            "rebuilds": runs[0]["rebuilds"], "rebuild_cpu_s": statistics.median(r["rebuild_s"] for r in runs),
+            "N": runs[0]["N"], "pairs": runs[0]["pairs"], "steps": steps}
+
+
+def show(label: str, measured: dict) -> None:
+    whole = measured["whole_step_cpu_s"]
+    print(f"{label}: N = {measured['N']}, {measured['pairs']} listed pairs, whole step {whole * 1e3:.3f} ms "
+          f"(CPU), {measured['rebuilds']} rebuilds in {measured['steps']} steps")
+    for part, value in measured["parts_cpu_s"].items():
+        print(f"  {part:28s} {value * 1e3:8.3f} ms  {100 * value / whole:5.1f} %")
+
+
+def profile_record(args, argv) -> int:
+    """--record: the states of a committed campaign record (`dem_ab_states.simulation_at`: the recorded positions
+    and walls at rest, small random velocities), one record file for all of them."""
+    system, realization = args.record.split("/")
+    config = load_config(str(HERE.parent / "config" / "validation.yaml"))
+    states = [int(s) for s in args.states.split(",")]
+    run = records.Run("dem_profile", variant=f"{system}-{realization}", enabled=records.wanted(args, argv),
+                      settings={"record": args.record, "states": states, "steps": args.steps, "repeat": args.repeat,
+                                "cpu": args.cpu})
+    measured = {}
+    with xr.open_dataset(HERE.parent / "data" / "validation" / system / realization / "states.nc") as record:
+        for index in states:
+            label = f"{float(record['rho'].values[index]):.2f}"
+            runs = [profile(lambda: simulation_at(record, index, config, system), args.steps)
+                    for _ in range(args.repeat)]
+            measured[label] = dict(summary(runs, args.steps), state=index, Z=float(record["Z"].values[index]))
+            show(f"{args.record} ρ = {label}", measured[label])
+    run.write(measured=measured, peer=None)
     return 0
 
 

@@ -128,8 +128,8 @@ def main(argv=None) -> int:
     cpus = dict(zip(trees, (int(c) for c in args.cpus.split(","))))
     commits = {side: tree_commit(tree) for side, tree in trees.items()}
     run = records.Run("paper_run_ab", variant=args.system, enabled=records.wanted(args, argv),
-                      settings=dict(config=args.config, system=args.system, realization=args.realization, cpus=args.cpus,
-                                    before=commits["before"], after=commits["after"],
+                      settings=dict(config=args.config, system=args.system, realization=args.realization,
+                                    cpus=args.cpus, before=commits["before"], after=commits["after"],
                                     after_dirty=records.git_state(trees["after"])[1]))
     results = {side: (args.out / side / "results").resolve() for side in trees}
     for side, folder in results.items():

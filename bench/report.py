@@ -192,6 +192,27 @@ def dem_profile_table(recs: dict) -> str:
     return lines_with_provenance(body, used)
 
 
+def dem_profile_record_table(recs: dict) -> str:
+    """bench/dem_profile.py --record: the parts of a step on states of a campaign record, one column per state."""
+    used = measured_records(recs, lambda stem: stem.startswith("dem_profile-") and stem not in (
+        "dem_profile-2d", "dem_profile-3d"), "bench/dem_profile.py --record 3d_hertz/r00")
+    if isinstance(used, str):
+        return used
+    body = []
+    for stem, record in used:
+        states = record["measured"]
+        first = next(iter(states.values()))
+        header = [f"part of a step of {record['settings']['record']} (N = {first['N']})",
+                  *(f"ρ = {rho}, Z = {m['Z']:.2f}: µs (share)" for rho, m in states.items())]
+        rows = [[part, *(f"{1e6 * m['parts_cpu_s'][part]:.1f} ({percent(m['shares'][part])})" for m in states.values())]
+                for part in first["parts_cpu_s"]]
+        rows.append(["whole step", *(f"{1e6 * m['whole_step_cpu_s']:.1f}" for m in states.values())])
+        rows.append(["listed pairs; rebuilds in the timed steps",
+                     *(f"{m['pairs']}; {m['rebuilds']} in {m['steps']}" for m in states.values())])
+        body += ([""] if body else []) + table(header, rows)
+    return lines_with_provenance(body, used)
+
+
 def analysis_table(recs: dict) -> str:
     record = recs.get("analysis")
     if not measured(record):
@@ -312,14 +333,27 @@ def import_dry_run_table(recs: dict) -> str:
     return lines_with_provenance(body, [("import_dry_run", record)])
 
 
+def measured_records(recs: dict, keep, command: str) -> list[tuple[str, dict]] | str:
+    """[(stem, record)] of the measured records whose stem `keep` accepts, in stem order, or, if there is none, the
+    "not measured" line that names `command`."""
+    found = sorted((stem, r) for stem, r in recs.items() if keep(stem))
+    used = [(stem, record) for stem, record in found if measured(record)]
+    return used or not_measured(found[-1][1] if found else None, command) + "\n"
+
+
+def latest_record(recs: dict, prefix: str, command: str) -> tuple[str, dict] | str:
+    """(stem, record) of the last measured record whose stem starts with `prefix`, else the "not measured" line that
+    names `command`."""
+    used = measured_records(recs, lambda stem: stem.startswith(prefix), command)
+    return used if isinstance(used, str) else used[-1]
+
+
 def dem_ab_table(recs: dict) -> str:
     """The latest A/B of the DEM step loop (bench/dem_ab.py): after / before throughput per case, pairs alternated."""
-    found = sorted((stem, r) for stem, r in recs.items() if stem.startswith("dem_ab-"))
-    if not found:
-        return not_measured(None, "bench/dem_ab.py BEFORE_CHECKOUT --pairs 8 --cpu 1") + "\n"
-    stem, record = found[-1]
-    if not measured(record):
-        return not_measured(record, "bench/dem_ab.py BEFORE_CHECKOUT") + "\n"
+    latest = latest_record(recs, "dem_ab-", "bench/dem_ab.py BEFORE_CHECKOUT --pairs 8 --cpu 1")
+    if isinstance(latest, str):
+        return latest
+    stem, record = latest
     settings, m = record["settings"], record["measured"]
     rows = [[case.upper(), fixed(m[case]["ratio_median"], 4),
              f"{fixed(m[case]['ratio_min'], 3)} – {fixed(m[case]['ratio_max'], 3)}", str(len(m[case]["ratios"]))]
@@ -349,11 +383,56 @@ def dem_particle_order_table(recs: dict) -> str:
     return lines_with_provenance(body, [("dem_particle_order", record)])
 
 
+def dem_ab_states_table(recs: dict) -> str:
+    """The latest in-process A/B of the DEM step kernels on a campaign record's states (bench/dem_ab_states.py):
+    µs per step of each tree, before / after per state, whether the trajectories stayed identical."""
+    latest = latest_record(recs, "dem_ab_states-", "bench/dem_ab_states.py BEFORE_CHECKOUT --cpu 1")
+    if isinstance(latest, str):
+        return latest
+    stem, record = latest
+    settings, m = record["settings"], record["measured"]
+    rows = [[f"{rho} ({row['Z']:.2f})", f"{row['before_us_per_step']:.1f}", f"{row['after_us_per_step']:.1f}",
+             f"**{row['speedup_median']:.3f}** "
+             f"({row['speedup_quartiles'][0]:.3f} – {row['speedup_quartiles'][1]:.3f})",
+             "identical" if row["identical"] else "differ"] for rho, row in m.items()]
+    first = next(iter(m.values()))
+    body = [f"`{record['variant']}`: the record's tree (after) against the checkout it names as before, on states of "
+            f"the campaign record {settings['record']} (N = {first['N']}), {settings['repeat']} turns of "
+            f"{settings['steps']} steps per tree and state, in one process pinned to CPU {settings['cpu']}:", "",
+            *table(["ρ (Z)", "before (µs per step, CPU)", "after", "before / after (quartiles)", "trajectories"],
+                   rows)]
+    return lines_with_provenance(body, [(stem, record)])
+
+
+def paper_run_ab_table(recs: dict) -> str:
+    """A paper-size run made by two trees side by side (bench/paper_run_ab.py): CPU-hours of each whole run."""
+    used = measured_records(recs, lambda stem: stem.startswith("paper_run_ab-"),
+                            "bench/paper_run_ab.py BEFORE_CHECKOUT")
+    if isinstance(used, str):
+        return used
+    rows = []
+    for stem, record in used:
+        settings, m = record["settings"], record["measured"]
+        differ = m["snapshots_differ"]
+        recorded = m["record_differs"]["after"]
+        rows.append([f"{settings['system']} {settings['realization']} (N = {m['particles']}, {m['snapshots']} states)",
+                     f"{m['cpu_hours']['before']:.3f}", f"{m['cpu_hours']['after']:.3f}",
+                     f"**{m['cpu_hours']['before'] / m['cpu_hours']['after']:.2f}**",
+                     "identical" if not differ else f"{len(differ)} variables differ",
+                     "no record" if recorded is None else ("identical" if not recorded
+                                                           else f"{len(recorded)} variables differ")])
+    body = table(["run", "before (CPU-hours)", "after", "before / after", "snapshots, after against before",
+                  "against the committed record"], rows)
+    return lines_with_provenance(body, used)
+
+
 TABLES = {"lammps_same_state": same_state_table, "dem_vs_lammps": dem_vs_lammps_table,
           "dem_scaling": dem_scaling_table, "dem_profile": dem_profile_table,
           "analysis": analysis_table, "p1_table": p1_table_table,
           "workflow_overhead": workflow_table, "commands": commands_table, "import_dry_run": import_dry_run_table,
-          "dem_ab": dem_ab_table, "dem_particle_order": dem_particle_order_table}
+          "dem_ab": dem_ab_table, "dem_particle_order": dem_particle_order_table,
+          "dem_ab_states": dem_ab_states_table, "paper_run_ab": paper_run_ab_table,
+          "dem_profile_record": dem_profile_record_table}
 
 
 def render(page: str, recs: dict) -> str:

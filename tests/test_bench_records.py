@@ -176,6 +176,45 @@ def test_the_generator_makes_the_tables_from_records():
         report.render("<!-- bench:nonsense -->\n<!-- /bench:nonsense -->\n", recs)
 
 
+def test_the_generator_makes_the_kernel_and_paper_run_tables():
+    """The in-process kernel A/B, the profile of a record's states and the side-by-side paper run: each state or run
+    a row or column, the trajectories and snapshots reported the same or not, a run without a record said so."""
+    state = {"state": 3, "Z": 0.0105, "N": 4096, "before_us_per_step": 180.04, "after_us_per_step": 150.0,
+             "speedup_median": 1.2003, "speedup_quartiles": [1.18, 1.22], "speedups": [1.2], "identical": True}
+    profile = {"whole_step_cpu_s": 1.5e-4, "parts_cpu_s": {"pair forces": 4e-5, "Gear corrector-predictor": 7e-5},
+               "shares": {"pair forces": 0.2667, "Gear corrector-predictor": 0.4667}, "rebuilds": 0,
+               "rebuild_cpu_s": 0.01, "N": 4096, "pairs": 13366, "steps": 2000, "state": 3, "Z": 0.0105}
+    run = {"cpu_hours": {"before": 1.2, "after": 0.8}, "after_over_before_cpu": 0.8 / 1.2, "particles": 4096,
+           "snapshots": 22, "wall_hours": 1.3, "snapshots_differ": [], "record_differs": {"before": [], "after": []}}
+    recs = {
+        "dem_ab_states-step_kernels": fixture_record(
+            "dem_ab_states", "step_kernels", {"0.53": state, "0.70": dict(state, Z=6.56, identical=False)},
+            settings={"record": "3d_hertz/r00", "steps": 300, "repeat": 20, "cpu": 1}),
+        "dem_profile-3d_hertz-r00": fixture_record(
+            "dem_profile", "3d_hertz-r00", {"0.53": profile}, settings={"record": "3d_hertz/r00"}),
+        "paper_run_ab-3d_hertz": fixture_record(
+            "paper_run_ab", "3d_hertz", run, settings={"system": "3d_hertz", "realization": "r00"}),
+        "paper_run_ab-3d_hertz_n1000": fixture_record(
+            "paper_run_ab", "3d_hertz_n1000", dict(run, snapshots_differ=["0.500.nc: position"],
+                                                   record_differs={"before": None, "after": None}),
+            settings={"system": "3d_hertz_n1000", "realization": "r00"}),
+    }
+    page = "".join(f"<!-- bench:{name} -->\n<!-- /bench:{name} -->\n"
+                   for name in ("dem_ab_states", "dem_profile_record", "paper_run_ab"))
+    out = report.render(page, recs)
+    assert "| 0.53 (0.01) | 180.0 | 150.0 | **1.200** (1.180 – 1.220) | identical |" in out
+    assert "| 0.70 (6.56) | 180.0 | 150.0 | **1.200** (1.180 – 1.220) | differ |" in out
+    assert "states of the campaign record 3d_hertz/r00 (N = 4096), 20 turns of 300 steps" in out
+    assert "| part of a step of 3d_hertz/r00 (N = 4096) | ρ = 0.53, Z = 0.01: µs (share) |" in out
+    assert "| Gear corrector-predictor | 70.0 (47 %) |" in out and "| listed pairs; rebuilds in the timed steps | " \
+        "13366; 0 in 2000 |" in out
+    assert "| 3d_hertz r00 (N = 4096, 22 states) | 1.200 | 0.800 | **1.50** | identical | identical |" in out
+    assert ("| 3d_hertz_n1000 r00 (N = 4096, 22 states) | 1.200 | 0.800 | **1.50** | 1 variables differ "
+            "| no record |") in out
+    assert report.render(out, recs) == out
+    assert "no record yet (`bench/paper_run_ab.py BEFORE_CHECKOUT`)" in report.render(page, {})
+
+
 def test_every_committed_record_is_complete_and_every_benchmark_has_one():
     recs = records.read_records()
     for stem, record in recs.items():
