@@ -36,7 +36,7 @@ import yaml
 import records  # bench/records.py
 from dem_ab import tree_commit
 from forcenet.datasets import paths
-from forcenet.datasets.records import DROPPED_VARIABLES, state_snapshot
+from forcenet.datasets.records import record_differences
 
 HERE = Path(__file__).resolve().parent
 
@@ -85,23 +85,19 @@ def differing_variables(first: list[Path], second: list[Path]) -> list[str]:
 
 
 def differences_from_record(snapshots: list[Path], record_path: Path | None) -> list[str] | None:
-    """'state: variable' where a run's snapshots differ from its committed record in a variable the record keeps;
-    None when there is no record."""
+    """Where a run's snapshots differ from its committed record in a variable the record keeps
+    (`forcenet.datasets.records.record_differences`, less the global attributes: another run has its own commit
+    and date); None when there is no record."""
     if record_path is None or not record_path.exists():
         return None
-    problems = []
     with xr.open_dataset(record_path) as record:
-        if record.sizes["state"] != len(snapshots):
-            return [f"{record.sizes['state']} recorded states against {len(snapshots)} snapshots"]
-        for index, path in enumerate(snapshots):
-            _, arrays = state_snapshot(record, index)
-            with xr.open_dataset(path) as snapshot:
-                for name, value in arrays.items():
-                    if name in DROPPED_VARIABLES or name not in snapshot.variables:
-                        continue
-                    if not np.array_equal(np.asarray(value), snapshot[name].values, equal_nan=True):
-                        problems.append(f"{path.name}: {name}")
-    return problems
+        opened = [xr.open_dataset(path) for path in snapshots]
+        try:
+            problems = record_differences(record, opened)
+        finally:
+            for dataset in opened:
+                dataset.close()
+    return [problem for problem in problems if not problem.endswith("global attributes differ")]
 
 
 def last_progress(log: Path) -> str:
