@@ -90,9 +90,11 @@ def simulation_at(record: xr.Dataset, index: int, config: dict, system: str) -> 
 
 
 def same_state(first: Simulation, second: Simulation) -> bool:
-    """Whether two Simulations hold the same Gear values, springs and wall springs, bit for bit."""
+    """Whether two Simulations hold the same Gear values, springs and wall springs, bit for bit: every Gear row
+    but the rotation's row 0, the angle, which enters no force and which kernels before the time step stopped
+    integrating it (`forcenet.dem._kernels.gear`) still carried along."""
     pairs = [(first.particles.gear_position, second.particles.gear_position),
-             (first.particles.gear_rotation, second.particles.gear_rotation),
+             (first.particles.gear_rotation[1:], second.particles.gear_rotation[1:]),
              (first.contacts.spring, second.contacts.spring), (first.walls.wall_spring, second.walls.wall_spring)]
     return all(a.shape == b.shape and np.array_equal(a.view(np.int64), b.view(np.int64)) for a, b in pairs)
 

@@ -72,7 +72,7 @@ def _gear(n, position, rotation, force, torque, accel_position, accel_rotation, 
     block = gear.new_gear_block()  # as the step: its scratch made once
     for _ in range(n):
         gear.gear_correct_predict(position, force, accel_position, half_mass, n_mobile, velocity, block)
-        gear.gear_correct_predict(rotation, torque, accel_rotation, half_inertia, n_mobile, spin, block)
+        gear.gear_correct_predict(rotation, torque, accel_rotation, half_inertia, n_mobile, spin, block, False)
 
 
 @numba.njit

@@ -183,14 +183,17 @@ GEAR_CORRECTOR = np.array([19 / 120, 3 / 4, 1.0, 1 / 2, 1 / 12])  # 5-value Gear
 PASCAL = np.array([[1, 1, 1, 1, 1], [0, 1, 2, 3, 4], [0, 0, 1, 3, 6], [0, 0, 0, 1, 4], [0, 0, 0, 0, 1]], float)
 
 
+@pytest.mark.parametrize("integrate_row0", [True, False])
 @pytest.mark.parametrize("components, n_total, n_mobile, scratch", [
     (1, 23, 19, False), (2, 23, 19, False), (3, 23, 19, True),  # within one block; the four lanes have a tail
     (3, 150, 131, True), (2, 150, 131, False), (1, 140, 129, False), (1, 257, 256, True)])  # several blocks: a short
     # last one, one of a single component, none short
-def test_fused_gear_pass_matches_corrector_then_predictor(components, n_total, n_mobile, scratch):
+def test_fused_gear_pass_matches_corrector_then_predictor(components, n_total, n_mobile, scratch, integrate_row0):
     """`gear_correct_predict` = the textbook corrector r_k += C_k (Δt²/2 · F/m − r2), then the Taylor (Pascal)
     step, for the first n_mobile particles; kinetic energy of the corrected state; loads cleared; the other
-    particles' rows untouched; the same with the scratch made by the caller (as the step does) or by the kernel."""
+    particles' rows untouched; the same with the scratch made by the caller (as the step does) or by the kernel.
+    Without integrate_row0 (the rotation's angle) row 0 is left exactly as it was and the other rows are the same;
+    so with `gear_predict` and `gear_unpredict`."""
     rng = np.random.default_rng(components + n_total)
     gear = rng.normal(0.0, 1e-3, (5, n_total, components))
     load = rng.normal(0.0, 1.0, (n_total, components))
@@ -203,14 +206,25 @@ def test_fused_gear_pass_matches_corrector_then_predictor(components, n_total, n
     energy = np.sum(half_weight[:n_mobile].ravel() * corrected[1] ** 2)
     velocity = corrected[1] + 2.0 * corrected[2]
     flat[:] = PASCAL @ corrected
+    row0 = gear[0].copy()
+    if not integrate_row0:
+        expected[0] = row0
+        corrected[0] = row0[:n_mobile].ravel()
     force_velocity = np.zeros((n_total, components))
     block = (gear_kernels.new_gear_block(),) if scratch else ()
     result = gear_kernels.gear_correct_predict(gear, load, accel_scale, half_weight, n_mobile, force_velocity,
-                                               *block)
+                                               block[0] if scratch else None, integrate_row0)
     np.testing.assert_allclose(gear, expected, rtol=1e-13, atol=1e-18)
     np.testing.assert_allclose(force_velocity[:n_mobile].ravel(), velocity, rtol=1e-13, atol=1e-18)
     assert not force_velocity[n_mobile:].any()
     assert result == pytest.approx(energy, rel=1e-13)
     assert not load[:n_mobile].any() and load[n_mobile:].all()
-    gear_kernels.gear_unpredict(gear, n_mobile)  # and back to the corrected state
+    gear_kernels.gear_unpredict(gear, n_mobile, integrate_row0)  # and back to the corrected state
     np.testing.assert_allclose(gear[:, :n_mobile].reshape(5, -1), corrected, rtol=1e-9, atol=1e-15)
+    assert integrate_row0 or np.array_equal(gear[0], row0)
+    gear_kernels.gear_predict(gear, n_mobile, force_velocity, load, integrate_row0)  # the Taylor step alone
+    predicted = PASCAL @ corrected
+    if not integrate_row0:
+        predicted[0] = row0[:n_mobile].ravel()
+    np.testing.assert_allclose(gear[:, :n_mobile].reshape(5, -1), predicted, rtol=1e-9, atol=1e-15)
+    assert integrate_row0 or np.array_equal(gear[0], row0)

@@ -156,7 +156,7 @@ def steps_with_recording_kernels(sim: Simulation, n_steps: int):
     shift = float(sim.walls.wall_state[0])
     energies = []
     gear_kernels.gear_predict(gear_position, n, velocity, force)
-    gear_kernels.gear_predict(gear_rotation, n, spin, torque)
+    gear_kernels.gear_predict(gear_rotation, n, spin, torque, False)  # no angle, as `advance`
     for _ in range(n_steps):
         new_shift = shift + WALL_SPEED * dt  # exact (dyadic)
         wall_speed = (new_shift - shift) * (1.0 / dt)
@@ -169,10 +169,10 @@ def steps_with_recording_kernels(sim: Simulation, n_steps: int):
         energy = (gear_kernels.gear_correct_predict(gear_position, force, work.accel_position, work.half_mass, n,
                                                     velocity)
                   + gear_kernels.gear_correct_predict(gear_rotation, torque, work.accel_rotation, work.half_inertia, n,
-                                                      spin))
+                                                      spin, None, False))
         energies.append(energy * (1.0 / dt) * (1.0 / dt))
     gear_kernels.gear_unpredict(gear_position, n)
-    gear_kernels.gear_unpredict(gear_rotation, n)
+    gear_kernels.gear_unpredict(gear_rotation, n, False)
     return gear_position, gear_rotation, spring, wall_spring, force, torque, np.array(energies)
 
 

@@ -77,7 +77,8 @@ def wall_law(law: np.ndarray) -> np.ndarray:
 @dataclass(eq=False)
 class ParticleState:
     """The particles, per slot: gear_position (5, N, d) and gear_rotation (5, N, 1|3), the Gear scaled
-    derivatives Δtᵏ/k! · dᵏ/dtᵏ of position [d_ave] and rotation angle [rad]; radius (N,) [d_ave]; inv_mass,
+    derivatives Δtᵏ/k! · dᵏ/dtᵏ of position [d_ave] and rotation angle [rad] (the angle itself, row 0, is not
+    integrated: see `forcenet.dem._kernels.gear`); radius (N,) [d_ave]; inv_mass,
     inv_inertia (N,) [1/m̄, 1/(m̄ d_ave²)], 0 for rough-wall particles; of the n_mobile mobile particles (re-ordered
     by cell at each rebuild) mass (n_mobile,) [m̄] and particle_id (n_mobile,) int64, each slot's input index."""
     gear_position: np.ndarray

@@ -2,9 +2,12 @@
 
 Positions and their time derivatives are held as Gear "scaled derivatives" ``gear[k] = Δt^k / k! · d^k r / dt^k``
 for k = 0..4, shape (5, N, C) with C = d for translation and C = 1 (2D, rotation about z) or 3 (3D) for rotation.
-The rotation "position" is the integrated angle (meaningless in 3D, never reported); only its derivatives (ω,
-torque / I) matter. Only the first n_mobile particles are integrated (the others are rough-wall particles, moved
-by `stepping.place_wall_particles`).
+The rotation's row 0 would be the integrated angle: meaningless in 3D (the components of ω do not integrate to an
+orientation), and in 2D a disk's angle enters no force. Nothing reads it, so the time step does not integrate it
+(`integrate_row0=False`; it stays as the state holds it, 0): the rotation's Gear pass then streams four rows
+instead of five (measured −10 % on the 3D step of a loose 4096-sphere state, where the Gear pass is half the step;
+`bench/dem_ab_states.py`). Only the first n_mobile particles are integrated (the others are rough-wall particles,
+moved by `stepping.place_wall_particles`).
 """
 import numba
 import numpy as np
@@ -19,9 +22,10 @@ GEAR_C4 = 1.0 / 12.0
 
 
 @numba.njit(**NJIT_DEM)
-def gear_predict(gear, n_mobile, force_velocity, load):
-    """Taylor (Pascal-triangle) prediction of the scaled derivatives gear (5, N, C), particles < n_mobile; their
-    rows of load (N, C) (the force or torque about to be summed) are cleared in the same pass.
+def gear_predict(gear, n_mobile, force_velocity, load, integrate_row0=True):
+    """Taylor (Pascal-triangle) prediction of the scaled derivatives gear (5, N, C), particles < n_mobile, row 0
+    only if integrate_row0 (see the module docstring); their rows of load (N, C) (the force or torque about to be
+    summed) are cleared in the same pass.
 
     force_velocity (N, C) receives the second-order prediction r1 + 2 r2 (= Δt (v + a Δt)) that the
     velocity-dependent forces (damping, spring increments) use instead of the full fourth-order r1. Stability of
@@ -44,7 +48,8 @@ def gear_predict(gear, n_mobile, force_velocity, load):
         a3 = r3[j]
         a4 = r4[j]
         v[j] = a1 + 2.0 * a2
-        r0[j] += a1 + a2 + a3 + a4
+        if integrate_row0:
+            r0[j] += a1 + a2 + a3 + a4
         r1[j] = a1 + 2.0 * a2 + 3.0 * a3 + 4.0 * a4
         r2[j] = a2 + 3.0 * a3 + 6.0 * a4
         r3[j] = a3 + 4.0 * a4
@@ -81,7 +86,8 @@ def new_gear_block():
 @numba.njit(**NJIT_DEM)
 def _block_correct_predict(buf, start, count, r0, r1, r2, r3, r4, f, scale, weight):
     """Pass 1 of `gear_correct_predict` on components start … start + count − 1: the corrected-and-predicted
-    values and weight · r1² (after the correction) into the rows of buf; the arrays are only read."""
+    values and weight · r1² (after the correction) into the rows of buf; the arrays are only read. r0 None: row 0
+    is not integrated (numba compiles that case apart, without it)."""
     for k in range(count):
         j = np.uint64(start + k)
         b = np.uint64(k)
@@ -91,7 +97,8 @@ def _block_correct_predict(buf, start, count, r0, r1, r2, r3, r4, f, scale, weig
         a3 = r3[j] + GEAR_C3 * delta
         a4 = r4[j] + GEAR_C4 * delta
         buf[GEAR_ROW_VELOCITY + b] = a1 + 2.0 * a2
-        buf[GEAR_ROW_R0 + b] = (r0[j] + GEAR_C0 * delta) + (a1 + a2 + a3 + a4)  # corrected r0, then the Taylor step
+        if r0 is not None:
+            buf[GEAR_ROW_R0 + b] = (r0[j] + GEAR_C0 * delta) + (a1 + a2 + a3 + a4)  # corrected, then the Taylor step
         buf[GEAR_ROW_R1 + b] = a1 + 2.0 * a2 + 3.0 * a3 + 4.0 * a4
         buf[GEAR_ROW_R2 + b] = a2 + 3.0 * a3 + 6.0 * a4
         buf[GEAR_ROW_R3 + b] = a3 + 4.0 * a4
@@ -107,7 +114,8 @@ def _copy_row(target, start, buf, row, count):
 
 
 @numba.njit(**NJIT_DEM)
-def gear_correct_predict(gear, load, accel_scale, half_weight, n_mobile, force_velocity, block=None):
+def gear_correct_predict(gear, load, accel_scale, half_weight, n_mobile, force_velocity, block=None,
+                         integrate_row0=True):
     """Gear 5-value corrector of this step followed by `gear_predict` of the next, in one pass over gear
     (5, N, C), particles < n_mobile: the new acceleration term is accel_scale · load, with accel_scale (N, C) =
     Δt²/2 · (1/m or 1/I) of each component, and the corrected values are the old ones + (C0, C1, 1, C3, C4) ·
@@ -118,7 +126,8 @@ def gear_correct_predict(gear, load, accel_scale, half_weight, n_mobile, force_v
     deterministic). On return gear holds the prediction for the next step, force_velocity its r1 + 2 r2 and load
     is cleared, as after `gear_predict`; `gear_unpredict` recovers the corrected state. Runs in blocks of
     GEAR_BLOCK components (see the comment above GEAR_BLOCK); block: the scratch, `new_gear_block()` (the time
-    step makes it once per call of `advance`), or None to make it here."""
+    step makes it once per call of `advance`), or None to make it here. integrate_row0: False leaves row 0 as it is
+    (the rotation's, see the module docstring)."""
     r0 = gear[0].reshape(-1)
     r1 = gear[1].reshape(-1)
     r2 = gear[2].reshape(-1)
@@ -136,8 +145,11 @@ def gear_correct_predict(gear, load, accel_scale, half_weight, n_mobile, force_v
     e3 = 0.0
     for start in range(0, n, GEAR_BLOCK):
         count = min(GEAR_BLOCK, n - start)
-        _block_correct_predict(buf, start, count, r0, r1, r2, r3, r4, f, scale, weight)
-        _copy_row(r0, start, buf, GEAR_ROW_R0, count)
+        if integrate_row0:
+            _block_correct_predict(buf, start, count, r0, r1, r2, r3, r4, f, scale, weight)
+            _copy_row(r0, start, buf, GEAR_ROW_R0, count)
+        else:
+            _block_correct_predict(buf, start, count, None, r1, r2, r3, r4, f, scale, weight)
         _copy_row(r1, start, buf, GEAR_ROW_R1, count)
         _copy_row(r2, start, buf, GEAR_ROW_R2, count)
         _copy_row(r3, start, buf, GEAR_ROW_R3, count)
@@ -158,9 +170,10 @@ def gear_correct_predict(gear, load, accel_scale, half_weight, n_mobile, force_v
 
 
 @numba.njit(**NJIT_DEM)
-def gear_unpredict(gear, n_mobile):
+def gear_unpredict(gear, n_mobile, integrate_row0=True):
     """Undo `gear_predict`'s Taylor step on gear (5, N, C), particles < n_mobile (the inverse Pascal matrix;
-    exact up to rounding): back to the corrected state after `gear_correct_predict`."""
+    exact up to rounding): back to the corrected state after `gear_correct_predict`. Row 0 only if
+    integrate_row0."""
     r0 = gear[0].reshape(-1)
     r1 = gear[1].reshape(-1)
     r2 = gear[2].reshape(-1)
@@ -171,7 +184,8 @@ def gear_unpredict(gear, n_mobile):
         a3 = r3[j] - 4.0 * a4
         a2 = r2[j] - 3.0 * a3 - 6.0 * a4
         a1 = r1[j] - 2.0 * a2 - 3.0 * a3 - 4.0 * a4
-        r0[j] -= a1 + a2 + a3 + a4
+        if integrate_row0:
+            r0[j] -= a1 + a2 + a3 + a4
         r1[j] = a1
         r2[j] = a2
         r3[j] = a3

@@ -88,7 +88,7 @@ def advance(gear, motion, loads, bodies, pairs, walls, law, watch, n_steps, kine
     status[0] = STATUS_DONE
     status[1] = -1
     gear_predict(gear_position, n_mobile, force_velocity, force)
-    gear_predict(gear_rotation, n_mobile, force_spin, torque)
+    gear_predict(gear_rotation, n_mobile, force_spin, torque, False)  # the angle is not integrated (`gear.py`)
     for step in range(n_steps):
         # the walls at t + Δt
         old_shift = state[0]
@@ -118,7 +118,7 @@ def advance(gear, motion, loads, bodies, pairs, walls, law, watch, n_steps, kine
         energy = (gear_correct_predict(gear_position, force, accel_position, half_mass, n_mobile, force_velocity,
                                        gear_block)
                   + gear_correct_predict(gear_rotation, torque, accel_rotation, half_inertia, n_mobile, force_spin,
-                                         gear_block))
+                                         gear_block, False))
         kinetic_energy[step] = energy * inv_dt * inv_dt
         n_far, bad = check_positions(gear_position[0], reference_position, n_mobile, lo, hi, escape_margin,
                                      half_skin * half_skin)
@@ -126,12 +126,12 @@ def advance(gear, motion, loads, bodies, pairs, walls, law, watch, n_steps, kine
                                       wall_particle, n_far, shift - reference_shift, half_skin)
         if code != STATUS_DONE:
             gear_unpredict(gear_position, n_mobile)  # back to the corrected state of this step
-            gear_unpredict(gear_rotation, n_mobile)
+            gear_unpredict(gear_rotation, n_mobile, False)
             status[0] = code
             status[1] = particle
             return step + 1
     gear_unpredict(gear_position, n_mobile)
-    gear_unpredict(gear_rotation, n_mobile)
+    gear_unpredict(gear_rotation, n_mobile, False)
     return n_steps
 
 
