@@ -5,9 +5,9 @@ for k = 0..4, shape (5, N, C) with C = d for translation and C = 1 (2D, rotation
 The rotation's row 0 would be the integrated angle: meaningless in 3D (the components of ω do not integrate to an
 orientation), and in 2D a disk's angle enters no force. Nothing reads it, so the time step does not integrate it
 (`integrate_row0=False`; it stays as the state holds it, 0): the rotation's Gear pass then streams four rows
-instead of five (measured −10 % on the 3D step of a loose 4096-sphere state, where the Gear pass is half the step;
-`bench/dem_ab_states.py`). Only the first n_mobile particles are integrated (the others are rough-wall particles,
-moved by `stepping.place_wall_particles`).
+instead of five (a faster 3D step below jamming, where the Gear pass is half of it: docs/performance.md). Only the
+first n_mobile particles are integrated (the others are rough-wall particles, moved by
+`stepping.place_wall_particles`).
 """
 import numba
 import numpy as np
