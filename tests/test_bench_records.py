@@ -19,7 +19,7 @@ import report  # noqa: E402  (bench/report.py)
 
 #: the benchmark scripts of bench/ that each leave at least one record
 BENCHMARKS = ("analysis", "dem_profile", "dem_scaling", "dem_vs_lammps", "lammps_same_state", "p1_table",
-              "workflow_overhead", "dem_ab", "dem_particle_order", "dem_ab_states")
+              "workflow_overhead", "dem_ab", "dem_particle_order", "dem_ab_states", "paper_run_ab")
 
 
 def fixture_record(benchmark: str, variant: str | None, measured: dict, *, settings: dict | None = None,
