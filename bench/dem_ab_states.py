@@ -90,9 +90,9 @@ def simulation_at(record: xr.Dataset, index: int, config: dict, system: str) -> 
 
 
 def same_state(first: Simulation, second: Simulation) -> bool:
-    """Whether two Simulations hold the same Gear values, springs and wall springs, bit for bit: every Gear row
-    but the rotation's row 0, the angle, which enters no force and which kernels before the time step stopped
-    integrating it (`forcenet.dem._kernels.gear`) still carried along."""
+    """Whether two Simulations hold the same Gear values, springs and wall springs, bit for bit: every Gear row but
+    the rotation's row 0, the angle. It enters no force; the time step no longer integrates it
+    (`forcenet.dem._kernels.gear`), while a tree from before that change still does."""
     pairs = [(first.particles.gear_position, second.particles.gear_position),
              (first.particles.gear_rotation[1:], second.particles.gear_rotation[1:]),
              (first.contacts.spring, second.contacts.spring), (first.walls.wall_spring, second.walls.wall_spring)]

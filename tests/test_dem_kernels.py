@@ -211,9 +211,9 @@ def test_fused_gear_pass_matches_corrector_then_predictor(components, n_total, n
         expected[0] = row0
         corrected[0] = row0[:n_mobile].ravel()
     force_velocity = np.zeros((n_total, components))
-    block = (gear_kernels.new_gear_block(),) if scratch else ()
+    block = gear_kernels.new_gear_block() if scratch else None
     result = gear_kernels.gear_correct_predict(gear, load, accel_scale, half_weight, n_mobile, force_velocity,
-                                               block[0] if scratch else None, integrate_row0)
+                                               block, integrate_row0)
     np.testing.assert_allclose(gear, expected, rtol=1e-13, atol=1e-18)
     np.testing.assert_allclose(force_velocity[:n_mobile].ravel(), velocity, rtol=1e-13, atol=1e-18)
     assert not force_velocity[n_mobile:].any()
